@@ -1,0 +1,25 @@
+"""assur — structural and kinematic analysis and dimensional synthesis of mechanisms.
+
+The data flow is description → compiled plan → batched state::
+
+    import assur
+    mech = assur.load("examples/walker_fourbar.toml")     # frozen description (SI inside)
+    plan = assur.compile(mech)                              # Assur groups, branches, parameter map
+    state = assur.solve(plan, inputs=angles)                # positions, velocities, accelerations
+"""
+from __future__ import annotations
+
+from .compile import compile  # noqa: A004 - the public verb
+from .errors import AssurError, SpecError, StructureError, SynthesisError, UnbuildableError, UnbuildableWarning
+from .io.mechanism_file import dump, dumps, load, loads
+from .model.mechanism import Mechanism
+from .plan import SolvePlan
+from .solve import solve
+from .state import State
+from .structure.assur import AssurGroup, GroupKind, Structure, analyse
+
+__version__ = "0.1.0"
+
+__all__ = ["AssurError", "AssurGroup", "GroupKind", "Mechanism", "SolvePlan", "SpecError", "State", "Structure",
+           "StructureError", "SynthesisError", "UnbuildableError", "UnbuildableWarning", "analyse", "compile", "dump",
+           "dumps", "load", "loads", "solve", "__version__"]

@@ -1,0 +1,114 @@
+"""Transmission angles of the dyads, dead-centre positions of the cranks, buildable ranges.
+
+Transmission angle μ of a dyad (0 at a toggle, where the group locks; 90° is ideal):
+- RRR: the angle at the inner joint J between the two links, J→A and J→B, in [0°, 180°];
+- RRP: the angle between the rod A→J and the guide's normal, in [0°, 90°];
+- RPR: the angle between the line joining the two outer revolutes and the slide's normal, [0°, 90°];
+- PRP, PPR: the angle between the two slide lines, in [0°, 90°].
+Dead centres of a crank: the input angles where the crank is collinear with the link hinged at
+its arm ("extended" or "folded"); a follower driven by the crank reverses there.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..compile import geometry
+from .sampling import TWO_PI, Cycle, intervals, root_between, sign_changes
+
+
+def _angle(a, b):
+    """Angle between planar vectors given as complex arrays, in [0, π]."""
+    return np.abs(np.angle(np.conj(a) * b))
+
+
+def _acute(a, b):
+    t = _angle(a, b)
+    return np.minimum(t, math.pi - t)
+
+
+def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
+    """μ (rad) of each closed-form dyad, keyed by the point the dyad solves; arrays of state.shape."""
+    z = state.pos[..., 0] + 1j * state.pos[..., 1]
+    idx = {p: i for i, p in enumerate(plan.point_names)}
+    P = lambda name: z[..., idx[name]]  # noqa: E731
+    params = plan.defaults if params is None else np.asarray(params, dtype=float)
+    _, lines = geometry(plan, params)
+    theta = state.body_angle
+    out = {}
+    for st in plan.steps:
+        if st.kind == "RRR":
+            sa, A, sb, B, J = st.data
+            out[J] = _angle(P(A) - P(J), P(B) - P(J))
+        elif st.kind == "RRP":
+            sa, A, slider, line, J = st.data
+            guide = plan.lines[line][2]
+            u = lines[line][1] * np.exp(1j * theta[..., guide])
+            out[J] = _acute(P(J) - P(A), 1j * u)
+        elif st.kind == "RPR":
+            guide, gp, slider, sp, line = st.data
+            u = lines[line][1] * np.exp(1j * theta[..., guide])
+            out[st.key_point] = _acute(P(sp) - P(gp), 1j * u)
+        elif st.kind in ("PRP", "PPR"):
+            la, lb = (st.data[1], st.data[3]) if st.kind == "PRP" else (st.data[3], st.data[4])
+            ua = lines[la][1] * np.exp(1j * theta[..., plan.lines[la][2]])
+            ub = lines[lb][1] * np.exp(1j * theta[..., plan.lines[lb][2]])
+            out[st.key_point or f"step{plan.steps.index(st)}"] = _acute(ua, ub)
+    return out
+
+
+@dataclass(frozen=True)
+class DeadCentre:
+    driver: str
+    angle: float      # input angle, rad
+    kind: str         # 'extended' | 'folded'
+    link: str         # the link hinged at the crank's arm
+
+
+def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
+    """Input angles where a crank is collinear with the link hinged at its arm (one-input plans)."""
+    if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
+        return []
+    cyc = Cycle(plan, params, order=0)
+    crank = next(s for s in plan.steps if s.kind == "crank")
+    pivot, arm = crank.data[0], crank.data[1]
+    # the dyad that attaches at the arm, and its other point on the same side
+    follower = None
+    for st in plan.steps:
+        if st.kind in ("RRR", "RRP") and st.data[1] == arm:
+            follower = (st.data[4], plan.body_names[st.data[0].body])
+            break
+        if st.kind == "RRR" and st.data[3] == arm:
+            follower = (st.data[4], plan.body_names[st.data[2].body])
+            break
+    if follower is None:
+        return []
+    J, link = follower
+    io, ia, ij = (plan.point_index(p) for p in (pivot, arm, J))
+
+    def cross_dot(q):
+        s = cyc.state(np.atleast_1d(q))
+        z = s.pos[..., 0] + 1j * s.pos[..., 1]
+        a, b = z[..., ia] - z[..., io], z[..., ij] - z[..., ia]
+        c = np.conj(a) * b
+        return c.imag, c.real
+
+    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
+    cr, dt = cross_dot(q)
+    out = []
+    for i in sign_changes(q, cr):
+        a, b = q[i], q[i] + (q[1] - q[0])
+        root = root_between(lambda t: float(cross_dot(t)[0][0]), a, b)
+        d = float(cross_dot(root)[1][0])
+        out.append(DeadCentre(plan.input_names[0], float(root % TWO_PI), "extended" if d > 0 else "folded", link))
+    return out
+
+
+def buildable_ranges(plan, params=None, steps: int = 1440):
+    """Input intervals (rad, [start, end]) over one turn where the mechanism assembles."""
+    cyc = Cycle(plan, params, order=0)
+    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
+    valid = cyc.state(q).valid
+    return [(float(q[a]), float(q[b])) for a, b in intervals(valid)], int(np.count_nonzero(~valid)), steps

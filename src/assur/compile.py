@@ -1,0 +1,329 @@
+"""Compile a mechanism description into a :class:`~assur.plan.SolvePlan`.
+
+Compilation validates the structure (mobility equals the number of drivers, every body is
+determined by an Assur group), builds the parameter map (names and sketch defaults) and fixes
+each group's assembly branch from the sketch (or from an explicit ``[branches]`` hint), once.
+"""
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+from .errors import SpecError, StructureError
+from .model.mechanism import FRAME, Mechanism
+from .plan import Side, SolvePlan, Step
+from .structure.assur import GroupKind, Structure, analyse
+from .tolerances import DEFAULT
+
+
+def _c(xy) -> complex:
+    return complex(xy[0], xy[1])
+
+
+def _unit(z: complex) -> complex:
+    return z / abs(z)
+
+
+class _Builder:
+    def __init__(self, m: Mechanism, s: Structure):
+        self.m, self.s, self.g = m, s, s.graph
+        self.names: list[str] = []
+        self.values: list[float] = []
+        self.recipes: list[tuple] = []
+        self.lines: list[tuple] = []
+        self.line_of: dict[str, int] = {}
+        self.problems: list[tuple[str, str]] = []
+
+    def param(self, name: str, value: float) -> int:
+        self.names.append(name)
+        self.values.append(float(value))
+        return len(self.names) - 1
+
+    def sketch(self, p) -> complex:
+        return _c(self.m.sketch(p))
+
+    def sketch_angle(self, body: int) -> float:
+        """Orientation of a body's local frame in the sketch (rad)."""
+        b = self.g.bodies[body]
+        if b.kind == "frame":
+            return 0.0
+        if b.kind == "link" and len(b.points) >= 2:
+            return cmath.phase(self.sketch(b.points[1]) - self.sketch(b.points[0]))
+        if b.kind == "link":
+            return 0.0
+        if b.kind == "block":
+            pr = next(p for p in self.m.prismatic if p.name == b.source)
+            return self.sketch_line_angle(pr)
+        ac = next(a for a in self.m.actuators if a.name == b.source)
+        return cmath.phase(self.sketch(ac.between[1]) - self.sketch(ac.between[0]))
+
+    def sketch_line_angle(self, pr) -> float:
+        gb = self.g.index(pr.guide)
+        return pr.angle + (self.sketch_angle(gb) if pr.guide != FRAME else 0.0)
+
+    def build_geometry(self):
+        m = self.m
+        for bi, b in enumerate(self.g.bodies):
+            if b.kind == "frame":
+                rec = []
+                for p in b.points:
+                    x, y = m.sketch(p)[:2]
+                    rec.append((p, self.param(f"{p}.x", x), self.param(f"{p}.y", y)))
+                self.recipes.append(("frame", rec))
+            elif b.kind == "link":
+                lk = m.link(b.name)
+                pts = lk.points
+                if len(pts) == 1:
+                    self.recipes.append(("point", pts[0]))
+                    continue
+                p0, p1 = self.sketch(pts[0]), self.sketch(pts[1])
+                length = lk.length if lk.length is not None else abs(p1 - p0)
+                if length <= 0:
+                    self.problems.append((f"links.{lk.name}", f"points {pts[0]} and {pts[1]} coincide in the sketch; give 'length'"))
+                il = self.param(f"{lk.name}.length", length)
+                placed = []
+                for p in pts[2:]:
+                    pl = lk.placement(p)
+                    if pl is None:
+                        z = self.sketch(p)
+                        rel = (z - p0) / (p1 - p0) if p1 != p0 else 0j
+                        org, tow, dist, ang = pts[0], pts[1], abs(z - p0), cmath.phase(rel) if rel else 0.0
+                    else:
+                        org, tow, dist, ang = pl.origin, pl.toward, pl.distance, pl.angle
+                    placed.append((p, org, tow, self.param(f"{lk.name}.{p}.distance", dist),
+                                   self.param(f"{lk.name}.{p}.angle", ang)))
+                self.recipes.append(("link", pts[0], pts[1], il, tuple(placed)))
+            else:  # block, cylinder, rod: the body's own point at its origin
+                self.recipes.append(("point", b.points[0]))
+        for pr in m.prismatic:
+            gb = self.g.index(pr.guide)
+            slider = self.g.index(f"{pr.name}.block") if pr.point is not None else self.g.index(pr.link)
+            ia = self.param(f"{pr.name}.angle", pr.angle)
+            io = self.param(f"{pr.name}.offset", pr.offset)
+            if pr.point is not None:
+                ref, u_slider = pr.point, 1 + 0j
+            else:
+                lk = m.link(pr.link)
+                ref = lk.points[0]
+                u_slider = cmath.exp(1j * (self.sketch_line_angle(pr) - self.sketch_angle(slider)))
+            self.line_of[pr.name] = len(self.lines)
+            self.lines.append(("prismatic", pr.name, gb, slider, pr.through, ia, io, ref, u_slider))
+        for ac in m.actuators:
+            cyl, rod = self.g.index(f"{ac.name}.cylinder"), self.g.index(f"{ac.name}.rod")
+            self.line_of[ac.name] = len(self.lines)
+            self.lines.append(("actuator", ac.name, cyl, rod, ac.between[0], None, None, ac.between[1], 1 + 0j))
+        for d in m.drivers:
+            if d.kind == "rotary":
+                self.param(f"{d.name}.zero", d.zero)
+
+
+def geometry(plan: SolvePlan, params: np.ndarray):
+    """Local coordinates of every body's points and every slide line, from ``params (..., n_params)``.
+
+    Returns ``(w, lines)``: ``w[(body, point)]`` complex arrays of shape ``params.shape[:-1]`` and
+    ``lines[i] = (q, u, ref, u_slider)``: the line point and unit direction in the guide's frame,
+    the slider's reference point and the line direction in the slider's frame.
+    """
+    p = params
+    shape = p.shape[:-1]
+    zero = np.zeros(shape, dtype=complex)
+    w: dict[tuple[int, str], np.ndarray] = {}
+    for bi, rec in enumerate(plan.geometry_program):
+        if rec[0] == "frame":
+            for name, ix, iy in rec[1]:
+                w[(bi, name)] = p[..., ix] + 1j * p[..., iy]
+        elif rec[0] == "point":
+            w[(bi, rec[1])] = zero
+        else:
+            _, p0, p1, il, placed = rec
+            w[(bi, p0)] = zero
+            w[(bi, p1)] = p[..., il] + 0j
+            for name, org, tow, idist, iang in placed:
+                a, b = w[(bi, org)], w[(bi, tow)]
+                d = b - a
+                n = np.abs(d)
+                w[(bi, name)] = a + p[..., idist] * np.exp(1j * p[..., iang]) * (d / np.where(n > 0, n, 1.0))
+    lines = []
+    for rec in plan.lines:
+        kind, name, gb, slider, through, ia, io, ref, u_slider = rec
+        if kind == "actuator":
+            lines.append((zero, 1 + 0j, zero, 1 + 0j))
+            continue
+        u = np.exp(1j * p[..., ia])
+        q = w[(gb, through)] + 1j * u * p[..., io]
+        lines.append((q, u, w[(slider, ref)], u_slider))
+    return w, lines
+
+
+def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - the public verb
+    """Compile a mechanism into a solve plan. Raises StructureError / SpecError."""
+    if m.dimension != 2:
+        raise StructureError("solving spatial (dimension = 3) mechanisms is not supported by the planar engine; "
+                             "'assur info' reports their mobility")
+    s = analyse(m)
+    n_drivers = len(m.drivers)
+    if s.mobility != n_drivers:
+        raise StructureError(
+            f"mobility W = 3·{s.n_moving} − 2·{s.pair_counts['p5']} = {s.mobility} but {n_drivers} driver(s) "
+            f"are given ({', '.join(d.name for d in m.drivers) or 'none'}); each degree of freedom needs one driver")
+    B = _Builder(m, s)
+    B.build_geometry()
+    g = s.graph
+    steps: list[Step] = [Step("frame", (0,))]
+    input_names, input_kinds, sketch_inputs, speeds = [], [], [], []
+    actuator_input: dict[str, int] = {}
+    for k, d in enumerate(m.drivers):
+        input_names.append(d.name)
+        input_kinds.append(d.kind)
+        speeds.append(d.speed)
+        if d.kind == "rotary":
+            pivot, arm = B.sketch(d.pivot), B.sketch(d.arm)
+            theta = cmath.phase(arm - pivot)
+            q = (d.sense * (theta - d.zero)) % (2 * math.pi)
+            sketch_inputs.append(q)
+            steps.append(Step("crank", (g.index(d.link),), data=(d.pivot, d.arm, k, B.names.index(f"{d.name}.zero"),
+                                                                 d.sense)))
+        else:
+            ac = next(a for a in m.actuators if a.name == d.actuator)
+            sketch_inputs.append(abs(B.sketch(ac.between[1]) - B.sketch(ac.between[0])))
+            actuator_input[d.actuator] = k
+    for grp in s.groups:
+        steps.append(_group_step(m, s, B, grp, actuator_input))
+    # which body places each point
+    solved_order = [b for st in steps for b in st.bodies]
+    point_body = []
+    for p in m.point_names:
+        at = g.bodies_at(p)
+        first = min(at, key=lambda b: solved_order.index(b) if b in solved_order else 10**9)
+        point_body.append(first)
+    plan = SolvePlan(
+        mechanism=m, structure=s, steps=tuple(steps), param_names=tuple(B.names),
+        defaults=np.array(B.values, dtype=float), point_names=m.point_names,
+        body_names=tuple(b.name for b in g.bodies), input_names=tuple(input_names),
+        input_kinds=tuple(input_kinds), sketch_inputs=np.array(sketch_inputs, dtype=float),
+        speeds=np.array(speeds, dtype=float), point_body=tuple(point_body),
+        geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale)
+    if B.problems:
+        raise SpecError(B.problems)
+    plan.defaults.setflags(write=False)
+    return _fix_branches(plan, tolerances)
+
+
+def _side(g, body, actuator_input):
+    b = g.bodies[body]
+    if b.kind in ("cylinder", "rod") and b.source in actuator_input:
+        cyl, rod = g.index(f"{b.source}.cylinder"), g.index(f"{b.source}.rod")
+        return Side(cyl, (cyl, rod, actuator_input[b.source]))
+    return Side(body)
+
+
+def _group_step(m, s, B, grp, actuator_input) -> Step:
+    g = s.graph
+    kind = grp.kind
+    if kind in (GroupKind.TRIAD, GroupKind.GENERAL):
+        return Step("newton", grp.bodies, data=(grp,))
+    # sides: the two units of the dyad, each with its outer pair
+    (ba, pa), (bb, pb) = grp.outer
+    sa, sb = _side(g, ba, actuator_input), _side(g, bb, actuator_input)
+    pair_a, pair_b = g.pairs[pa], g.pairs[pb]
+    inner = g.pairs[grp.inner[0]] if grp.inner else None
+    if kind == GroupKind.RRR:
+        J = _inner_point(g, grp, sa, sb)
+        return Step("RRR", grp.bodies, key_point=J, data=(sa, pair_a.point, sb, pair_b.point, J))
+    if kind == GroupKind.RRP:
+        J = _inner_point(g, grp, sa, sb)
+        return Step("RRP", grp.bodies, key_point=J, data=(sa, pair_a.point, sb.body, B.line_of[pair_b.name], J))
+    if kind == GroupKind.RPR:
+        line = B.line_of[inner.name]
+        guide = B.lines[line][2]
+        if guide in (sa.body,) or (sa.actuator and guide in sa.actuator[:2]):
+            g_side, g_pt, s_side, s_pt = sa, pair_a.point, sb, pair_b.point
+        else:
+            g_side, g_pt, s_side, s_pt = sb, pair_b.point, sa, pair_a.point
+        slider = B.lines[line][3]
+        return Step("RPR", grp.bodies, key_point=s_pt, data=(B.lines[line][2], g_pt, slider, s_pt, line))
+    if kind == GroupKind.PRP:
+        J = _inner_point(g, grp, sa, sb)
+        return Step("PRP", grp.bodies, key_point=J, data=(sa.body, B.line_of[pair_a.name], sb.body,
+                                                           B.line_of[pair_b.name], J))
+    if kind == GroupKind.PPR:
+        # sa: revolute outer, sb: prismatic outer (classified so)
+        return Step("PPR", grp.bodies, key_point=pair_a.point, data=(sa.body, pair_a.point, sb.body,
+                                                                     B.line_of[pair_b.name], B.line_of[inner.name]))
+    raise StructureError(f"group of kind {kind} is not supported")
+
+
+def _inner_point(g, grp, sa, sb) -> str:
+    ua = set(g.bodies[sa.body].points) | (set(g.bodies[sa.actuator[1]].points) if sa.actuator else set())
+    ub = set(g.bodies[sb.body].points) | (set(g.bodies[sb.actuator[1]].points) if sb.actuator else set())
+    common = sorted(ua & ub)
+    for i in grp.inner:
+        p = g.pairs[i]
+        if p.kind == "R" and p.point in common:
+            return p.point
+    if common:
+        return common[0]
+    raise StructureError("dyad without an inner revolute")
+
+
+def _fix_branches(plan: SolvePlan, tol) -> SolvePlan:
+    """Choose each branched step's sign at the sketch: from a [branches] hint, else the assembly
+    nearest the sketch coordinates of the group's points. Done once, at compile time."""
+    from .solve import run_steps  # L2 sibling
+    m = plan.mechanism
+    hints = {h.point: h for h in m.branches}
+    steps = list(plan.steps)
+    params = plan.defaults
+    inputs = plan.sketch_inputs
+    scale = plan.length_scale
+    used_hints = set()
+    for i, st in enumerate(steps):
+        if st.kind not in ("RRR", "RRP", "RPR"):
+            continue
+        cands = []
+        for sign in (1, -1):
+            trial = steps[: i] + [Step(st.kind, st.bodies, st.key_point, sign, st.data)]
+            pos, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1)
+            cands.append((sign, pos, bool(np.all(valid))))
+        if not any(ok for _, _, ok in cands):
+            raise SpecError([(f"points.{st.key_point}",
+                              f"the group solving '{st.key_point}' cannot be assembled in the sketch position "
+                              f"(check the dimensions and the sketch)")])
+        hint = hints.get(st.key_point)
+        if hint is not None:
+            used_hints.add(hint.point)
+            want = 1 if hint.side == "left" else -1
+            chosen = None
+            for sign, pos, ok in cands:
+                if not ok:
+                    continue
+                a, b, z = (pos[hint.of[0]], pos[hint.of[1]], pos[st.key_point])
+                side = np.sign(np.imag(np.conj(b - a) * (z - a)))
+                if side == want:
+                    chosen = sign
+            if chosen is None:
+                raise SpecError([(f"branches.{st.key_point}",
+                                  f"no assembly puts {st.key_point} on the {hint.side} of {hint.of[0]} → {hint.of[1]}")])
+        else:
+            group_points = {p for b in st.bodies for p in plan.structure.graph.bodies[b].points}
+            dev = []
+            for sign, pos, ok in cands:
+                if not ok:
+                    dev.append(math.inf)
+                    continue
+                dev.append(sum(abs(pos[p] - _c(m.sketch(p))) for p in group_points))
+            if abs(dev[0] - dev[1]) <= tol.branch_separation * scale and math.isfinite(dev[0]):
+                raise SpecError([(f"points.{st.key_point}",
+                                  f"the sketch does not tell the assembly branch of '{st.key_point}' (both branches "
+                                  f"coincide); move it off the line or set [branches.{st.key_point}]")])
+            chosen = cands[int(np.argmin(dev))][0]
+        steps[i] = Step(st.kind, st.bodies, st.key_point, chosen, st.data)
+    unused = set(hints) - used_hints
+    if unused:
+        p = sorted(unused)[0]
+        raise SpecError([(f"branches.{p}", f"'{p}' is not the point a branched group solves "
+                          f"(branched points: {', '.join(s.key_point for s in steps if s.kind in ('RRR', 'RRP', 'RPR'))})")])
+    from dataclasses import replace
+    return replace(plan, steps=tuple(steps))

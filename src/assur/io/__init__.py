@@ -1,0 +1,1 @@
+"""L3: file formats and units (TOML mechanism files, CSV tables)."""

@@ -1,0 +1,520 @@
+"""Mechanism files (TOML, ``format = "assur/1"``): load with full validation, dump, round-trip.
+
+Every problem in a file is collected and raised at once as one :class:`~assur.errors.SpecError`
+whose lines name the location, e.g. ``links.coupler[2]: unknown point 'Q' (known: A, B, O1)``.
+Numbers are converted to SI at load (``[units]``) and back to the file's units at dump.
+"""
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from pathlib import Path
+
+from ..errors import SpecError
+from ..model.mechanism import (FRAME, Actuator, BranchHint, Gait, Joint, LinearDriver, Link, Mechanism,
+                               Placement, Prismatic, RotaryDriver, Units)
+from . import units as U
+
+FORMAT = "assur/1"
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
+_TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
+        "branches", "joints", "gait", "style", "dimension"}
+_JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
+
+
+class _Problems:
+    def __init__(self):
+        self.items: list[tuple[str, str]] = []
+
+    def add(self, path: str, msg: str):
+        self.items.append((path, msg))
+
+
+def _num(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _known(names) -> str:
+    names = list(names)
+    shown = ", ".join(sorted(names)[:12]) + (", …" if len(names) > 12 else "")
+    return f"(known: {shown})" if names else "(none defined)"
+
+
+def load(path) -> Mechanism:
+    """Read a mechanism file. Raises SpecError (every problem, with its location)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SpecError(f"no such file: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SpecError(f"cannot read {path}: {exc}") from None
+    return loads(text, source=str(path))
+
+
+def loads(text: str, source: str | None = None) -> Mechanism:
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError([("", f"not valid TOML: {exc}")], source) from None
+    return from_dict(data, source)
+
+
+def from_dict(data: dict, source: str | None = None) -> Mechanism:
+    P = _Problems()
+    for key in data:
+        if key not in _TOP:
+            P.add(key, f"unknown key (allowed: {', '.join(sorted(_TOP))})")
+    fmt = data.get("format")
+    if fmt != FORMAT:
+        P.add("format", f"must be '{FORMAT}': {fmt!r}")
+    dimension = data.get("dimension", 2)
+    if dimension not in (2, 3):
+        P.add("dimension", f"must be 2 or 3: {dimension!r}")
+        dimension = 2
+
+    # units
+    udata = data.get("units", {})
+    ulen, uang = "m", "rad"
+    if not isinstance(udata, dict):
+        P.add("units", "must be a table with 'length' and 'angle'")
+        udata = {}
+    for k in udata:
+        if k not in ("length", "angle"):
+            P.add(f"units.{k}", "unknown key (allowed: angle, length)")
+    ulen = udata.get("length", "m")
+    if ulen not in U.LENGTH:
+        P.add("units.length", f"must be one of {', '.join(U.LENGTH)}: {ulen!r}")
+        ulen = "m"
+    uang = udata.get("angle", "deg")
+    if uang not in U.ANGLE:
+        P.add("units.angle", f"must be one of {', '.join(U.ANGLE)}: {uang!r}")
+        uang = "deg"
+    units = Units(ulen, uang)
+    L, A = U.LENGTH[ulen], U.ANGLE[uang]
+
+    # points
+    pdata = data.get("points")
+    points: list[tuple[str, tuple[float, ...]]] = []
+    if not isinstance(pdata, dict) or not pdata:
+        P.add("points", "must be a non-empty table of name = [x, y]")
+        pdata = {}
+    for name, xy in pdata.items():
+        if not _NAME.match(name):
+            P.add(f"points.{name}", "a point name must start with a letter or '_' and hold only letters, digits, _ or '")
+        if (not isinstance(xy, list) or len(xy) != dimension or not all(_num(c) for c in xy)):
+            P.add(f"points.{name}", f"must be [{', '.join('xyz'[:dimension])}] numbers: {xy!r}")
+            continue
+        points.append((name, tuple(float(c) * L for c in xy)))
+    point_names = set(pdata)
+
+    # links
+    ldata = data.get("links")
+    links: list[Link] = []
+    if not isinstance(ldata, dict) or not ldata:
+        P.add("links", "must be a table of links, including 'frame'")
+        ldata = {}
+    elif FRAME not in ldata:
+        P.add("links", f"must include the ground link '{FRAME}' (links: {', '.join(ldata)})")
+    for lname, spec in ldata.items():
+        path = f"links.{lname}"
+        if not _NAME.match(lname):
+            P.add(path, "a link name must start with a letter or '_' and hold only letters, digits, _ or '")
+        length = None
+        place: list[tuple[str, Placement]] = []
+        if isinstance(spec, list):
+            plist = spec
+            ppath = path
+        elif isinstance(spec, dict):
+            for k in spec:
+                if k not in ("points", "length", "place"):
+                    P.add(f"{path}.{k}", "unknown key (allowed: length, place, points)")
+            plist = spec.get("points")
+            ppath = f"{path}.points"
+            if not isinstance(plist, list):
+                P.add(ppath, "must be a list of point names")
+                continue
+        else:
+            P.add(path, "must be a list of point names or a table with 'points'")
+            continue
+        ok = True
+        for i, pn in enumerate(plist):
+            if not isinstance(pn, str) or pn not in point_names:
+                P.add(f"{ppath}[{i}]", f"unknown point {pn!r} {_known(point_names)}")
+                ok = False
+        if len(set(map(str, plist))) != len(plist):
+            P.add(ppath, f"lists a point twice: {plist!r}")
+            ok = False
+        if not plist:
+            P.add(ppath, "a link needs at least one point")
+            ok = False
+        if isinstance(spec, dict):
+            if "length" in spec:
+                if lname == FRAME:
+                    P.add(f"{path}.length", "the frame's points are fixed at their coordinates; it takes no length")
+                elif not _num(spec["length"]) or spec["length"] <= 0:
+                    P.add(f"{path}.length", f"must be a positive number: {spec['length']!r}")
+                elif len(plist) < 2:
+                    P.add(f"{path}.length", "needs at least two points")
+                else:
+                    length = float(spec["length"]) * L
+            pl = spec.get("place", {})
+            if not isinstance(pl, dict):
+                P.add(f"{path}.place", "must be a table of point = {from, toward, distance, angle}")
+                pl = {}
+            placed = set(plist[:2])
+            for pn, pspec in pl.items():
+                qpath = f"{path}.place.{pn}"
+                if pn not in plist:
+                    P.add(qpath, f"is not a point of link '{lname}' (its points: {', '.join(map(str, plist))})")
+                    continue
+                if pn in plist[:2]:
+                    P.add(qpath, "the first two points of a link define its frame; place further points only")
+                    continue
+                if not isinstance(pspec, dict):
+                    P.add(qpath, "must be a table {from, toward, distance, angle}")
+                    continue
+                bad = False
+                for k in pspec:
+                    if k not in ("from", "toward", "distance", "angle"):
+                        P.add(f"{qpath}.{k}", "unknown key (allowed: angle, distance, from, toward)")
+                        bad = True
+                for k in ("from", "toward"):
+                    ref = pspec.get(k, plist[0] if k == "from" else plist[1] if len(plist) > 1 else None)
+                    if ref not in placed:
+                        P.add(f"{qpath}.{k}", f"must be a point of '{lname}' placed before {pn!r}: {ref!r}")
+                        bad = True
+                dist, ang = pspec.get("distance"), pspec.get("angle", 0.0)
+                if not _num(dist) or dist < 0:
+                    P.add(f"{qpath}.distance", f"must be a non-negative number: {dist!r}")
+                    bad = True
+                if not _num(ang):
+                    P.add(f"{qpath}.angle", f"must be a number: {ang!r}")
+                    bad = True
+                if not bad:
+                    org = pspec.get("from", plist[0])
+                    tow = pspec.get("toward", plist[1])
+                    if org == tow:
+                        P.add(qpath, f"'from' and 'toward' must differ: {org!r}")
+                    else:
+                        place.append((pn, Placement(org, tow, float(dist) * L, float(ang) * A)))
+                placed.add(pn)
+        if ok:
+            links.append(Link(lname, tuple(plist), length, tuple(place)))
+    link_names = {lk.name for lk in links} | set(ldata)
+    link_points = {lk.name: set(lk.points) for lk in links}
+
+    # prismatic pairs
+    prismatic: list[Prismatic] = []
+    prdata = data.get("prismatic", [])
+    if not isinstance(prdata, list):
+        P.add("prismatic", "must be an array of tables [[prismatic]]")
+        prdata = []
+    seen_names: set[str] = set()
+    for i, spec in enumerate(prdata):
+        path = f"prismatic[{i}]"
+        if not isinstance(spec, dict):
+            P.add(path, "must be a table")
+            continue
+        for k in spec:
+            if k not in ("name", "guide", "through", "angle", "offset", "point", "link"):
+                P.add(f"{path}.{k}", "unknown key (allowed: angle, guide, link, name, offset, point, through)")
+        name = spec.get("name", f"slide{i + 1}")
+        if not isinstance(name, str) or not _NAME.match(name) or name in seen_names:
+            P.add(f"{path}.name", f"must be a unique name: {name!r}")
+        seen_names.add(str(name))
+        guide = spec.get("guide", FRAME)
+        if guide not in link_names:
+            P.add(f"{path}.guide", f"unknown link {guide!r} {_known(link_names)}")
+        through = spec.get("through")
+        if guide in link_points and through not in link_points[guide]:
+            P.add(f"{path}.through", f"must be a point of the guide link '{guide}': {through!r}")
+        ang, off = spec.get("angle", 0.0), spec.get("offset", 0.0)
+        if not _num(ang):
+            P.add(f"{path}.angle", f"must be a number: {ang!r}")
+        if not _num(off):
+            P.add(f"{path}.offset", f"must be a number: {off!r}")
+        point, link = spec.get("point"), spec.get("link")
+        if (point is None) == (link is None):
+            P.add(path, "needs exactly one of 'point' (a pin in a slot) or 'link' (a link translating on the guide)")
+        if point is not None and point not in point_names:
+            P.add(f"{path}.point", f"unknown point {point!r} {_known(point_names)}")
+        if point is not None and guide in link_points and point in link_points[guide]:
+            P.add(f"{path}.point", f"is a point of its own guide '{guide}'")
+        if link is not None and (link not in link_names or link == FRAME or link == guide):
+            P.add(f"{path}.link", f"must be a moving link other than the guide {_known(link_names - {FRAME})}: {link!r}")
+        if _num(ang) and _num(off):
+            prismatic.append(Prismatic(str(name), guide, through, float(ang) * A, float(off) * L, point, link))
+
+    # actuators
+    actuators: list[Actuator] = []
+    adata = data.get("actuators", {})
+    if not isinstance(adata, dict):
+        P.add("actuators", "must be a table of name = {between = [A, B]}")
+        adata = {}
+    for name, spec in adata.items():
+        path = f"actuators.{name}"
+        if not isinstance(spec, dict) or not isinstance(spec.get("between"), list) or len(spec["between"]) != 2:
+            P.add(path, "must be a table with between = [A, B]")
+            continue
+        for k in spec:
+            if k != "between":
+                P.add(f"{path}.{k}", "unknown key (allowed: between)")
+        a, b = spec["between"]
+        for j, pn in enumerate((a, b)):
+            if pn not in point_names:
+                P.add(f"{path}.between[{j}]", f"unknown point {pn!r} {_known(point_names)}")
+        if a == b:
+            P.add(f"{path}.between", f"needs two different points: {a!r}")
+        actuators.append(Actuator(name, (a, b)))
+    actuator_names = {a.name for a in actuators}
+
+    # drivers
+    drivers = []
+    ddata = data.get("drivers", [])
+    if not isinstance(ddata, list):
+        P.add("drivers", "must be an array of tables [[drivers]]")
+        ddata = []
+    seen_names = set()
+    for i, spec in enumerate(ddata):
+        path = f"drivers[{i}]"
+        if not isinstance(spec, dict):
+            P.add(path, "must be a table")
+            continue
+        kind = spec.get("kind", "rotary")
+        name = spec.get("name", f"input{i + 1}")
+        if not isinstance(name, str) or not _NAME.match(name) or name in seen_names:
+            P.add(f"{path}.name", f"must be a unique name: {name!r}")
+        seen_names.add(str(name))
+        try:
+            speed = U.parse_speed(spec.get("speed", 1.0 if kind == "rotary" else 0.0), kind, units) \
+                if kind in ("rotary", "linear") else 0.0
+        except ValueError as exc:
+            P.add(f"{path}.speed", str(exc))
+            speed = 0.0
+        if kind == "rotary":
+            allowed = {"name", "kind", "link", "pivot", "arm", "zero", "sense", "speed"}
+            for k in spec:
+                if k not in allowed:
+                    P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            link = spec.get("link")
+            if link not in link_points or link == FRAME:
+                P.add(f"{path}.link", f"must be a moving link {_known(link_names - {FRAME})}: {link!r}")
+            pivot, arm = spec.get("pivot"), spec.get("arm")
+            pts = link_points.get(link, set())
+            if link in link_points and pivot not in pts:
+                P.add(f"{path}.pivot", f"must be a point of link '{link}': {pivot!r}")
+            elif FRAME in link_points and pivot not in link_points[FRAME]:
+                P.add(f"{path}.pivot", f"must be a point of the frame (a crank turns about a fixed pivot): {pivot!r}")
+            if arm is None and link in link_points:
+                others = [p for p in ldata_points(ldata, link) if p != pivot]
+                arm = others[0] if others else None
+            if link in link_points and (arm not in pts or arm == pivot):
+                P.add(f"{path}.arm", f"must be a point of link '{link}' other than the pivot: {arm!r}")
+            zero = spec.get("zero", 0.0)
+            if not _num(zero):
+                P.add(f"{path}.zero", f"must be a number: {zero!r}")
+                zero = 0.0
+            sense = spec.get("sense", "ccw")
+            if sense not in ("ccw", "cw"):
+                P.add(f"{path}.sense", f"must be 'ccw' or 'cw': {sense!r}")
+            drivers.append(RotaryDriver(str(name), link, pivot, arm, float(zero) * A,
+                                        -1 if sense == "cw" else 1, speed))
+        elif kind == "linear":
+            allowed = {"name", "kind", "actuator", "speed"}
+            for k in spec:
+                if k not in allowed:
+                    P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            act = spec.get("actuator")
+            if act not in actuator_names:
+                P.add(f"{path}.actuator", f"unknown actuator {act!r} {_known(actuator_names)}")
+            drivers.append(LinearDriver(str(name), act, speed))
+        else:
+            P.add(f"{path}.kind", f"must be 'rotary' or 'linear': {kind!r}")
+
+    # branches
+    branches = []
+    bdata = data.get("branches", {})
+    if not isinstance(bdata, dict):
+        P.add("branches", "must be a table of point = {side, of}")
+        bdata = {}
+    for pn, spec in bdata.items():
+        path = f"branches.{pn}"
+        if pn not in point_names:
+            P.add(path, f"unknown point {pn!r} {_known(point_names)}")
+            continue
+        if not isinstance(spec, dict) or spec.get("side") not in ("left", "right") \
+                or not isinstance(spec.get("of"), list) or len(spec["of"]) != 2:
+            P.add(path, "must be {side = 'left'|'right', of = [P, Q]} (the side of the directed line P → Q)")
+            continue
+        bad = [q for q in spec["of"] if q not in point_names]
+        if bad:
+            P.add(f"{path}.of", f"unknown point {bad[0]!r} {_known(point_names)}")
+            continue
+        branches.append(BranchHint(pn, spec["side"], tuple(spec["of"])))
+
+    # joints (spatial descriptions)
+    joints = []
+    jdata = data.get("joints", {})
+    if not isinstance(jdata, dict):
+        P.add("joints", "must be a table of point = kind")
+        jdata = {}
+    for pn, kind in jdata.items():
+        if pn not in point_names:
+            P.add(f"joints.{pn}", f"unknown point {pn!r} {_known(point_names)}")
+        elif kind not in _JOINT_KINDS:
+            P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}: {kind!r}")
+        else:
+            joints.append(Joint(pn, kind))
+    if joints and dimension == 2 and any(j.kind != "revolute" for j in joints):
+        P.add("joints", "spherical, cylindrical and universal joints need dimension = 3")
+
+    # gait
+    gait = None
+    gdata = data.get("gait")
+    if gdata is not None:
+        if not isinstance(gdata, dict):
+            P.add("gait", "must be a table with 'foot'")
+        else:
+            allowed = {"foot", "ground", "up", "phases"}
+            for k in gdata:
+                if k not in allowed:
+                    P.add(f"gait.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            foot = gdata.get("foot")
+            if foot not in point_names:
+                P.add("gait.foot", f"unknown point {foot!r} {_known(point_names)}")
+            vecs = {}
+            for k in ("ground", "up"):
+                v = gdata.get(k)
+                if v is None:
+                    vecs[k] = None
+                elif not isinstance(v, list) or len(v) != 2 or not all(_num(c) for c in v) or math.hypot(*v) == 0:
+                    P.add(f"gait.{k}", f"must be a non-zero vector [x, y]: {v!r}")
+                    vecs[k] = None
+                else:
+                    n = math.hypot(*v)
+                    vecs[k] = (v[0] / n, v[1] / n)
+            phases = gdata.get("phases", [0.0])
+            if not isinstance(phases, list) or not phases or not all(_num(c) for c in phases):
+                P.add("gait.phases", f"must be a non-empty list of crank phase offsets: {phases!r}")
+                phases = [0.0]
+            if vecs["ground"] and vecs["up"] and abs(vecs["ground"][0] * vecs["up"][0] + vecs["ground"][1] * vecs["up"][1]) > 1e-9:
+                P.add("gait.up", "must be perpendicular to gait.ground")
+            gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases))
+
+    # every point must be on something
+    on_something = set()
+    for lk in links:
+        on_something |= set(lk.points)
+    for pr in prismatic:
+        if pr.point:
+            on_something.add(pr.point)
+    for ac in actuators:
+        on_something |= set(ac.between)
+    for name, _ in points:
+        if name not in on_something:
+            P.add(f"points.{name}", "is not on any link, slider or actuator")
+
+    name = data.get("name", "")
+    if not isinstance(name, str):
+        P.add("name", f"must be a string: {name!r}")
+        name = ""
+    desc = data.get("description", "")
+    if not isinstance(desc, str):
+        P.add("description", f"must be a string: {desc!r}")
+        desc = ""
+    if P.items:
+        raise SpecError(P.items, source)
+    return Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
+                     actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
+                     joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
+
+
+def ldata_points(ldata, link):
+    spec = ldata.get(link)
+    return spec if isinstance(spec, list) else (spec or {}).get("points", [])
+
+
+def _out(x: float) -> float | int:
+    """A number in file units, rounded to 15 significant digits so SI↔unit conversion round-trips."""
+    y = float(f"{x:.15g}")
+    return int(y) if y.is_integer() and abs(y) < 2**53 else y
+
+
+def to_dict(m: Mechanism) -> dict:
+    L, A = U.LENGTH[m.units.length], U.ANGLE[m.units.angle]
+    d: dict = {"format": m.format}
+    if m.name:
+        d["name"] = m.name
+    if m.description:
+        d["description"] = m.description
+    if m.dimension != 2:
+        d["dimension"] = m.dimension
+    d["units"] = {"length": m.units.length, "angle": m.units.angle}
+    d["points"] = {n: [_out(c / L) for c in xy] for n, xy in m.points}
+    links = {}
+    for lk in m.links:
+        if lk.length is None and not lk.place:
+            links[lk.name] = list(lk.points)
+        else:
+            t: dict = {"points": list(lk.points)}
+            if lk.length is not None:
+                t["length"] = _out(lk.length / L)
+            if lk.place:
+                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": _out(p.distance / L),
+                                   "angle": _out(p.angle / A)} for pn, p in lk.place}
+            links[lk.name] = t
+    d["links"] = links
+    if m.prismatic:
+        out = []
+        for pr in m.prismatic:
+            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": _out(pr.angle / A)}
+            if pr.offset:
+                t["offset"] = _out(pr.offset / L)
+            if pr.point is not None:
+                t["point"] = pr.point
+            else:
+                t["link"] = pr.link
+            out.append(t)
+        d["prismatic"] = out
+    if m.actuators:
+        d["actuators"] = {a.name: {"between": list(a.between)} for a in m.actuators}
+    if m.drivers:
+        out = []
+        for dr in m.drivers:
+            if dr.kind == "rotary":
+                out.append({"name": dr.name, "kind": "rotary", "link": dr.link, "pivot": dr.pivot, "arm": dr.arm,
+                            "zero": _out(dr.zero / A), "sense": "cw" if dr.sense < 0 else "ccw",
+                            "speed": U.format_speed(dr.speed, "rotary")})
+            else:
+                out.append({"name": dr.name, "kind": "linear", "actuator": dr.actuator,
+                            "speed": U.format_speed(dr.speed, "linear")})
+        d["drivers"] = out
+    if m.branches:
+        d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
+    if m.joints:
+        d["joints"] = {j.point: j.kind for j in m.joints}
+    if m.gait is not None:
+        g = {"foot": m.gait.foot, "ground": [_out(c) for c in m.gait.ground]}
+        if m.gait.up is not None:
+            g["up"] = [_out(c) for c in m.gait.up]
+        g["phases"] = [_out(p / A) for p in m.gait.phases]
+        d["gait"] = g
+    return d
+
+
+def dumps(m: Mechanism) -> str:
+    import tomli_w
+    return tomli_w.dumps(to_dict(m))
+
+
+def dump(m: Mechanism, path=None) -> str:
+    """The mechanism as TOML text; written to ``path`` (atomically) when given."""
+    text = dumps(m)
+    if path is not None:
+        path = Path(path)
+        tmp = path.with_name(path.name + ".tmp")
+        tmp.write_text(text, encoding="utf-8")
+        tmp.replace(path)
+    return text

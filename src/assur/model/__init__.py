@@ -1,0 +1,6 @@
+"""L1: the frozen description of a mechanism (names, connectivity, sketch, dimensions, drivers)."""
+from .mechanism import (Actuator, BranchHint, Gait, Joint, LinearDriver, Link, Mechanism, Placement,
+                        Prismatic, RotaryDriver, Units)
+
+__all__ = ["Actuator", "BranchHint", "Gait", "Joint", "LinearDriver", "Link", "Mechanism", "Placement",
+           "Prismatic", "RotaryDriver", "Units"]

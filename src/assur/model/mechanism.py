@@ -1,0 +1,188 @@
+"""Frozen dataclasses describing a mechanism. All numbers are SI (m, rad, rad/s, m/s).
+
+A mechanism is a set of named points with sketch (reference) coordinates, rigid links listing
+their points, prismatic pairs, linear actuators, drivers, optional branch hints and an optional
+gait block (the foot point of a walking leg). The sketch fixes each group's assembly branch;
+explicit dimensions (``Link.length``, ``Link.place``) override the sketch's distances.
+Changes make new objects (``dataclasses.replace``); nothing here holds solved positions.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+FRAME = "frame"
+
+
+@dataclass(frozen=True, slots=True)
+class Units:
+    """Units the file was written in; numbers are converted to SI at load and back at dump."""
+    length: str = "m"
+    angle: str = "deg"
+
+
+@dataclass(frozen=True, slots=True)
+class Placement:
+    """A point of a link placed in polar form: ``from + distance·rot(angle)·unit(toward − from)``.
+
+    ``angle`` (rad) is counter-clockwise from the direction from → toward.
+    """
+    origin: str
+    toward: str
+    distance: float
+    angle: float
+
+
+@dataclass(frozen=True, slots=True)
+class Link:
+    """A rigid link through ``points`` (binary, ternary, …).
+
+    Its own frame has the first point at the origin and the second on the +x axis.
+    ``length`` overrides the sketch distance of the first two points; ``place`` overrides the
+    sketch position of further points (``(point, Placement)`` pairs).
+    """
+    name: str
+    points: tuple[str, ...]
+    length: float | None = None
+    place: tuple[tuple[str, Placement], ...] = ()
+
+    def placement(self, point: str) -> Placement | None:
+        for name, p in self.place:
+            if name == point:
+                return p
+        return None
+
+
+@dataclass(frozen=True, slots=True)
+class Prismatic:
+    """A prismatic pair.
+
+    With ``point`` set: a pin-in-slot: the point (a revolute of its links) rides on a slider block
+    that slides along a line of ``guide`` (one implicit block body, one R and one P pair).
+    With ``link`` set: that link translates along the line of ``guide`` (one P pair); the
+    link's first point stays on the line.
+    The line passes through ``through`` (a point of ``guide``) shifted by ``offset`` to its left,
+    with direction ``angle``: absolute on the frame, relative to the guide link's first → second
+    point direction on a moving link.
+    """
+    name: str
+    guide: str
+    through: str
+    angle: float
+    offset: float = 0.0
+    point: str | None = None
+    link: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Actuator:
+    """A linear actuator (cylinder + rod with a prismatic pair) between two points.
+
+    The cylinder is hinged at ``between[0]``, the rod at ``between[1]``; its length is the
+    distance between them. Driven by a :class:`LinearDriver`, the length is an input; otherwise
+    it follows the mechanism (an RPR group).
+    """
+    name: str
+    between: tuple[str, str]
+
+
+@dataclass(frozen=True, slots=True)
+class RotaryDriver:
+    """A crank: ``link`` turns about ``pivot`` (a frame point); the input angle q gives the
+    direction pivot → arm as ``zero + sense·q`` (absolute, counter-clockwise positive)."""
+    name: str
+    link: str
+    pivot: str
+    arm: str
+    zero: float = 0.0
+    sense: int = 1
+    speed: float = 1.0  # rad/s
+    kind: str = field(default="rotary", init=False)
+
+
+@dataclass(frozen=True, slots=True)
+class LinearDriver:
+    """A driven actuator: the input q is its length (m); ``speed`` is dq/dt (m/s)."""
+    name: str
+    actuator: str
+    speed: float = 0.0
+    kind: str = field(default="linear", init=False)
+
+
+@dataclass(frozen=True, slots=True)
+class BranchHint:
+    """The solved ``point`` lies on ``side`` ('left' | 'right') of the directed line of[0] → of[1]
+    in the sketch position; it overrides the branch the sketch would give."""
+    point: str
+    side: str
+    of: tuple[str, str]
+
+
+@dataclass(frozen=True, slots=True)
+class Joint:
+    """A non-revolute joint at a point of a spatial description (kind: spherical, cylindrical,
+    universal, revolute)."""
+    point: str
+    kind: str
+
+
+@dataclass(frozen=True, slots=True)
+class Gait:
+    """The foot of a walking leg. ``ground`` is the stride direction, ``up`` points away from the
+    ground side (default: ``ground`` turned 90° counter-clockwise). ``phases`` (rad) are the
+    crank phase offsets of the legs of a walking module (one leg: ``(0,)``)."""
+    foot: str
+    ground: tuple[float, float] = (1.0, 0.0)
+    up: tuple[float, float] | None = None
+    phases: tuple[float, ...] = (0.0,)
+
+    @property
+    def up_vector(self) -> tuple[float, float]:
+        if self.up is not None:
+            return self.up
+        return (-self.ground[1], self.ground[0])
+
+
+@dataclass(frozen=True, slots=True)
+class Mechanism:
+    name: str
+    points: tuple[tuple[str, tuple[float, ...]], ...]
+    links: tuple[Link, ...]
+    prismatic: tuple[Prismatic, ...] = ()
+    actuators: tuple[Actuator, ...] = ()
+    drivers: tuple[RotaryDriver | LinearDriver, ...] = ()
+    branches: tuple[BranchHint, ...] = ()
+    joints: tuple[Joint, ...] = ()
+    gait: Gait | None = None
+    description: str = ""
+    units: Units = Units()
+    dimension: int = 2
+    format: str = "assur/1"
+
+    # -- look-ups -------------------------------------------------------------------------------
+    @property
+    def point_names(self) -> tuple[str, ...]:
+        return tuple(n for n, _ in self.points)
+
+    def sketch(self, point: str) -> tuple[float, ...]:
+        for n, xy in self.points:
+            if n == point:
+                return xy
+        raise KeyError(point)
+
+    def link(self, name: str) -> Link:
+        for lk in self.links:
+            if lk.name == name:
+                return lk
+        raise KeyError(name)
+
+    @property
+    def frame(self) -> Link:
+        return self.link(FRAME)
+
+    @property
+    def length_scale(self) -> float:
+        """Size of the sketch's bounding box (m), the scale of relative tolerances."""
+        import numpy as np
+        xy = np.array([c for _, c in self.points], dtype=float)
+        span = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
+        return span if span > 0 else 1.0

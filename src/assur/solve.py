@@ -1,0 +1,295 @@
+"""Execute a solve plan on batches: positions, velocities and accelerations of every point.
+
+``solve(plan, params, inputs)`` broadcasts ``params (..., n_params)`` against
+``inputs (..., n_inputs)`` (leading axes), so one call covers designs × angles × legs. Each Assur
+group is solved by its closed form on second-order jets (:mod:`assur.kernels.jet`), which gives
+the papers' analogues d/dq and d²/dq² exactly; time derivatives follow from the driver speeds.
+Groups without a closed form (triads) go to the batched Newton solver, which is also the test
+oracle of the closed forms (``method="newton"``).
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .compile import geometry
+from .errors import SpecError, UnbuildableError, UnbuildableWarning
+from .kernels import planar
+from .kernels.jet import Jet, angle, expi
+from .plan import SolvePlan, Step
+from .state import State
+from .tolerances import DEFAULT
+
+ON_UNBUILDABLE = ("nan", "warn", "raise")
+
+
+class _Context:
+    def __init__(self, plan, params, q_jets, order, tol):
+        self.plan, self.order, self.tol = plan, order, tol
+        self.w, self.lines = geometry(plan, params)
+        self.params = params
+        self.q = q_jets
+        self.pose: dict[int, tuple[Jet, Jet]] = {}
+        self.pos: dict[str, Jet] = {}
+        self.valid = np.True_
+        self.g = plan.structure.graph
+
+    def const(self, v):
+        return Jet.const(v, self.order)
+
+    def place(self, body, o, e):
+        self.pose[body] = (o, e)
+        for p in self.g.bodies[body].points:
+            if p not in self.pos:
+                self.pos[p] = o + e * self.w[(body, p)]
+
+    def from_two(self, body, p1, p2):
+        """Pose of a body from the world positions of two of its points."""
+        w1, w2 = self.w[(body, p1)], self.w[(body, p2)]
+        e = (self.pos[p2] - self.pos[p1]) * (1.0 / (w2 - w1))
+        self.place(body, self.pos[p1] - e * w1, e)
+
+    def radius(self, side, a, j):
+        if side.actuator is not None:
+            return self.q[side.actuator[2]]
+        return np.abs(self.w[(side.body, j)] - self.w[(side.body, a)])
+
+    def place_side(self, side, a, j):
+        if side.actuator is None:
+            self.from_two(side.body, a, j)
+            return
+        cyl, rod, k = side.actuator
+        e = (self.pos[j] - self.pos[a]) / self.q[k]
+        self.place(cyl, self.pos[a], e)
+        self.place(rod, self.pos[j], e)
+
+    def world_line(self, idx):
+        """World line of slide idx, and the slider's orientation: (Q, U, e_slider, ref, u_slider)."""
+        rec = self.plan.lines[idx]
+        q, u, ref, us = self.lines[idx]
+        og, eg = self.pose[rec[2]]
+        return og + eg * q, eg * u, eg * (u / us), ref, us
+
+    def flag(self, valid):
+        self.valid = self.valid & valid
+
+
+def _frame(c: _Context, st: Step):
+    c.place(0, c.const(0j), c.const(1 + 0j))
+    for p in c.g.bodies[0].points:
+        c.pos[p] = c.const(c.w[(0, p)])
+
+
+def _crank(c: _Context, st: Step):
+    pivot, arm, k, izero, sense = st.data
+    body = st.bodies[0]
+    d = c.w[(body, arm)] - c.w[(body, pivot)]
+    theta = c.q[k] * float(sense) + c.params[..., izero]
+    e = expi(theta) * np.conj(d / np.abs(d))
+    c.place(body, c.pos[pivot] - e * c.w[(body, pivot)], e)
+
+
+def _rrr(c: _Context, st: Step):
+    sa, A, sb, B, J = st.data
+    z, ok = planar.circle_circle(c.pos[A], c.radius(sa, A, J), c.pos[B], c.radius(sb, B, J), st.branch, c.tol.radicand)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place_side(sa, A, J)
+    c.place_side(sb, B, J)
+
+
+def _rrp(c: _Context, st: Step):
+    sa, A, slider, line, J = st.data
+    Q, U, es, ref, _ = c.world_line(line)
+    Qj = Q + es * (c.w[(slider, J)] - ref)
+    z, ok = planar.circle_line(c.pos[A], c.radius(sa, A, J), Qj, U, st.branch, c.tol.radicand)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place_side(sa, A, J)
+    c.place(slider, z - es * c.w[(slider, J)], es)
+
+
+def _rpr(c: _Context, st: Step):
+    guide, gp, slider, sp, line = st.data
+    q, u, ref, us = c.lines[line]
+    cvec = (q - c.w[(guide, gp)]) + (u / us) * (c.w[(slider, sp)] - ref)
+    cc = cvec / u
+    eu, ok = planar.rotation_from_slide(c.pos[sp] - c.pos[gp], np.real(cc), np.imag(cc), st.branch, c.tol.radicand)
+    c.flag(ok)
+    eg = eu * (1.0 / u)
+    c.place(guide, c.pos[gp] - eg * c.w[(guide, gp)], eg)
+    es = eu * (1.0 / us)
+    c.place(slider, c.pos[sp] - es * c.w[(slider, sp)], es)
+
+
+def _prp(c: _Context, st: Step):
+    a, la, b, lb, J = st.data
+    Qa, Ua, ea, refa, _ = c.world_line(la)
+    Qb, Ub, eb, refb, _ = c.world_line(lb)
+    z, ok = planar.line_line(Qa + ea * (c.w[(a, J)] - refa), Ua, Qb + eb * (c.w[(b, J)] - refb), Ub, c.tol.parallel)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place(a, z - ea * c.w[(a, J)], ea)
+    c.place(b, z - eb * c.w[(b, J)], eb)
+
+
+def _ppr(c: _Context, st: Step):
+    a, A, b, lo, li = st.data
+    Qo, Uo, eb, refo, _ = c.world_line(lo)
+    rec_i = c.plan.lines[li]
+    qi, ui, refi, usi = c.lines[li]
+    if rec_i[2] == b:        # b guides a: e_a = e_b·u/u_s
+        ea = eb * (ui / usi)
+    else:                    # a guides b: e_b = e_a·u/u_s
+        ea = eb * (usi / ui)
+    oa = c.pos[A] - ea * c.w[(a, A)]
+    c.place(a, oa, ea)
+    if rec_i[2] == b:
+        Q2, U2 = oa + ea * refi - eb * qi, eb * ui
+    else:
+        Q2, U2 = oa + ea * qi - eb * refi, ea * ui
+    ob, ok = planar.line_line(Qo - eb * refo, Uo, Q2, U2, c.tol.parallel)
+    c.flag(ok)
+    c.place(b, ob, eb)
+
+
+def _newton(c: _Context, st: Step):
+    from .kernels.newton import solve_group
+    solve_group(c, st)
+
+
+_EXEC = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "PPR": _ppr,
+         "newton": _newton}
+
+
+def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
+    c = _Context(plan, params, q_jets, order, tol)
+    with np.errstate(all="ignore"):
+        for st in steps:
+            kind = st.kind
+            if method == "newton" and kind in ("RRR", "RRP", "RPR", "PRP", "PPR"):
+                kind = "newton"
+            _EXEC[kind](c, st)
+    return c
+
+
+def run_steps(plan, steps, params, inputs, order=0, upto=None):
+    """Positions (complex values by point name) and validity after the first ``upto`` steps (compile-time helper)."""
+    q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
+    c = _execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, DEFAULT)
+    return {p: z.v for p, z in c.pos.items()}, c.valid
+
+
+def _prepare(plan: SolvePlan, params, inputs):
+    if params is None:
+        params = plan.defaults
+    params = np.asarray(params, dtype=float)
+    if params.ndim == 0 or params.shape[-1] != plan.n_params:
+        raise SpecError([("params", f"must have a trailing axis of {plan.n_params} parameters "
+                                    f"({', '.join(plan.param_names)}): shape {params.shape}")])
+    if inputs is None:
+        inputs = plan.sketch_inputs
+    inputs = np.asarray(inputs, dtype=float)
+    if plan.n_inputs == 1 and (inputs.ndim == 0 or inputs.shape[-1] != 1):
+        inputs = inputs[..., None]
+    if inputs.shape[-1] != plan.n_inputs:
+        raise SpecError([("inputs", f"must have a trailing axis of {plan.n_inputs} inputs "
+                                    f"({', '.join(plan.input_names)}): shape {inputs.shape}")])
+    return params, inputs
+
+
+def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None, order: int = 2,
+          on_unbuildable: str = "nan", method: str = "closed", tolerances=DEFAULT) -> State:
+    """Solve positions (and, with ``order`` ≥ 1/2, velocities and accelerations) of every point.
+
+    params: (..., n_params) design parameters (default: the file's); inputs: (..., n_inputs)
+    input values (crank angles in rad, actuator lengths in m; a single-input plan also takes
+    (...,)); speeds/accels: (..., n_inputs) input rates (default: the drivers' speeds, zero
+    input acceleration). Leading axes broadcast. Returns a :class:`State`.
+    on_unbuildable: 'nan' (NaN + ``valid`` mask), 'warn' (also warn with the count), 'raise'.
+    """
+    if on_unbuildable not in ON_UNBUILDABLE:
+        raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
+    if method not in ("closed", "newton"):
+        raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
+    if order not in (0, 1, 2):
+        raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
+    params, inputs = _prepare(plan, params, inputs)
+    n = plan.n_inputs
+    shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
+    names = plan.point_names
+
+    def run(direction):
+        q = []
+        for k in range(n):
+            d = np.full(inputs.shape[:-1], float(direction[k])) if order >= 1 else None
+            dd = np.zeros(inputs.shape[:-1]) if order >= 2 else None
+            q.append(Jet(inputs[..., k], d, dd))
+        return _execute(plan, plan.steps, params, q, order, tolerances, method)
+
+    def stack(ctx, attr):
+        return np.stack([np.broadcast_to(getattr(ctx.pos[p], attr), shape) for p in names], axis=-1)
+
+    def body_angles(ctx, attr):
+        out = []
+        for b in range(len(plan.body_names)):
+            th = angle(ctx.pose[b][1])
+            out.append(np.broadcast_to(getattr(th, attr), shape))
+        return np.stack(out, axis=-1)
+
+    eye = np.eye(n)
+    passes = [run(eye[k]) for k in range(n)] if order >= 1 and n > 0 else [run(np.zeros(n))]
+    base = passes[0]
+    pos_c = stack(base, "v")
+    valid = np.broadcast_to(base.valid, shape) & np.all(np.isfinite(pos_c), axis=-1)
+    theta = body_angles(base, "v")
+    dz = d2z = dth = d2th = None
+    if order >= 1:
+        dz = np.stack([stack(p, "d") for p in passes], axis=-1)             # (..., n_points, n_inputs)
+        dth = np.stack([body_angles(p, "d") for p in passes], axis=-1)
+    if order >= 2:
+        d2z = np.empty(shape + (len(names), n, n), dtype=complex)
+        d2th = np.empty(shape + (len(plan.body_names), n, n))
+        for i in range(n):
+            d2z[..., i, i] = stack(passes[i], "dd")
+            d2th[..., i, i] = body_angles(passes[i], "dd")
+        for i in range(n):
+            for j in range(i + 1, n):
+                mixed = run(eye[i] + eye[j])
+                d2z[..., i, j] = d2z[..., j, i] = 0.5 * (stack(mixed, "dd") - d2z[..., i, i] - d2z[..., j, j])
+                t = 0.5 * (body_angles(mixed, "dd") - d2th[..., i, i] - d2th[..., j, j])
+                d2th[..., i, j] = d2th[..., j, i] = t
+    # invalid samples: NaN everywhere, never finite garbage
+    inv = ~valid
+    if inv.any():
+        pos_c = np.where(inv[..., None], np.nan, pos_c)
+        theta = np.where(inv[..., None], np.nan, theta)
+        if dz is not None:
+            dz = np.where(inv[..., None, None], np.nan, dz)
+            dth = np.where(inv[..., None, None], np.nan, dth)
+        if d2z is not None:
+            d2z = np.where(inv[..., None, None, None], np.nan, d2z)
+            d2th = np.where(inv[..., None, None, None], np.nan, d2th)
+    n_bad = int(np.count_nonzero(inv))
+    if n_bad and on_unbuildable != "nan":
+        total = int(np.prod(shape)) if shape else 1
+        flat = np.broadcast_to(inputs, shape + (n,)).reshape(-1, n)[inv.reshape(-1)]
+        first = ", ".join(f"{plan.input_names[k]}={_fmt_input(plan, k, flat[0, k])}" for k in range(n))
+        msg = (f"{n_bad} of {total} samples cannot be assembled (first at {first}); "
+               f"they are NaN with valid=False")
+        if on_unbuildable == "raise":
+            raise UnbuildableError(msg, n_bad, total)
+        warnings.warn(msg, UnbuildableWarning, stacklevel=2)
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+    if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
+        raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
+    return State(plan=plan, inputs=np.broadcast_to(inputs, shape + (n,)), valid=valid, n_unbuildable=n_bad,
+                 _pos=pos_c, _dz=dz, _d2z=d2z, _theta=theta, _dtheta=dth, _d2theta=d2th, qdot=qdot, qddot=qddot)
+
+
+def _fmt_input(plan, k, v):
+    if plan.input_kinds[k] == "rotary":
+        return f"{np.degrees(v):.6g}°"
+    return f"{v:.6g} m"
