@@ -20,6 +20,23 @@ from .structure.assur import AssurGroup, GroupKind, Structure, analyse
 
 __version__ = "0.1.0"
 
+_LAZY = {
+    "analyze": ("assur.analysis.summary", "analyze"),
+    "gait_metrics": ("assur.analysis.gait", "gait_metrics"),
+    "gait_curves": ("assur.analysis.gait", "gait_curves"),
+    "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
+    "dead_centres": ("assur.analysis.transmission", "dead_centres"),
+}
+
+
+def __getattr__(name):
+    """Analysis functions load on first use (they pull in scipy.optimize)."""
+    if name in _LAZY:
+        import importlib
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(module), attr)
+    raise AttributeError(f"module 'assur' has no attribute {name!r}")
+
 __all__ = ["AssurError", "AssurGroup", "GroupKind", "Mechanism", "SolvePlan", "SpecError", "State", "Structure",
            "StructureError", "SynthesisError", "UnbuildableError", "UnbuildableWarning", "analyse", "compile", "dump",
-           "dumps", "load", "loads", "solve", "__version__"]
+           "dumps", "load", "loads", "solve", "__version__", *_LAZY]

@@ -233,9 +233,10 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
 
     def body_angles(ctx, attr):
         out = []
-        for b in range(len(plan.body_names)):
-            th = angle(ctx.pose[b][1])
-            out.append(np.broadcast_to(getattr(th, attr), shape))
+        with np.errstate(all="ignore"):
+            for b in range(len(plan.body_names)):
+                th = angle(ctx.pose[b][1])
+                out.append(np.broadcast_to(getattr(th, attr), shape))
         return np.stack(out, axis=-1)
 
     eye = np.eye(n)

@@ -26,9 +26,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy.integrate import simpson
+from scipy.optimize import brentq
 
 from ..errors import SpecError, UnbuildableError
-from .sampling import TWO_PI, Cycle, intervals, refine_extreme
+from .sampling import TWO_PI, Cycle, intervals
 
 
 @dataclass(frozen=True)
@@ -89,6 +90,8 @@ class GaitCurves:
 
 
 class _Foot:
+    """The foot's stride/vertical coordinates and their exact derivatives at any inputs."""
+
     def __init__(self, plan, params, foot, ground, up):
         self.cycle = Cycle(plan, params)
         self.i = plan.point_index(foot)
@@ -96,24 +99,52 @@ class _Foot:
         self.u = np.asarray(up, dtype=float)
         self.omega = float(plan.speeds[0])
 
-    def eval(self, q):
-        s = self.cycle.state(q)
+    def eval(self, q) -> dict:
+        s = self.cycle.state(np.atleast_1d(np.asarray(q, dtype=float)))
         P = s.pos[..., self.i, :]
         dP = s.dpos_dq[..., self.i, :, 0]
         d2P = s.d2pos_dq2[..., self.i, :, 0, 0]
-        return s.valid, P @ self.g, P @ self.u, dP @ self.g, dP @ self.u, d2P @ self.g, np.hypot(*np.moveaxis(dP, -1, 0))
+        norm = np.hypot(dP[..., 0], dP[..., 1])
+        return {"valid": s.valid, "x": P @ self.g, "v": P @ self.u, "dx": dP @ self.g, "dv": dP @ self.u,
+                "d2x": d2P @ self.g, "d2v": d2P @ self.u, "speed": norm,
+                "dspeed": np.sum(dP * d2P, axis=-1) / norm, "absdx": np.abs(dP @ self.g),
+                "dabsdx": np.sign(dP @ self.g) * (d2P @ self.g)}
 
-    def x(self, q):
-        return self.eval(np.atleast_1d(q))[1][0]
+    def scalar(self, key):
+        return lambda q: float(self.eval(q)[key][0])
 
-    def v(self, q):
-        return self.eval(np.atleast_1d(q))[2][0]
 
-    def speed(self, q):
-        return abs(self.omega) * self.eval(np.atleast_1d(q))[6][0]
+def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, extra_roots: str | None = None):
+    """(min, max) of F[key] over [lo, hi]: candidates are the ends and the exact roots of its
+    derivative F[dkey] (brentq between grid samples where it changes sign)."""
+    cands = [lo, hi]
+    for k in (dkey, extra_roots) if extra_roots else (dkey,):
+        dv = vals[k]
+        idx = np.nonzero(np.sign(dv[:-1]) * np.sign(dv[1:]) < 0)[0]
+        f = F.scalar(k)
+        for i in idx:
+            cands.append(brentq(f, qq[i], qq[i + 1], xtol=1e-14, rtol=1e-14))
+        cands += list(qq[np.nonzero(dv == 0)[0]])
+    values = F.eval(np.array(cands))[key]
+    return float(np.min(values)), float(np.max(values))
 
-    def vx(self, q):
-        return abs(self.omega * self.eval(np.atleast_1d(q))[3][0])
+
+def _extreme_location(F: _Foot, key: str, dkey: str, q, vals, which: str) -> tuple[float, float]:
+    """(q, value) of the global min or max of F[key] over a full cyclic grid, refined by a root of F[dkey]."""
+    i = int(np.argmin(vals[key]) if which == "min" else np.argmax(vals[key]))
+    n = len(q)
+    step = q[1] - q[0]
+    f = F.scalar(dkey)
+    best = (float(q[i]), float(vals[key][i]))
+    for a in (q[i] - step, q[i]):
+        b = a + step
+        fa, fb = f(a), f(b)
+        if np.isfinite(fa) and np.isfinite(fb) and fa * fb <= 0:
+            r = brentq(f, a, b, xtol=1e-14, rtol=1e-14) if fa * fb < 0 else (a if fa == 0 else b)
+            val = float(F.eval(r)[key][0])
+            if (which == "min" and val <= best[1]) or (which == "max" and val >= best[1]):
+                best = (float(r) % TWO_PI, val)
+    return best
 
 
 def _resolve(plan, foot, ground, up):
@@ -149,20 +180,22 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
     foot, ground, up = _resolve(plan, foot, ground, up)
     F = _Foot(plan, params, foot, ground, up)
     q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    valid, x, v, dx, dv, d2x, dnorm = F.eval(q)
+    vals = F.eval(q)
+    valid = vals["valid"]
     if not np.all(valid):
         bad = q[~valid]
         raise UnbuildableError(
             f"the crank cannot turn fully: {np.count_nonzero(~valid)} of {steps} positions cannot be assembled "
             f"(from {np.degrees(bad.min()):.1f}° to {np.degrees(bad.max()):.1f}°); no gait metrics",
             int(np.count_nonzero(~valid)), steps)
+    x, v, dx = vals["x"], vals["v"], vals["dx"]
     w = abs(F.omega)
-    # refined vertical extremes of the whole path
-    _, vmin = refine_extreme(F.v, q, v, int(np.argmin(v)), +1)
-    _, vmax = refine_extreme(F.v, q, v, int(np.argmax(v)), -1)
+    # exact extremes of the whole path (roots of the exact derivatives)
+    vmin = _extreme_location(F, "v", "dv", q, vals, "min")[1]
+    vmax = _extreme_location(F, "v", "dv", q, vals, "max")[1]
     lift = vmax - vmin
-    qa, xa = refine_extreme(F.x, q, x, int(np.argmin(x)), +1)
-    qb, xb = refine_extreme(F.x, q, x, int(np.argmax(x)), -1)
+    qa, xa = _extreme_location(F, "x", "dx", q, vals, "min")
+    qb, xb = _extreme_location(F, "x", "dx", q, vals, "max")
     step_length = xb - xa
     if support == "arc":
         # the two arcs between the horizontal extremes; the contact arc has the lower mean height
@@ -170,30 +203,25 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         for start, end in ((qa, qb), (qb, qa)):
             width = (end - start) % TWO_PI
             qq = start + np.linspace(0.0, width, steps)
-            vals = F.eval(qq)
-            arcs.append((float(simpson(vals[2] - vmin, x=qq) / width), start, width, qq, vals))
+            av = F.eval(qq)
+            arcs.append((float(simpson(av["v"] - vmin, x=qq) / width), start, width, qq, av))
         arcs.sort(key=lambda a: a[0])
-        _, start, width, qq, vals = arcs[0]
-        _, xs, vs, dxs, dvs, d2xs, dns = vals
+        _, start, width, qq, av = arcs[0]
         lo, hi = start, start + width
-        _, smin = refine_extreme(F.v, qq, vs, int(np.argmin(vs)), +1, lo, hi)
-        _, smax = refine_extreme(F.v, qq, vs, int(np.argmax(vs)), -1, lo, hi)
+        smin, smax = _extremes(F, "v", "dv", qq, av, lo, hi)
         sag = smax - smin
-        speed = w * dns
-        _, spmax = refine_extreme(F.speed, qq, speed, int(np.argmax(speed)), -1, lo, hi)
-        _, spmin = refine_extreme(F.speed, qq, speed, int(np.argmin(speed)), +1, lo, hi)
-        vxa = np.abs(w * dxs)
-        _, vxmax = refine_extreme(F.vx, qq, vxa, int(np.argmax(vxa)), -1, lo, hi)
-        _, vxmin = refine_extreme(F.vx, qq, vxa, int(np.argmin(vxa)), +1, lo, hi)
-        ax = w * w * d2xs
+        spmin, spmax = _extremes(F, "speed", "dspeed", qq, av, lo, hi)
+        vxmin, vxmax = _extremes(F, "absdx", "dabsdx", qq, av, lo, hi, extra_roots="dx")
+        ax = w * w * av["d2x"]
         metrics = GaitMetrics(foot, "arc", F.omega, float(start), float(start + width), float(step_length),
                               float(lift), float(sag), float(width / TWO_PI),
-                              Stats.of(speed, qq, spmax, spmin), Stats.of(vxa, qq, vxmax, vxmin),
+                              Stats.of(w * av["speed"], qq, w * spmax, w * spmin),
+                              Stats.of(w * av["absdx"], qq, w * vxmax, w * vxmin),
                               (float(ax.min()), float(ax.max())), steps)
         contact = ((q - start) % TWO_PI) <= width
         body_q = qq
-        P0 = np.array([xs[0], vs[0]])
-        body_x, body_v = P0[0] - xs, P0[1] - vs
+        xs, vs = av["x"], av["v"]
+        body_x, body_v = xs[0] - xs, vs[0] - vs
     else:
         h = v - vmin
         if support == "band":
@@ -201,7 +229,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                 raise SpecError([("band", f"support='band' needs a positive band height (m): {band!r}")])
             contact = h <= band
         else:
-            shifted = F.eval(q + math.pi)[2] - vmin
+            shifted = F.eval(q + math.pi)["v"] - vmin
             contact = h < shifted
         if not contact.any():
             raise SpecError([("band", "no sample lies in the support band")])
@@ -209,9 +237,9 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         first, last = max(runs, key=lambda r: (r[1] - r[0]) % steps)
         start = q[first]
         width = ((q[last] - q[first]) % TWO_PI) + (q[1] - q[0])
-        speed, vxa = w * dnorm[contact], np.abs(w * dx[contact])
-        qc = np.sort(((q[contact] - start) % TWO_PI)) + start
+        speed, vxa = w * vals["speed"][contact], np.abs(w * dx[contact])
         order = np.argsort((q[contact] - start) % TWO_PI)
+        d2x = vals["d2x"][contact]
         metrics = GaitMetrics(foot, support, F.omega, float(start), float(start + width),
                               float(np.ptp(x[contact])), float(lift), float(np.ptp(v[contact])),
                               float(np.count_nonzero(contact) / steps),
@@ -219,11 +247,12 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                                     0.5 * float(speed.max() + speed.min())),
                               Stats(float(vxa.max()), float(vxa.min()), float(vxa.mean()),
                                     0.5 * float(vxa.max() + vxa.min())),
-                              (float((w * w * d2x[contact]).min()), float((w * w * d2x[contact]).max())), steps)
-        body_q = qc
+                              (float((w * w * d2x).min()), float((w * w * d2x).max())), steps)
+        body_q = np.sort((q[contact] - start) % TWO_PI) + start
         xs, vs = x[contact][order], v[contact][order]
         body_x, body_v = xs[0] - xs, vs[0] - vs
-    curves = GaitCurves(q, x, v, F.omega * dx, F.omega * dv, w * dnorm, contact, body_q, body_x, body_v)
+    curves = GaitCurves(q, x, v, F.omega * dx, F.omega * vals["dv"], w * vals["speed"], contact, body_q,
+                        body_x, body_v)
     return metrics, curves
 
 

@@ -394,7 +394,9 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                     vecs[k] = None
                 else:
                     n = math.hypot(*v)
-                    vecs[k] = (v[0] / n, v[1] / n)
+                    if abs(n - 1.0) < 1e-14:   # already a unit vector (e.g. written by dump): keep it exactly
+                        n = 1.0
+                    vecs[k] = (float(v[0]) / n, float(v[1]) / n)
             phases = gdata.get("phases", [0.0])
             if not isinstance(phases, list) or not phases or not all(_num(c) for c in phases):
                 P.add("gait.phases", f"must be a non-empty list of crank phase offsets: {phases!r}")
@@ -436,9 +438,13 @@ def ldata_points(ldata, link):
     return spec if isinstance(spec, list) else (spec or {}).get("points", [])
 
 
-def _out(x: float) -> float | int:
-    """A number in file units, rounded to 15 significant digits so SI↔unit conversion round-trips."""
-    y = float(f"{x:.15g}")
+def _out(si: float, factor: float = 1.0) -> float | int:
+    """``si / factor`` in file units with the fewest digits that load back to exactly ``si``."""
+    x = si / factor
+    for digits in (15, 16, 17):
+        y = float(f"{x:.{digits}g}")
+        if y * factor == si or y == x and digits == 17:
+            break
     return int(y) if y.is_integer() and abs(y) < 2**53 else y
 
 
@@ -452,7 +458,7 @@ def to_dict(m: Mechanism) -> dict:
     if m.dimension != 2:
         d["dimension"] = m.dimension
     d["units"] = {"length": m.units.length, "angle": m.units.angle}
-    d["points"] = {n: [_out(c / L) for c in xy] for n, xy in m.points}
+    d["points"] = {n: [_out(c, L) for c in xy] for n, xy in m.points}
     links = {}
     for lk in m.links:
         if lk.length is None and not lk.place:
@@ -460,18 +466,18 @@ def to_dict(m: Mechanism) -> dict:
         else:
             t: dict = {"points": list(lk.points)}
             if lk.length is not None:
-                t["length"] = _out(lk.length / L)
+                t["length"] = _out(lk.length, L)
             if lk.place:
-                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": _out(p.distance / L),
-                                   "angle": _out(p.angle / A)} for pn, p in lk.place}
+                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": _out(p.distance, L),
+                                   "angle": _out(p.angle, A)} for pn, p in lk.place}
             links[lk.name] = t
     d["links"] = links
     if m.prismatic:
         out = []
         for pr in m.prismatic:
-            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": _out(pr.angle / A)}
+            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": _out(pr.angle, A)}
             if pr.offset:
-                t["offset"] = _out(pr.offset / L)
+                t["offset"] = _out(pr.offset, L)
             if pr.point is not None:
                 t["point"] = pr.point
             else:
@@ -485,11 +491,11 @@ def to_dict(m: Mechanism) -> dict:
         for dr in m.drivers:
             if dr.kind == "rotary":
                 out.append({"name": dr.name, "kind": "rotary", "link": dr.link, "pivot": dr.pivot, "arm": dr.arm,
-                            "zero": _out(dr.zero / A), "sense": "cw" if dr.sense < 0 else "ccw",
-                            "speed": U.format_speed(dr.speed, "rotary")})
+                            "zero": _out(dr.zero, A), "sense": "cw" if dr.sense < 0 else "ccw",
+                            "speed": U.format_speed(dr.speed, "rotary", m.units)})
             else:
                 out.append({"name": dr.name, "kind": "linear", "actuator": dr.actuator,
-                            "speed": U.format_speed(dr.speed, "linear")})
+                            "speed": U.format_speed(dr.speed, "linear", m.units)})
         d["drivers"] = out
     if m.branches:
         d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
@@ -499,14 +505,14 @@ def to_dict(m: Mechanism) -> dict:
         g = {"foot": m.gait.foot, "ground": [_out(c) for c in m.gait.ground]}
         if m.gait.up is not None:
             g["up"] = [_out(c) for c in m.gait.up]
-        g["phases"] = [_out(p / A) for p in m.gait.phases]
+        g["phases"] = [_out(p, A) for p in m.gait.phases]
         d["gait"] = g
     return d
 
 
 def dumps(m: Mechanism) -> str:
-    import tomli_w
-    return tomli_w.dumps(to_dict(m))
+    from .toml_writer import dumps as write
+    return write(to_dict(m))
 
 
 def dump(m: Mechanism, path=None) -> str:

@@ -40,5 +40,16 @@ def parse_speed(text, kind: str, units) -> float:
     return float(m.group(1)) * table[m.group(2)]
 
 
-def format_speed(value: float, kind: str) -> str:
-    return f"{value!r} rad/s" if kind == "rotary" else f"{value!r} m/s"
+def format_speed(value: float, kind: str, units=None) -> str:
+    """A speed as text that parses back to exactly ``value``: in rpm (rotary) or the file's length
+    unit per second (linear) when that is exact, else in rad/s or m/s."""
+    if kind == "rotary":
+        candidates = [("rpm", ANGULAR_SPEED["rpm"]), ("rad/s", 1.0)]
+    else:
+        unit = units.length if units is not None else "m"
+        candidates = [(f"{unit}/s", LENGTH[unit]), ("m/s", 1.0)]
+    for name, factor in candidates:
+        text = f"{value / factor:.12g}"
+        if float(text) * factor == value:
+            return f"{text} {name}"
+    return f"{value!r} {'rad/s' if kind == 'rotary' else 'm/s'}"

@@ -1,0 +1,164 @@
+"""Gait metrics against the exact closed forms of paper 000 (spec 000 §3 and §6) and the
+definitions of the contact arc (spec 000 §6), plus the walking-module bookkeeping."""
+import math
+
+import numpy as np
+import pytest
+
+import assur
+from assur.analysis.gait import gait_curves, gait_metrics, module_metrics, module_timeline
+
+L1, L2, L5 = 165.0, 193.0, 175.0   # mm, paper 000's printed design (spec 000 §4)
+
+
+def crank_slider_text(l1=L1, l2=L2, l5=L5, sketch_deg=30.0, omega="1 rad/s"):
+    """Paper 000's mechanism in the paper's frame (spec 000 §2): C = l5·(sin φ, cos φ)."""
+    f = math.radians(sketch_deg)
+    cx, cy = l5 * math.sin(f), l5 * math.cos(f)
+    yb = l5 * math.cos(f) + math.sqrt(l2 ** 2 - (l5 * math.sin(f)) ** 2)
+    ax, ay = (l1 / l2) * (0 - cx), yb + (l1 / l2) * (yb - cy)
+    return f"""
+format = "assur/1"
+[units]
+length = "mm"
+angle = "deg"
+[points]
+K = [0, 0]
+C = [{cx!r}, {cy!r}]
+B = [0, {yb!r}]
+A = [{ax!r}, {ay!r}]
+[links]
+frame = ["K"]
+crank = ["K", "C"]
+[links.rod]
+points = ["C", "B", "A"]
+length = {l2!r}
+[links.rod.place.A]
+from = "B"
+toward = "C"
+distance = {l1!r}
+angle = 180
+[[prismatic]]
+name = "slider"
+point = "B"
+guide = "frame"
+through = "K"
+angle = 90
+[[drivers]]
+name = "crank"
+link = "crank"
+pivot = "K"
+arm = "C"
+zero = 90
+sense = "cw"
+speed = "{omega}"
+[gait]
+foot = "A"
+ground = [1, 0]
+up = [0, 1]
+"""
+
+
+@pytest.fixture(scope="module")
+def plan():
+    return assur.compile(assur.loads(crank_slider_text()))
+
+
+def closed_forms(l1=L1, l2=L2, l5=L5):
+    """Spec 000 §6 closed forms, in metres (ω = 1 rad/s)."""
+    l1, l2, l5 = l1 / 1000, l2 / 1000, l5 / 1000
+    k = 1 + l1 / l2
+    d = l1 * l5 / l2
+    y_min = math.sqrt((k * k - 1) * (l2 * l2 - l5 * l5))
+    return {"step": 2 * d, "d": d, "lift": (l1 + l2 + l5) - y_min, "sag": (l1 + l2 - l5) - y_min,
+            "vmax": l5}
+
+
+def test_structure_is_crank_and_rrp(plan):
+    # spec 000 §2: n = 3 (crank, rod, slider block), p5 = 4, W = 1; crank → RRP dyad
+    s = plan.structure
+    assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (3, 4, 1)
+    assert [g.kind for g in s.groups] == [assur.GroupKind.RRP]
+
+
+def test_contact_arc_is_90_to_270(plan):
+    g = gait_metrics(plan, steps=720)
+    # spec 000 §6: x_A ∝ −sin φ, so the contact arc is [90°, 270°] exactly and duty = 0.5
+    assert g.contact_start == pytest.approx(math.pi / 2, abs=1e-7)
+    assert g.contact_end == pytest.approx(3 * math.pi / 2, abs=1e-7)
+    assert g.duty_factor == pytest.approx(0.5, abs=1e-8)
+
+
+def test_step_lift_sag_closed_forms(plan):
+    g = gait_metrics(plan, steps=720)
+    ref = closed_forms()
+    assert g.step_length == pytest.approx(ref["step"], rel=1e-9)
+    assert g.lift == pytest.approx(ref["lift"], rel=1e-9)
+    assert g.sag == pytest.approx(ref["sag"], rel=1e-9)
+
+
+def test_support_speeds_closed_forms(plan):
+    g = gait_metrics(plan, steps=720)
+    ref = closed_forms()
+    # spec 000 §6: max |v| on the contact arc = l5·ω (at 90° and 270°); max |v_x| = d·ω, min 0
+    assert g.support_speed.max == pytest.approx(ref["vmax"], rel=1e-9)
+    assert g.support_vx.max == pytest.approx(ref["d"], rel=1e-9)
+    assert g.support_vx.min == pytest.approx(0.0, abs=1e-9)
+    # a_x = d ω² sin φ ranges over ±d ω² on [90°, 270°]
+    assert g.support_ax[0] == pytest.approx(-ref["d"], rel=1e-6)
+    assert g.support_ax[1] == pytest.approx(ref["d"], rel=1e-6)
+    # time-mean of |v_x| = d·|cos φ| over [90°, 270°]: (1/π)∫|cos| = 2/π (independent integral)
+    assert g.support_vx.mean == pytest.approx(ref["d"] * 2 / math.pi, rel=1e-6)
+
+
+def test_metrics_converge_with_sampling(plan):
+    a = gait_metrics(plan, steps=180)
+    b = gait_metrics(plan, steps=1440)
+    for field in ("step_length", "lift", "sag", "duty_factor"):
+        assert getattr(a, field) == pytest.approx(getattr(b, field), rel=1e-8)
+    assert a.support_speed.mean == pytest.approx(b.support_speed.mean, rel=1e-6)
+
+
+def test_speeds_scale_with_omega():
+    slow = gait_metrics(assur.compile(assur.loads(crank_slider_text(omega="1 rad/s"))))
+    fast = gait_metrics(assur.compile(assur.loads(crank_slider_text(omega="3 rad/s"))))
+    assert fast.support_speed.max == pytest.approx(3 * slow.support_speed.max, rel=1e-9)
+    assert fast.support_ax[1] == pytest.approx(9 * slow.support_ax[1], rel=1e-6)
+    assert fast.step_length == pytest.approx(slow.step_length, rel=1e-12)
+
+
+def test_body_path_mirrors_foot(plan):
+    c = gait_curves(plan, steps=360)
+    # with the foot planted the frame pivot moves by minus the foot's relative displacement
+    assert c.body_x[0] == 0 and c.body_v[0] == 0
+    assert np.ptp(c.body_x) == pytest.approx(gait_metrics(plan).step_length, rel=1e-6)
+
+
+def test_unbuildable_crank_raises_clear_error():
+    # l2 < l5: the RRP radicand is negative for part of the turn (spec 000 §2)
+    p = assur.compile(assur.loads(crank_slider_text(l2=150.0, sketch_deg=10.0)))
+    with pytest.raises(assur.UnbuildableError, match="cannot turn fully"):
+        gait_metrics(p)
+
+
+def test_band_and_antiphase_support(plan):
+    arc = gait_metrics(plan)
+    anti = gait_metrics(plan, support="antiphase")
+    # antiphase: a leg supports while lower than its twin 180° away; duty is 1/2 for any path
+    assert anti.duty_factor == pytest.approx(0.5, abs=2 / 720)
+    band = gait_metrics(plan, support="band", band=arc.lift * 2)
+    assert band.duty_factor == 1.0  # a band above the whole path holds every sample
+    with pytest.raises(assur.SpecError, match="band"):
+        gait_metrics(plan, support="band")
+
+
+def test_walking_module_feet_count(plan):
+    g = gait_metrics(plan)
+    # two legs in antiphase with duty exactly 0.5: always one or two feet down, never none
+    mm = module_metrics(g, (0.0, math.pi))
+    assert mm.min_feet >= 1 and mm.airborne_fraction == 0
+    q, count = module_timeline(g, (0.0, math.pi))
+    assert count.shape == q.shape and count.max() <= 2
+    # one leg: airborne exactly during the transfer arc (1 − duty)
+    one = module_metrics(g, (0.0,))
+    assert one.airborne_fraction == pytest.approx(1 - g.duty_factor, abs=2 / 720)
