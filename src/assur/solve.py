@@ -16,7 +16,7 @@ import numpy as np
 from .compile import geometry
 from .errors import SpecError, UnbuildableError, UnbuildableWarning
 from .kernels import planar
-from .kernels.jet import Jet, angle, expi
+from .kernels.jet import Jet, expi
 from .plan import SolvePlan, Step
 from .state import State
 from .tolerances import DEFAULT
@@ -228,50 +228,37 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             q.append(Jet(inputs[..., k], d, dd))
         return _execute(plan, plan.steps, params, q, order, tolerances, method)
 
-    def stack(ctx, attr):
-        return np.stack([np.broadcast_to(getattr(ctx.pos[p], attr), shape) for p in names], axis=-1)
+    n_bodies = len(plan.body_names)
 
-    def body_angles(ctx, attr):
-        out = []
-        with np.errstate(all="ignore"):
-            for b in range(len(plan.body_names)):
-                th = angle(ctx.pose[b][1])
-                out.append(np.broadcast_to(getattr(th, attr), shape))
-        return np.stack(out, axis=-1)
+    def stack(ctx, attr):
+        """(..., n_points + n_bodies) complex: point positions, then body orientations e = exp(iθ)."""
+        jets = [ctx.pos[p] for p in names] + [ctx.pose[b][1] for b in range(n_bodies)]
+        return np.stack([np.broadcast_to(getattr(j, attr), shape) for j in jets], axis=-1)
 
     eye = np.eye(n)
     passes = [run(eye[k]) for k in range(n)] if order >= 1 and n > 0 else [run(np.zeros(n))]
     base = passes[0]
-    pos_c = stack(base, "v")
-    valid = np.broadcast_to(base.valid, shape) & np.all(np.isfinite(pos_c), axis=-1)
-    theta = body_angles(base, "v")
-    dz = d2z = dth = d2th = None
+    z = stack(base, "v")
+    valid = np.broadcast_to(base.valid, shape) & np.all(np.isfinite(z), axis=-1)
+    dz = d2z = None
     if order >= 1:
-        dz = np.stack([stack(p, "d") for p in passes], axis=-1)             # (..., n_points, n_inputs)
-        dth = np.stack([body_angles(p, "d") for p in passes], axis=-1)
+        dz = np.stack([stack(p, "d") for p in passes], axis=-1)             # (..., n_points + n_bodies, n_inputs)
     if order >= 2:
-        d2z = np.empty(shape + (len(names), n, n), dtype=complex)
-        d2th = np.empty(shape + (len(plan.body_names), n, n))
+        d2z = np.empty(shape + (z.shape[-1], n, n), dtype=complex)
         for i in range(n):
             d2z[..., i, i] = stack(passes[i], "dd")
-            d2th[..., i, i] = body_angles(passes[i], "dd")
         for i in range(n):
             for j in range(i + 1, n):
                 mixed = run(eye[i] + eye[j])
                 d2z[..., i, j] = d2z[..., j, i] = 0.5 * (stack(mixed, "dd") - d2z[..., i, i] - d2z[..., j, j])
-                t = 0.5 * (body_angles(mixed, "dd") - d2th[..., i, i] - d2th[..., j, j])
-                d2th[..., i, j] = d2th[..., j, i] = t
     # invalid samples: NaN everywhere, never finite garbage
     inv = ~valid
     if inv.any():
-        pos_c = np.where(inv[..., None], np.nan, pos_c)
-        theta = np.where(inv[..., None], np.nan, theta)
+        z = np.where(inv[..., None], np.nan, z)
         if dz is not None:
             dz = np.where(inv[..., None, None], np.nan, dz)
-            dth = np.where(inv[..., None, None], np.nan, dth)
         if d2z is not None:
             d2z = np.where(inv[..., None, None, None], np.nan, d2z)
-            d2th = np.where(inv[..., None, None, None], np.nan, d2th)
     n_bad = int(np.count_nonzero(inv))
     if n_bad and on_unbuildable != "nan":
         total = int(np.prod(shape)) if shape else 1
@@ -287,7 +274,7 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
         raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
     return State(plan=plan, inputs=np.broadcast_to(inputs, shape + (n,)), valid=valid, n_unbuildable=n_bad,
-                 _pos=pos_c, _dz=dz, _d2z=d2z, _theta=theta, _dtheta=dth, _d2theta=d2th, qdot=qdot, qddot=qddot)
+                 qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z)
 
 
 def _fmt_input(plan, k, v):

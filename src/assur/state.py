@@ -34,67 +34,90 @@ class State:
     n_unbuildable: int
     qdot: np.ndarray
     qddot: np.ndarray
-    _pos: np.ndarray = field(repr=False)
-    _dz: np.ndarray | None = field(repr=False, default=None)
-    _d2z: np.ndarray | None = field(repr=False, default=None)
-    _theta: np.ndarray | None = field(repr=False, default=None)
-    _dtheta: np.ndarray | None = field(repr=False, default=None)
-    _d2theta: np.ndarray | None = field(repr=False, default=None)
+    #: (..., n_points + n_bodies) complex: point positions x + iy, then body orientations exp(iθ)
+    _z: np.ndarray = field(repr=False)
+    _dz: np.ndarray | None = field(repr=False, default=None)       # (..., m, n_inputs)
+    _d2z: np.ndarray | None = field(repr=False, default=None)      # (..., m, n_inputs, n_inputs)
 
-    # -- positions and analogues -----------------------------------------------------------------
+    @property
+    def _np(self) -> int:
+        return len(self.plan.point_names)
+
     @property
     def shape(self) -> tuple[int, ...]:
         return self.valid.shape
 
+    # -- positions and analogues -----------------------------------------------------------------
     @property
     def pos(self) -> np.ndarray:
-        return _xy(self._pos)
+        return _xy(self._z[..., : self._np])
 
     @property
     def dpos_dq(self) -> np.ndarray | None:
-        return _move_xy(self._dz, 1)
+        return None if self._dz is None else _move_xy(self._dz[..., : self._np, :], 1)
 
     @property
     def d2pos_dq2(self) -> np.ndarray | None:
-        return _move_xy(self._d2z, 2)
+        return None if self._d2z is None else _move_xy(self._d2z[..., : self._np, :, :], 2)
 
     # -- time derivatives ------------------------------------------------------------------------------
-    def _vel_c(self):
-        if self._dz is None:
-            return None
-        return np.einsum("...pk,...k->...p", self._dz, self.qdot + 0j)
-
-    def _acc_c(self):
-        if self._d2z is None:
-            return None
+    def _rate(self, dz, d2z):
         qd = self.qdot + 0j
-        return (np.einsum("...pk,...k->...p", self._dz, self.qddot + 0j)
-                + np.einsum("...pkl,...k,...l->...p", self._d2z, qd, qd))
+        vel = None if dz is None else np.einsum("...pk,...k->...p", dz, qd)
+        acc = None
+        if d2z is not None:
+            acc = (np.einsum("...pk,...k->...p", dz, self.qddot + 0j)
+                   + np.einsum("...pkl,...k,...l->...p", d2z, qd, qd))
+        return vel, acc
 
     @property
     def vel(self) -> np.ndarray | None:
-        return _xy(self._vel_c())
+        if self._dz is None:
+            return None
+        return _xy(self._rate(self._dz[..., : self._np, :], None)[0])
 
     @property
     def acc(self) -> np.ndarray | None:
-        return _xy(self._acc_c())
+        if self._d2z is None:
+            return None
+        return _xy(self._rate(self._dz[..., : self._np, :], self._d2z[..., : self._np, :, :])[1])
+
+    # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
+    def _theta_jets(self):
+        e = self._z[..., self._np:]
+        th = np.angle(e)
+        d1 = d2 = None
+        with np.errstate(all="ignore"):
+            if self._dz is not None:
+                r = self._dz[..., self._np:, :] / e[..., None]
+                d1 = r.imag
+                if self._d2z is not None:
+                    d2 = (self._d2z[..., self._np:, :, :] / e[..., None, None]
+                          - r[..., :, None] * r[..., None, :]).imag
+        return th, d1, d2
 
     @property
     def body_angle(self) -> np.ndarray:
-        return self._theta
+        """(..., n_bodies) rad; the frame is 0."""
+        return self._theta_jets()[0]
+
+    @property
+    def dangle_dq(self) -> np.ndarray | None:
+        """(..., n_bodies, n_inputs) angular analogues dθ/dq."""
+        return self._theta_jets()[1]
 
     @property
     def body_omega(self) -> np.ndarray | None:
-        if self._dtheta is None:
-            return None
-        return np.einsum("...bk,...k->...b", self._dtheta, self.qdot)
+        d1 = self._theta_jets()[1]
+        return None if d1 is None else np.einsum("...bk,...k->...b", d1, self.qdot)
 
     @property
     def body_alpha(self) -> np.ndarray | None:
-        if self._d2theta is None:
+        _, d1, d2 = self._theta_jets()
+        if d2 is None:
             return None
-        return (np.einsum("...bk,...k->...b", self._dtheta, self.qddot)
-                + np.einsum("...bkl,...k,...l->...b", self._d2theta, self.qdot, self.qdot))
+        return (np.einsum("...bk,...k->...b", d1, self.qddot)
+                + np.einsum("...bkl,...k,...l->...b", d2, self.qdot, self.qdot))
 
     # -- conveniences ------------------------------------------------------------------------------
     def point(self, name: str) -> "PointView":

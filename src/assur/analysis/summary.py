@@ -52,6 +52,7 @@ def analyze(plan, params=None, steps: int = 720) -> dict:
         out["unbuildable"] = bad
         out["buildable_ranges"] = [{"start": a, "end": b} for a, b in ranges]
         out["full_rotation"] = bad == 0
+        out["toggle_positions"] = [] if bad == 0 else sorted({a for r in ranges for a in r})
         cyc = Cycle(plan, params)
         q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
         st = cyc.state(q)

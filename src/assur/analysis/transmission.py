@@ -107,8 +107,36 @@ def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
 
 
 def buildable_ranges(plan, params=None, steps: int = 1440):
-    """Input intervals (rad, [start, end]) over one turn where the mechanism assembles."""
+    """Input intervals over one turn where the mechanism assembles, with their ends refined by
+    bisection on buildability to 1e-12 rad (the toggle positions where a group locks).
+
+    Returns (ranges [(start, end)] in rad, number of unbuildable samples, steps)."""
     cyc = Cycle(plan, params, order=0)
     q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
     valid = cyc.state(q).valid
-    return [(float(q[a]), float(q[b])) for a, b in intervals(valid)], int(np.count_nonzero(~valid)), steps
+    h = q[1] - q[0]
+
+    def ok(t):
+        return bool(cyc.state(np.array([t])).valid[0])
+
+    def edge(good, bad):
+        for _ in range(60):
+            mid = 0.5 * (good + bad)
+            if ok(mid):
+                good = mid
+            else:
+                bad = mid
+            if abs(bad - good) < 1e-12:
+                break
+        return good
+
+    out = []
+    runs = intervals(valid)
+    for a, b in runs:
+        if len(runs) == 1 and valid.all():
+            out.append((0.0, TWO_PI))
+            continue
+        start = edge(q[a], q[a] - h)
+        end = edge(q[b], q[b] + h)
+        out.append((float(start % TWO_PI), float(end % TWO_PI)))
+    return out, int(np.count_nonzero(~valid)), steps
