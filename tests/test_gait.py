@@ -162,3 +162,19 @@ def test_walking_module_feet_count(plan):
     # one leg: airborne exactly during the transfer arc (1 − duty)
     one = module_metrics(g, (0.0,))
     assert one.airborne_fraction == pytest.approx(1 - g.duty_factor, abs=2 / 720)
+
+
+def test_legs_are_a_batch_axis(plan):
+    from assur.analysis.gait import feet_on_ground, legs_state
+    q = np.linspace(0, 2 * np.pi, 73)
+    phases = (0.0, math.pi)
+    s = legs_state(plan, phases, q)
+    assert s.pos.shape == (73, 2, plan.n_points, 2)
+    # leg 1 at q equals leg 0 at q + π (same leg, shifted crank): an independent single-leg solve
+    single = assur.solve(plan, inputs=q + math.pi)
+    assert np.allclose(s.pos[:, 1], single.pos, atol=1e-12)
+    on = feet_on_ground(gait_metrics(plan), phases, q)
+    foot = plan.point_index("A")
+    # a foot counted on the ground is on the low side: y within [y_min, y(180°)] (spec 000 §6)
+    y = s.pos[..., foot, 1]
+    assert np.all(y[on] <= (L1 + L2 - L5) / 1000 + 1e-9)

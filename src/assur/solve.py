@@ -254,11 +254,12 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     # invalid samples: NaN everywhere, never finite garbage
     inv = ~valid
     if inv.any():
-        z = np.where(inv[..., None], np.nan, z)
+        cnan = complex(np.nan, np.nan)   # both coordinates NaN (a plain nan would give nan + 0j)
+        z = np.where(inv[..., None], cnan, z)
         if dz is not None:
-            dz = np.where(inv[..., None, None], np.nan, dz)
+            dz = np.where(inv[..., None, None], cnan, dz)
         if d2z is not None:
-            d2z = np.where(inv[..., None, None, None], np.nan, d2z)
+            d2z = np.where(inv[..., None, None, None], cnan, d2z)
     n_bad = int(np.count_nonzero(inv))
     if n_bad and on_unbuildable != "nan":
         total = int(np.prod(shape)) if shape else 1

@@ -274,14 +274,28 @@ class ModuleMetrics:
 def module_timeline(metrics: GaitMetrics, phases, steps: int = 720):
     """Number of feet on the ground at each input angle: (q (steps,), count (steps,))."""
     q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    width = metrics.contact_end - metrics.contact_start
-    count = np.zeros(steps, dtype=int)
-    for ph in phases:
-        count += (((q + ph - metrics.contact_start) % TWO_PI) <= width).astype(int)
-    return q, count
+    return q, feet_on_ground(metrics, phases, q).sum(axis=1)
 
 
 def module_metrics(metrics: GaitMetrics, phases, steps: int = 720) -> ModuleMetrics:
     _, count = module_timeline(metrics, phases, steps)
     return ModuleMetrics(tuple(float(p) for p in phases), int(count.min()), int(count.max()), float(count.mean()),
                          float(np.mean(count == 0)))
+
+
+def legs_state(plan, phases, q, params=None, order: int = 2):
+    """All legs of a walking module in one batched solve: the legs are a batch axis.
+
+    q: (n,) crank angles; phases: (n_legs,) offsets (rad). Returns a State of shape (n, n_legs):
+    leg k is at crank angle q + phases[k]."""
+    q = np.asarray(q, dtype=float)
+    ph = np.asarray(phases, dtype=float)
+    from ..solve import solve
+    return solve(plan, params, (q[:, None] + ph[None, :])[..., None], order=order)
+
+
+def feet_on_ground(metrics: GaitMetrics, phases, q):
+    """(n, n_legs) bool: leg k's foot is in its contact arc at crank angle q + phases[k]."""
+    q = np.asarray(q, dtype=float)[:, None] + np.asarray(phases, dtype=float)[None, :]
+    width = metrics.contact_end - metrics.contact_start
+    return ((q - metrics.contact_start) % TWO_PI) <= width

@@ -167,46 +167,76 @@ def _line_point(plan, pr, pos, params, direction):
     return t + off * np.array([-math.sin(direction), math.cos(direction)])
 
 
-def _ground_symbol(ax, xy, size, color="0.2", zorder=2):
+class _Canvas:
+    """Collects segments and polygons, then adds them to an axes as a few collections (fast)."""
+
+    def __init__(self):
+        self.lines: dict[tuple, list] = {}
+        self.polys: dict[tuple, list] = {}
+
+    def line(self, pts, color, width, alpha=1.0, z=2.0):
+        self.lines.setdefault((color, float(width), float(alpha), float(z)), []).append(np.asarray(pts, dtype=float))
+
+    def poly(self, pts, face, edge, width, alpha=1.0, z=2.0):
+        self.polys.setdefault((face, edge, float(width), float(alpha), float(z)), []).append(
+            np.asarray(pts, dtype=float))
+
+    def flush(self, ax):
+        from matplotlib.collections import LineCollection, PolyCollection
+        out = []
+        for (face, edge, width, alpha, z), ps in self.polys.items():
+            pc = PolyCollection(ps, facecolors=[face], edgecolors=[edge], linewidths=width, alpha=alpha, zorder=z)
+            ax.add_collection(pc, autolim=False)
+            out.append(pc)
+        for (color, width, alpha, z), ls in self.lines.items():
+            lc = LineCollection(ls, colors=[color], linewidths=width, alpha=alpha, zorder=z, capstyle="round",
+                                joinstyle="round")
+            ax.add_collection(lc, autolim=False)
+            out.append(lc)
+        return out
+
+
+def _ground_symbol(cv: _Canvas, xy, size, color="0.2", z=2.0):
     """A textbook fixed-pivot symbol: a triangle on a hatched base line below the point."""
     x, y = xy
     s = size
-    tri = np.array([[x, y], [x - s, y - 1.6 * s], [x + s, y - 1.6 * s], [x, y]])
-    ax.fill(tri[:, 0], tri[:, 1], facecolor="white", edgecolor=color, linewidth=1.0, zorder=zorder)
+    cv.poly([[x, y], [x - s, y - 1.6 * s], [x + s, y - 1.6 * s]], "white", color, 1.0, z=z)
     base = y - 1.6 * s
-    ax.plot([x - 1.6 * s, x + 1.6 * s], [base, base], color=color, linewidth=1.2, zorder=zorder)
+    cv.line([[x - 1.6 * s, base], [x + 1.6 * s, base]], color, 1.2, z=z)
     for k in np.linspace(-1.4, 1.4, 6):
-        ax.plot([x + k * s, x + (k - 0.5) * s], [base, base - 0.6 * s], color=color, linewidth=0.8, zorder=zorder)
+        cv.line([[x + k * s, base], [x + (k - 0.5) * s, base - 0.6 * s]], color, 0.8, z=z)
 
 
-def _guide(ax, centre, direction, half, size, color="0.2", hatch=True, zorder=1):
+def _guide(cv: _Canvas, centre, direction, half, size, color="0.2", hatch=True, z=1.0):
     u = np.array([math.cos(direction), math.sin(direction)])
     nrm = np.array([-u[1], u[0]])
-    a, b = centre - half * u, centre + half * u
-    ax.plot([a[0], b[0]], [a[1], b[1]], color=color, linewidth=1.2, zorder=zorder)
+    cv.line([centre - half * u, centre + half * u], color, 1.2, z=z)
     if hatch:
         off = -0.9 * size * nrm
         for t in np.linspace(-half, half, max(int(2 * half / (0.8 * size)), 4)):
             p = centre + t * u
-            q = p + off - 0.5 * size * u
-            ax.plot([p[0], q[0]], [p[1], q[1]], color=color, linewidth=0.7, zorder=zorder)
+            cv.line([p, p + off - 0.5 * size * u], color, 0.7, z=z)
 
 
-def _block(ax, centre, direction, size, color, alpha=1.0, zorder=4):
+def _block(cv: _Canvas, centre, direction, size, color, alpha=1.0, z=4.0):
     """A slider block: a small rectangle centred on the pin, along the line."""
     u = np.array([math.cos(direction), math.sin(direction)])
     n = np.array([-u[1], u[0]])
     w, h = 1.5 * size, 0.8 * size
-    c = np.array([centre + w * u + h * n, centre - w * u + h * n, centre - w * u - h * n, centre + w * u - h * n,
-                  centre + w * u + h * n])
-    ax.fill(c[:, 0], c[:, 1], facecolor="white", edgecolor=color, linewidth=1.4, alpha=alpha, zorder=zorder)
+    cv.poly([centre + w * u + h * n, centre - w * u + h * n, centre - w * u - h * n, centre + w * u - h * n],
+            "white", color, 1.4, alpha, z=z)
+
+
+def _default_size(plan):
+    return 0.03 * plan.length_scale * _scale(plan)
 
 
 def frame_guides(ax, plan, pos_all, *, params=None, size=None):
     """Draw the frame's slide lines once, spanning the travel of their sliders over ``pos_all``
     ((n, n_points, 2), SI; drawn in the file's length unit)."""
     k = _scale(plan)
-    size = size if size is not None else 0.025 * plan.length_scale * k
+    size = size if size is not None else _default_size(plan)
+    cv = _Canvas()
     for pr in plan.mechanism.prismatic:
         if pr.guide != "frame":
             continue
@@ -218,7 +248,8 @@ def frame_guides(ax, plan, pos_all, *, params=None, size=None):
         pts = pts[np.all(np.isfinite(pts), axis=-1)]
         t = (pts - q0) @ u if len(pts) else np.zeros(1)
         lo, hi = float(t.min()) - 3 * size, float(t.max()) + 3 * size
-        _guide(ax, q0 + 0.5 * (lo + hi) * u, d, 0.5 * (hi - lo), size)
+        _guide(cv, q0 + 0.5 * (lo + hi) * u, d, 0.5 * (hi - lo), size)
+    return cv.flush(ax)
 
 
 def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, linewidth=2.2, labels=False,
@@ -228,28 +259,27 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
     small circles, frame pivots as ground symbols, slider blocks as small rectangles on their
     guide lines, actuators as a cylinder and a rod. ``frame_guide``: draw a short piece of a frame
     slide line at the block (pass False when :func:`frame_guides` drew the whole travel).
-    Returns the list of artists drawn."""
-    before = set(ax.get_children())
+    Returns the list of artists drawn (an animation removes them for the next frame)."""
+    from matplotlib.colors import to_rgba
     k = _scale(plan)
     pos = np.asarray(pos_row, dtype=float)
     P = pos * k
     if not np.all(np.isfinite(P)):
         return []
-    size = size if size is not None else 0.03 * plan.length_scale * k
+    size = size if size is not None else _default_size(plan)
     m = plan.mechanism
     counts = _joint_counts(plan)
     frame_pts = set(m.frame.points)
+    col = to_rgba(color)
+    z = float(zorder)
+    cv = _Canvas()
     # links
     for name, ids in _link_polygons(plan):
         xy = P[ids]
         if len(ids) == 2:
-            ax.plot(xy[:, 0], xy[:, 1], color=color, linewidth=linewidth, alpha=alpha, solid_capstyle="round",
-                    zorder=zorder)
+            cv.line(xy, col, linewidth, alpha, z)
         elif len(ids) > 2:
-            ax.fill(xy[:, 0], xy[:, 1], facecolor=color, alpha=0.12 * alpha, edgecolor="none", zorder=zorder - 0.5)
-            c = np.vstack([xy, xy[:1]])
-            ax.plot(c[:, 0], c[:, 1], color=color, linewidth=linewidth, alpha=alpha, solid_joinstyle="round",
-                    zorder=zorder)
+            cv.poly(xy, to_rgba(color, 0.12 * alpha), col, linewidth, 1.0, z)
     # actuators: a cylinder from the first point, a rod from the second
     for ac in m.actuators:
         a, b = P[plan.point_index(ac.between[0])], P[plan.point_index(ac.between[1])]
@@ -259,45 +289,44 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
         L = float(np.hypot(*d))
         if L > 0:
             u = d / L
-            ce = a + min(body, L) * u
-            ro = b - min(body, L) * u
-            ax.plot([a[0], ce[0]], [a[1], ce[1]], color=color, linewidth=2.6 * linewidth, alpha=alpha,
-                    solid_capstyle="butt", zorder=zorder)
-            ax.plot([ro[0], b[0]], [ro[1], b[1]], color="0.35", linewidth=0.8 * linewidth, alpha=alpha,
-                    zorder=zorder + 0.2)
+            cv.line([a, a + min(body, L) * u], col, 2.6 * linewidth, alpha, z)
+            cv.line([b - min(body, L) * u, b], to_rgba("0.35"), 0.8 * linewidth, alpha, z + 0.2)
     # prismatic pairs
     for pr in m.prismatic:
         d = _line_direction(plan, pr, pos, params)
         ref = pr.point if pr.point is not None else m.link(pr.link).points[0]
         c = P[plan.point_index(ref)]
         if guides and pr.guide != "frame":
-            _guide(ax, c, d, 4 * size, size, color=color, hatch=False, zorder=zorder - 0.2)
+            _guide(cv, c, d, 4 * size, size, color=col, hatch=False, z=z - 0.2)
         elif guides and pr.guide == "frame" and frame_guide:
             q0 = _line_point(plan, pr, pos, params, d) * k
             u = np.array([math.cos(d), math.sin(d)])
-            t = float((c - q0) @ u)
-            _guide(ax, q0 + t * u, d, 5 * size, size)
-        _block(ax, c, d, size, color, alpha, zorder=zorder + 0.5)
+            _guide(cv, q0 + float((c - q0) @ u) * u, d, 5 * size, size)
+        _block(cv, c, d, size, col, alpha, z=z + 0.5)
     # ground symbols at the frame pivots
     if pivots:
         for p in m.frame.points:
             if counts.get(p, 0) > 1:
-                _ground_symbol(ax, P[plan.point_index(p)], size)
+                _ground_symbol(cv, P[plan.point_index(p)], size)
+    out = cv.flush(ax)
     # joints and points
-    for i, p in enumerate(plan.point_names):
-        x, y = P[i]
-        if counts.get(p, 0) > 1 or p in frame_pts:
-            ax.plot([x], [y], marker="o", markersize=5.5, markerfacecolor="white", markeredgecolor="0.1",
-                    markeredgewidth=1.2, alpha=alpha, zorder=zorder + 1, linestyle="none")
-        else:
-            ax.plot([x], [y], marker="o", markersize=3.5, color=color, alpha=alpha, zorder=zorder + 1,
-                    linestyle="none")
-        if foot is not None and p == foot:
-            ax.plot([x], [y], marker="o", markersize=7, markerfacecolor="crimson", markeredgecolor="0.1",
-                    alpha=alpha, zorder=zorder + 1.5, linestyle="none")
-        if labels:
-            ax.annotate(p, (x, y), xytext=(5, 5), textcoords="offset points", fontsize=9, zorder=zorder + 2)
-    return [a for a in ax.get_children() if a not in before]
+    joint = [i for i, p in enumerate(plan.point_names) if counts.get(p, 0) > 1 or p in frame_pts]
+    plain = [i for i, p in enumerate(plan.point_names) if i not in joint]
+    if joint:
+        out += ax.plot(P[joint, 0], P[joint, 1], marker="o", markersize=5.5, markerfacecolor="white",
+                       markeredgecolor="0.1", markeredgewidth=1.2, alpha=alpha, zorder=z + 1, linestyle="none")
+    if plain:
+        out += ax.plot(P[plain, 0], P[plain, 1], marker="o", markersize=3.5, color=col, alpha=alpha,
+                       zorder=z + 1, linestyle="none")
+    if foot is not None:
+        i = plan.point_index(foot)
+        out += ax.plot(P[i:i + 1, 0], P[i:i + 1, 1], marker="o", markersize=7, markerfacecolor="crimson",
+                       markeredgecolor="0.1", alpha=alpha, zorder=z + 1.5, linestyle="none")
+    if labels:
+        for i, p in enumerate(plan.point_names):
+            out.append(ax.annotate(p, tuple(P[i]), xytext=(5, 5), textcoords="offset points", fontsize=9,
+                                   zorder=z + 2))
+    return out
 
 
 def _set_limits(ax, pts, margin=0.08):
