@@ -483,12 +483,16 @@ def main(argv=None):
             failures.append(f"{name}: {err:.3g} > {tol:g}")
 
     # ---- report ---------------------------------------------------------------------------------
-    import numba  # noqa: F401  (version only)
+    try:
+        import numba
+        numba_version = numba.__version__
+    except ImportError:
+        numba_version = "not installed (pure-Python fallback)"
     md = []
     md.append("# assur benchmark: four-bar kinematics\n")
     md.append(f"- date: {datetime.datetime.now().astimezone().isoformat(timespec='seconds')}")
     md.append(f"- python {platform.python_version()}, numpy {np.__version__}, assur {assur.__version__}, "
-              f"pylinkage {pb.version}, numba {numba.__version__}")
+              f"pylinkage {pb.version}, numba {numba_version}")
     md.append(f"- machine: `nproc` = {nproc()}, {cpu_model()}, {platform.machine()}, {platform.system()}")
     md.append(f"- repeats: {args.repeats} per timing, engines interleaved within each repeat; "
               f"min and median wall time (`time.perf_counter`, gc off during a call)")
@@ -501,12 +505,14 @@ def main(argv=None):
     md.append("- plain Python: `math`-module loop, closed-form circle intersection; pos+vel+acc = positions plus "
               "analytic velocities and accelerations (2×2 linear systems by Cramer's rule), pos = positions only")
     md.append("")
-    md.append("| case | engine | computes | samples | min ms | median ms | samples/s (min) | samples/s (median) | note |")
+    md.append("| case | engine | computes | samples | min ms | median ms | samples/s at min | samples/s at median | note |")
     md.append("|---|---|---|---:|---:|---:|---:|---:|---|")
     rates = {}
     for case, name, what, samples, ts, note in rows:
         tmin, tmed = min(ts), statistics.median(ts)
         rates[(case, name)] = (samples / tmin, samples / tmed)
+        if "extrapolated" in note:
+            note += f" (≈ {tmin * nd / npl:.1f} s for all)"
         md.append(f"| {case} | {name.split('|')[0]} | {what} | {samples:,} | {fmt_ms(tmin)} | {fmt_ms(tmed)} | "
                   f"{fmt_rate(samples / tmin)} | {fmt_rate(samples / tmed)} | {note} |")
     md.append("")
