@@ -86,12 +86,15 @@ def test_free_foot_adds_one_freedom(path):
     assert mobility_chebyshev(n1, p1) == mobility_chebyshev(n0, p0) + 1 == assur.analyse(m).mobility + 1
 
 
-@pytest.mark.xfail(strict=True, reason="engine: analyse() raises StructureError when the drivers do not "
-                                       "determine every body, instead of reporting the mobility")
 def test_analyse_reports_mobility_of_the_free_foot_model():
     m = assur.load(FOURBAR)
-    assert assur.analyse(_with_free_foot(m)).mobility == 2
-    assert assur.analyse(dataclasses.replace(m, drivers=())).mobility == 1
+    free = assur.analyse(_with_free_foot(m))
+    assert free.mobility == 2                      # spec 004 §2: the hinged foot adds one freedom
+    assert "foot" in " ".join(free.undetermined)   # ... which no driver determines
+    bare = assur.analyse(dataclasses.replace(m, drivers=()))
+    assert bare.mobility == 1 and set(bare.undetermined) == {"coupler", "crank", "rocker"}
+    with pytest.raises(assur.StructureError, match=r"= 2 but 1 driver"):
+        assur.compile(_with_free_foot(m))
 
 
 def test_fourbar_structure():

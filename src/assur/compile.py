@@ -168,6 +168,10 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
         raise StructureError(
             f"mobility W = 3·{s.n_moving} − 2·{s.pair_counts['p5']} = {s.mobility} but {n_drivers} driver(s) "
             f"are given ({', '.join(d.name for d in m.drivers) or 'none'}); each degree of freedom needs one driver")
+    if s.undetermined:
+        raise StructureError(
+            f"cannot decompose into Assur groups: {', '.join(s.undetermined)} are not determined by the drivers "
+            f"(W = {s.mobility}, drivers: {', '.join(d.name for d in m.drivers) or 'none'})")
     B = _Builder(m, s)
     B.build_geometry()
     g = s.graph

@@ -163,8 +163,14 @@ _EXEC = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr
          "newton": _newton}
 
 
-def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
+#: continuation stage sizes for the Newton fallback: crank angle (rad), actuator length (× length scale)
+_STAGE_ANGLE = np.radians(10.0)
+_STAGE_LENGTH = 0.05
+
+
+def _run(plan, steps, params, q_jets, order, tol, method, warm):
     c = _Context(plan, params, q_jets, order, tol)
+    c.warm = warm
     with np.errstate(all="ignore"):
         for st in steps:
             kind = st.kind
@@ -172,6 +178,32 @@ def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
                 kind = "newton"
             _EXEC[kind](c, st)
     return c
+
+
+def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
+    """Run the steps. With Newton groups, continue every sample from the sketch inputs to its own
+    inputs in stages (≤ 10° of crank, ≤ 5 % of the length scale of stroke), warm-starting each stage."""
+    uses_newton = method == "newton" or any(st.kind == "newton" for st in steps)
+    warm: dict = {}
+    if uses_newton and len(q_jets):
+        q_s = plan.sketch_inputs
+        deltas, stage = [], []
+        for k, qj in enumerate(q_jets):
+            v = np.asarray(qj.v, dtype=float)
+            if plan.input_kinds[k] == "rotary":
+                d = (v - q_s[k] + np.pi) % (2 * np.pi) - np.pi
+                stage.append(_STAGE_ANGLE)
+            else:
+                d = v - q_s[k]
+                stage.append(_STAGE_LENGTH * plan.length_scale)
+            deltas.append(d)
+        finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
+        m = max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
+        for i in range(1, m):
+            t = i / m
+            q_stage = [Jet.const(q_s[k] + t * deltas[k], 0) for k in range(len(q_jets))]
+            _run(plan, steps, params, q_stage, 0, tol, method, warm)
+    return _run(plan, steps, params, q_jets, order, tol, method, warm)
 
 
 def run_steps(plan, steps, params, inputs, order=0, upto=None):
@@ -191,8 +223,8 @@ def _prepare(plan: SolvePlan, params, inputs):
     if inputs is None:
         inputs = plan.sketch_inputs
     inputs = np.asarray(inputs, dtype=float)
-    if plan.n_inputs == 1 and (inputs.ndim == 0 or inputs.shape[-1] != 1):
-        inputs = inputs[..., None]
+    if plan.n_inputs == 1 and (inputs.ndim <= 1 or inputs.shape[-1] != 1):
+        inputs = inputs[..., None]   # one input: a scalar or a 1-D array is a batch of input values
     if inputs.shape[-1] != plan.n_inputs:
         raise SpecError([("inputs", f"must have a trailing axis of {plan.n_inputs} inputs "
                                     f"({', '.join(plan.input_names)}): shape {inputs.shape}")])
@@ -205,7 +237,7 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
 
     params: (..., n_params) design parameters (default: the file's); inputs: (..., n_inputs)
     input values (crank angles in rad, actuator lengths in m; a single-input plan also takes
-    (...,)); speeds/accels: (..., n_inputs) input rates (default: the drivers' speeds, zero
+    (...,): a scalar or a 1-D array is a batch of values); speeds/accels: (..., n_inputs) input rates (default: the drivers' speeds, zero
     input acceleration). Leading axes broadcast. Returns a :class:`State`.
     on_unbuildable: 'nan' (NaN + ``valid`` mask), 'warn' (also warn with the count), 'raise'.
     """

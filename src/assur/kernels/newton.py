@@ -6,9 +6,11 @@ equations: each revolute joins two bodies at one point (2 equations), each prism
 the slider aligned with and on its guide line (2 equations), a driven actuator's slide also
 fixes its length (1 more).
 
-The assembly branch is the one connected to the sketch: each sample is solved by a Newton
-homotopy F(x) − (1 − λ)·F(x_sketch) = 0, λ: 0 → 1, started from the sketch poses. Samples are
-independent (no sample borrows another's solution). Velocities and accelerations follow by
+The assembly branch is the one connected to the sketch: the solver (``solve._execute``) walks each
+sample's inputs from the sketch inputs to the requested ones in small stages, and each stage's
+Newton iterations start from the previous stage (the first from the sketch poses). Samples are
+independent: no sample borrows another sample's solution, so the result does not depend on the
+batch's order. Velocities and accelerations follow by
 implicit differentiation: F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), evaluated on jets.
 """
 from __future__ import annotations
@@ -100,14 +102,21 @@ def _residual(c, st, X, derivs: bool):
 
 
 def solve_group(c, st):
+    """Solve one group for every sample of the context by Newton's method, warm-started from
+    ``c.warm[step]`` (the previous continuation stage) or from the sketch poses."""
     tol = c.tol
     shape = np.broadcast_shapes(*(np.shape(j.v) for j in c.pos.values()), np.shape(c.valid),
                                 *(np.shape(q.v) for q in c.q))
     k = len(st.bodies)
     n = 3 * k
-    x = np.empty(shape + (n,))
-    for i, (px, py, th) in enumerate(_group_unknowns(c, st)):
-        x[..., 3 * i], x[..., 3 * i + 1], x[..., 3 * i + 2] = px, py, th
+    key = id(st)
+    x = c.warm.get(key)
+    if x is None or x.shape != shape + (n,):
+        x = np.empty(shape + (n,))
+        for i, (px, py, th) in enumerate(_group_unknowns(c, st)):
+            x[..., 3 * i], x[..., 3 * i + 1], x[..., 3 * i + 2] = px, py, th
+    else:
+        x = x.copy()
 
     def F_and_J(x):
         cols = []
@@ -123,25 +132,24 @@ def solve_group(c, st):
         return F, np.stack(cols, axis=-1)
 
     scale = c.plan.length_scale
-    F0, _ = F_and_J(x)
-    for lam in np.linspace(0.0, 1.0, tol.newton_continuation + 1)[1:]:
-        for _ in range(tol.newton_iterations):
-            F, J = F_and_J(x)
-            R = F - (1.0 - lam) * F0
-            if np.all(~np.isfinite(R) | (np.abs(R) < tol.newton_residual * scale)):
-                break
-            with np.errstate(all="ignore"):
-                try:
-                    dx = np.linalg.solve(J, -R[..., None])[..., 0]
-                except np.linalg.LinAlgError:
-                    dx = np.full_like(x, np.nan)
-                    ok = np.linalg.cond(J) < 1e12
-                    if ok.any():
-                        dx[ok] = np.linalg.solve(J[ok], -R[ok][..., None])[..., 0]
-            x = x + dx
+    done = np.zeros(shape, dtype=bool)
+    for _ in range(tol.newton_iterations):
+        F, J = F_and_J(x)
+        done = np.all(np.abs(F) < tol.newton_residual * scale, axis=-1) | ~np.all(np.isfinite(F), axis=-1)
+        if np.all(done):
+            break
+        with np.errstate(all="ignore"):
+            Jr = np.where(done[..., None, None], np.eye(n), J)
+            Jr = np.where(np.isfinite(Jr), Jr, 0.0) + 0.0
+            singular = np.abs(np.linalg.det(Jr)) < 1e-300
+            Jr = np.where(singular[..., None, None], np.eye(n), Jr)
+            dx = np.linalg.solve(Jr, -np.where(np.isfinite(F), F, 0.0)[..., None])[..., 0]
+        dx = np.where(done[..., None], 0.0, np.where(singular[..., None], np.nan, dx))
+        x = x + dx
     F, J = F_and_J(x)
     ok = np.all(np.abs(F) < 1e3 * tol.newton_residual * scale, axis=-1) & np.all(np.isfinite(x), axis=-1)
     x = np.where(ok[..., None], x, np.nan)
+    c.warm[key] = x
     c.flag(ok)
     order = c.order
     with np.errstate(all="ignore"):

@@ -183,13 +183,19 @@ class _Canvas:
 
     def flush(self, ax):
         from matplotlib.collections import LineCollection, PolyCollection
+        from matplotlib.colors import to_rgba
+
+        def rgba(c, alpha):
+            r = to_rgba(c)
+            return (r[0], r[1], r[2], r[3] * alpha)
         out = []
         for (face, edge, width, alpha, z), ps in self.polys.items():
-            pc = PolyCollection(ps, facecolors=[face], edgecolors=[edge], linewidths=width, alpha=alpha, zorder=z)
+            pc = PolyCollection(ps, facecolors=[rgba(face, alpha)], edgecolors=[rgba(edge, alpha)], linewidths=width,
+                                zorder=z)
             ax.add_collection(pc, autolim=False)
             out.append(pc)
         for (color, width, alpha, z), ls in self.lines.items():
-            lc = LineCollection(ls, colors=[color], linewidths=width, alpha=alpha, zorder=z, capstyle="round",
+            lc = LineCollection(ls, colors=[rgba(color, alpha)], linewidths=width, zorder=z, capstyle="round",
                                 joinstyle="round")
             ax.add_collection(lc, autolim=False)
             out.append(lc)
@@ -341,7 +347,7 @@ def _set_limits(ax, pts, margin=0.08):
     ax.set_aspect("equal", adjustable="box")
 
 
-def _shade_contact(ax, axis, contact):
+def _shade_contact(ax, axis, contact, color="tab:green", alpha=0.10, label=None):
     """Shade the contact arc (a mask over the samples) on a plot against the crank angle."""
     if contact is None or not np.any(contact):
         return
@@ -350,10 +356,11 @@ def _shade_contact(ax, axis, contact):
     for i, j in intervals(contact):
         a, b = axis[i], axis[j] + step
         if j < i:  # wraps around
-            ax.axvspan(a, axis[-1] + step, color="tab:green", alpha=0.10, linewidth=0)
-            ax.axvspan(axis[0], b, color="tab:green", alpha=0.10, linewidth=0)
+            ax.axvspan(a, axis[-1] + step, color=color, alpha=alpha, linewidth=0, label=label)
+            ax.axvspan(axis[0], b, color=color, alpha=alpha, linewidth=0)
         else:
-            ax.axvspan(a, b, color="tab:green", alpha=0.10, linewidth=0)
+            ax.axvspan(a, b, color=color, alpha=alpha, linewidth=0, label=label)
+        label = None
 
 
 def diagram_indices(sweep: Sweep, positions: int = 6) -> list[int]:
@@ -385,7 +392,9 @@ def mechanism_figure(plan, steps: int = 360, *, params=None, ranges=None, positi
     gc = gait_curves_or_none(plan, params, max(sw.n, 16)) if sw.cyclic else None
     has_e = gc is not None
     fig = plt.figure(figsize=figsize or ((16, 10) if has_e else (14, 10)), dpi=dpi)
-    gs = GridSpec(2, 6, figure=fig, height_ratios=[1.25, 1.0])
+    # fixed margins (tight_layout costs more than drawing the figure)
+    gs = GridSpec(2, 6, figure=fig, height_ratios=[1.25, 1.0], left=0.055, right=0.985, bottom=0.065, top=0.9,
+                  wspace=1.0, hspace=0.28)
     ax_a = fig.add_subplot(gs[0, 0:3])
     ax_b = fig.add_subplot(gs[0, 3:6])
     if has_e:
@@ -435,21 +444,21 @@ def mechanism_figure(plan, steps: int = 360, *, params=None, ranges=None, positi
     cmap = plt.get_cmap("viridis")
     frame_guides(ax_b, plan, st.pos, params=params)
     ax_b.plot(fxy[:, 0], fxy[:, 1], color="0.6", linewidth=1.0, linestyle="--", zorder=1)
-    from matplotlib.lines import Line2D
-    handles = []
+    shown = []
     for n_, i in enumerate(idx):
         col = cmap(0.9 * n_ / max(len(idx) - 1, 1))
         draw_mechanism(ax_b, plan, st.pos[i], params=params, color=col, alpha=0.95, linewidth=1.8,
                        labels=(n_ == 0), pivots=(n_ == 0), frame_guide=False, foot=foot)
         ax_b.annotate(str(n_ + 1), pos[i, fi], xytext=(6, -12), textcoords="offset points", fontsize=9,
                       color=col, fontweight="bold")
-        lab = (f"{n_ + 1}: φ = {sw.axis[i]:.0f}°" if plan.input_kinds[sw.moving] == "rotary"
-               else f"{n_ + 1}: {sw.axis[i]:.4g} {unit}")
-        handles.append(Line2D([0], [0], color=col, linewidth=2, label=lab))
+        shown.append(f"{sw.axis[i]:.0f}" if plan.input_kinds[sw.moving] == "rotary" else f"{sw.axis[i]:.4g}")
     if not idx:
         ax_b.text(0.5, 0.5, "no position can be assembled", transform=ax_b.transAxes, ha="center")
-    ax_b.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    ax_b.set_title(f"(b) kinematic diagram in {len(idx)} positions")
+    where = ""
+    if shown:
+        where = (f"\npositions 1–{len(idx)} at φ = {', '.join(shown)}°" if plan.input_kinds[sw.moving] == "rotary"
+                 else f"\npositions 1–{len(idx)} at {plan.input_names[sw.moving]} = {', '.join(shown)} {unit}")
+    ax_b.set_title(f"(b) kinematic diagram{where}", fontsize=11)
     ax_b.set_xlabel(f"x [{unit}]")
     ax_b.set_ylabel(f"y [{unit}]")
     ax_b.grid(True, alpha=0.3)
@@ -463,6 +472,8 @@ def mechanism_figure(plan, steps: int = 360, *, params=None, ranges=None, positi
         ax.plot(x, val[:, 1], color="tab:blue", linewidth=1.2, label=f"{name}y")
         ax.axhline(0.0, color="0.5", linewidth=0.6)
         _shade_contact(ax, x, contact)
+        if bad:
+            _shade_contact(ax, x, ~st.valid, color="tab:red", alpha=0.12, label="cannot be assembled")
         ax.set_xlabel(sw.axis_label)
         ax.set_ylabel(f"{'velocity' if name == 'v' else 'acceleration'} of {foot} [{u_}]")
         if sw.cyclic and plan.input_kinds[sw.moving] == "rotary":
@@ -487,7 +498,6 @@ def mechanism_figure(plan, steps: int = 360, *, params=None, ranges=None, positi
         span = float(np.ptp(bv)) if len(bv) else 0.0
         if span < 1e-9:
             ax_e.set_ylim(-1, 1)
-    fig.tight_layout(rect=(0, 0, 1, 0.96))
     return fig
 
 
@@ -541,7 +551,15 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     xl, yl = ax.get_xlim(), ax.get_ylim()
     info = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=9)
     drawn: list = []
-    fpos = st.pos[:, fi] * k
+    dpos = dense.state.pos[:, fi] * k
+
+    def upto(i):
+        """Dense samples traced by frame i."""
+        if dense is sw:
+            return i + 1
+        if sw.cyclic:
+            return int(round(i * dense.n / sw.n)) + 1
+        return int(round(i * (dense.n - 1) / max(sw.n - 1, 1))) + 1
 
     def update(i):
         for a in drawn:
@@ -553,7 +571,8 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
             status = ""
         else:
             status = "  (cannot be assembled)"
-        trace.set_data(fpos[: i + 1, 0], fpos[: i + 1, 1])
+        j = upto(i)
+        trace.set_data(dpos[:j, 0], dpos[:j, 1])
         if plan.input_kinds[sw.moving] == "rotary":
             info.set_text(f"φ = {sw.axis[i]:.0f}°{status}")
         else:
@@ -566,16 +585,17 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     return fig, anim
 
 
-def save_animation(anim, path, fps: float = 20.0, dpi: int = 100):
+def save_animation(anim, path, fps: float = 20.0, dpi: int = 100, progress=None, title: str = "animation"):
     """Save an animation by the file's extension: .gif (Pillow), .mp4 (ffmpeg from imageio-ffmpeg),
-    .html (a self-contained page from ``to_jshtml``)."""
+    .html (a self-contained page from ``to_jshtml``). ``progress(i, n)`` is called per frame
+    (GIF and MP4)."""
     matplotlib, _ = _mpl()
     from pathlib import Path
     path = Path(path)
     ext = path.suffix.lower()
     if ext == ".gif":
         from matplotlib.animation import PillowWriter
-        anim.save(str(path), writer=PillowWriter(fps=fps), dpi=dpi)
+        anim.save(str(path), writer=PillowWriter(fps=fps), dpi=dpi, progress_callback=progress)
     elif ext == ".mp4":
         try:
             import imageio_ffmpeg
@@ -585,11 +605,34 @@ def save_animation(anim, path, fps: float = 20.0, dpi: int = 100):
         matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
         from matplotlib.animation import FFMpegWriter
         anim.save(str(path), writer=FFMpegWriter(fps=fps, codec="libx264",
-                                                 extra_args=["-pix_fmt", "yuv420p"]), dpi=dpi)
+                                                 extra_args=["-pix_fmt", "yuv420p"]), dpi=dpi,
+                  progress_callback=progress)
     elif ext in (".html", ".htm"):
-        path.write_text(html_page(anim.to_jshtml(fps=fps), title="animation"), encoding="utf-8")
+        path.write_text(html_page(jshtml(anim, fps), title=title), encoding="utf-8")
     else:
         raise ValueError(f"unknown animation format {ext!r} (use .gif, .mp4 or .html)")
+
+
+# the player's icons without the font-awesome style sheet that to_jshtml links from a CDN
+_ICONS = {"fa-minus": "&minus;", "fa-fast-backward": "&#x23EE;&#xFE0E;", "fa-step-backward": "&#x2759;&#x25C0;&#xFE0E;",
+          "fa-flip-horizontal": "&#x25C0;&#xFE0E;", "fa-pause": "&#x2759;&#x2759;", "fa-play": "&#x25B6;&#xFE0E;",
+          "fa-step-forward": "&#x25B6;&#xFE0E;&#x2759;", "fa-fast-forward": "&#x23ED;&#xFE0E;", "fa-plus": "+"}
+
+
+def jshtml(anim, fps: float = 20.0, default_mode: str = "loop") -> str:
+    """``anim.to_jshtml()`` made self-contained: the frames are embedded (base64 PNG) and the
+    link to the icon font on a CDN is replaced by plain Unicode symbols (no network access)."""
+    import re
+    text = anim.to_jshtml(fps=fps, default_mode=default_mode)
+    text = re.sub(r'<link[^>]*href="https?://[^"]*"[^>]*>', "", text)
+
+    def icon(mt):
+        classes = mt.group(1).split()
+        for key in ("fa-flip-horizontal", *_ICONS):
+            if key in classes:
+                return f'<span aria-hidden="true">{_ICONS[key]}</span>'
+        return ""
+    return re.sub(r'<i class="([^"]*)"></i>', icon, text)
 
 
 def html_page(body: str, title: str = "") -> str:

@@ -65,6 +65,8 @@ class Structure:
     formula_name: str      # 'Chebyshev' | 'Somov–Malyshev'
     drivers: tuple[Driven, ...]
     groups: tuple[AssurGroup, ...]
+    #: bodies (their source names) that no Assur group determines with the given drivers
+    undetermined: tuple[str, ...] = ()
 
     def body_label(self, i: int) -> str:
         return self.graph.bodies[i].name
@@ -125,8 +127,8 @@ def analyse(m: Mechanism) -> Structure:
         return Structure(g, n, counts, W, "Somov–Malyshev", (), ())
     counts = {"p5": len(g.pairs), "p4": 0}
     W = mobility_chebyshev(n, counts["p5"], 0)
-    drivers, groups = _decompose(m, g)
-    return Structure(g, n, counts, W, "Chebyshev", drivers, groups)
+    drivers, groups, undetermined = _decompose(m, g)
+    return Structure(g, n, counts, W, "Chebyshev", drivers, groups, undetermined)
 
 
 def _decompose(m: Mechanism, g: StructureGraph):
@@ -214,15 +216,13 @@ def _decompose(m: Mechanism, g: StructureGraph):
             if found:
                 break
         if not found:
-            names = ", ".join(g.bodies[members[x][0]].source for x in unknown)
-            raise StructureError(
-                f"cannot decompose into Assur groups: {names} are not determined by the drivers "
-                f"(check the mobility and the drivers)")
+            undetermined = tuple(dict.fromkeys(g.bodies[b].source for x in unknown for b in members[x]))
+            return tuple(drivers), tuple(groups), undetermined
         combo, used = found
         groups.append(_classify(combo, used, known, g, u, members))
         known |= set(combo)
         unknown = [x for x in unknown if x not in known]
-    return tuple(drivers), tuple(groups)
+    return tuple(drivers), tuple(groups), ()
 
 
 def _connected(G, used, g, u):

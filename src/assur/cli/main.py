@@ -1,0 +1,559 @@
+"""The ``assur`` command line: validate, info, solve, analyze, plot, animate, report.
+
+Bad input (an invalid file, a structure that cannot be solved, a missing file) prints one message
+starting with ``error:`` to stderr and exits with status 1; usage errors exit with status 2
+(argparse). Heavy modules (matplotlib) are imported only by the commands that draw.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import AssurError, SpecError
+from ..io.units import ANGLE, LENGTH
+
+PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
+ANIMATION_EXTENSIONS = (".gif", ".mp4", ".html")
+
+
+# -- helpers ---------------------------------------------------------------------------------------
+class CommandError(Exception):
+    """A failure to report as ``error: ...`` with exit status 1 (e.g. an output cannot be written)."""
+
+
+def _positive(minimum=1):
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer: {text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}: {v}")
+        return v
+    return parse
+
+
+def _positive_float(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number: {text!r}") from None
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"must be a positive number: {text!r}")
+    return v
+
+
+def _output(extensions):
+    def parse(text):
+        ext = Path(text).suffix.lower()
+        if ext not in extensions:
+            raise argparse.ArgumentTypeError(f"the output must end with {', '.join(extensions)}: {text!r}")
+        return Path(text)
+    return parse
+
+
+@contextlib.contextmanager
+def atomic_path(path: Path):
+    """Yield a temporary path next to ``path`` (same suffix); on success it replaces ``path``, on
+    failure it is removed, so a failure never leaves a half-written file."""
+    path = Path(path)
+    if path.is_dir():
+        raise CommandError(f"cannot write {path}: it is a directory")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise CommandError(f"cannot write {path}: the directory {parent} does not exist")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=parent)
+    os.close(fd)
+    tmp = Path(tmp)
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+
+
+def _load(path):
+    from ..io.mechanism_file import load
+    return load(path)
+
+
+def _compile(path):
+    from ..compile import compile as compile_
+    m = _load(path)
+    return m, compile_(m)
+
+
+def _ranges(plan, args):
+    """--range pairs (file units) → SI, one per input; None when not given."""
+    if not getattr(args, "range", None):
+        return None
+    u = plan.mechanism.units
+    if len(args.range) != plan.n_inputs:
+        raise SpecError([("--range", f"give one --range START STOP per input, in driver order "
+                                     f"({plan.n_inputs}: {', '.join(plan.input_names)}): {len(args.range)} given")])
+    out = []
+    for k, (a, b) in enumerate(args.range):
+        f = ANGLE[u.angle] if plan.input_kinds[k] == "rotary" else LENGTH[u.length]
+        out.append((a * f, b * f))
+    return out
+
+
+def _angle_text(u):
+    return "°" if u == "deg" else "rad"
+
+
+def _param_unit(name: str, units):
+    """(factor SI → file unit, unit label) of a parameter, by its name."""
+    if name.endswith((".x", ".y", ".length", ".distance", ".offset")):
+        return 1.0 / LENGTH[units.length], units.length
+    if name.endswith((".angle", ".zero")):
+        return 1.0 / ANGLE[units.angle], _angle_text(units.angle)
+    return 1.0, ""
+
+
+def _fmt(v, digits=6):
+    if v is None:
+        return "—"
+    v = float(v)
+    if not math.isfinite(v):
+        return str(v)
+    if v == 0:
+        return "0"
+    return f"{v:.{digits}g}"
+
+
+def _speed_text(kind, speed, units):
+    if kind == "rotary":
+        return f"{_fmt(speed * 60 / (2 * math.pi), 5)} rpm ({_fmt(speed, 5)} rad/s)"
+    return f"{_fmt(speed / LENGTH[units.length], 5)} {units.length}/s ({_fmt(speed, 5)} m/s)"
+
+
+def driver_lines(m) -> list[str]:
+    out = []
+    for d in m.drivers:
+        if d.kind == "rotary":
+            zero = d.zero / ANGLE[m.units.angle]
+            out.append(f"{d.name}: rotary, link {d.link} about {d.pivot} (arm {d.arm}), zero = {_fmt(zero)}"
+                       f"{_angle_text(m.units.angle)}, {'ccw' if d.sense > 0 else 'cw'}, "
+                       f"speed {_speed_text('rotary', d.speed, m.units)}")
+        else:
+            ac = next((a for a in m.actuators if a.name == d.actuator), None)
+            between = f" between {ac.between[0]} and {ac.between[1]}" if ac else ""
+            out.append(f"{d.name}: linear, actuator {d.actuator}{between}, speed "
+                       f"{_speed_text('linear', d.speed, m.units)}")
+    return out
+
+
+def _roman(n):
+    return {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}.get(n, str(n))
+
+
+def group_text(g) -> str:
+    kind = g["kind"]
+    from ..structure.assur import GroupKind
+    try:
+        num = GroupKind(kind).dyad_kind_number
+    except ValueError:
+        num = None
+    kind_text = f"{kind} ({num}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(num, 'th') } kind)" if num else kind
+    return (f"class {_roman(g['class'])}, order {g['order']}, {kind_text}: bodies {', '.join(g['bodies'])}; "
+            f"attached to {', '.join(g['attaches_to'])}")
+
+
+def json_ready(x):
+    """Replace non-finite floats by None (strict JSON) and numpy scalars by Python numbers."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+# -- commands ---------------------------------------------------------------------------------------
+def cmd_validate(args) -> int:
+    m = _load(args.file)
+    if m.dimension == 3:
+        from ..structure.assur import analyse
+        s = analyse(m)
+        print(f"{args.file}: ok (spatial, W = {s.mobility} by {s.formula_name}; the planar engine does not "
+              f"solve spatial files)")
+        return 0
+    from ..compile import compile as compile_
+    plan = compile_(m)
+    s = plan.structure
+    print(f"{args.file}: ok (W = {s.mobility}, {s.structural_formula})")
+    return 0
+
+
+def cmd_info(args) -> int:
+    from ..analysis.summary import structure_summary
+    m = _load(args.file)
+    s = structure_summary(m)
+    u = m.units
+    print(f"{m.name or Path(args.file).stem}  [{args.file}]")
+    print(f"units: length {u.length}, angle {u.angle}" + (", spatial (dimension = 3)" if m.dimension == 3 else ""))
+    pairs = ", ".join(f"{k} = {v}" for k, v in s["pairs"].items())
+    print(f"mobility ({s['formula']}): {s['mobility_formula']}")
+    print(f"  moving links n = {s['moving_links']}; pairs {pairs}; drivers: {len(m.drivers)}"
+          + (f" ({', '.join(s['drivers'])})" if s["drivers"] else ""))
+    if m.dimension == 3:
+        print("points:")
+        w = max(len(n) for n in m.point_names)
+        for name, xyz in m.points:
+            print(f"  {name:<{w}} = [{', '.join(_fmt(c / LENGTH[u.length]) for c in xyz)}] {u.length}")
+        joints = {j.point: j.kind for j in m.joints}
+        if joints:
+            print("joints: " + ", ".join(f"{p} {k}" for p, k in joints.items()))
+        if m.drivers:
+            print("drivers:")
+            for line in driver_lines(m):
+                print("  " + line)
+        print("note: spatial descriptions are analysed structurally only; the planar engine does not solve them")
+        return 0
+    if s["groups"]:
+        print("Assur groups:")
+        for i, g in enumerate(s["groups"], 1):
+            print(f"  {i}. {group_text(g)}")
+    if s["structural_formula"]:
+        print(f"structural formula: {s['structural_formula']}")
+        print(f"                    {s['structural_formula_numbered']}")
+    from ..compile import compile as compile_
+    plan = compile_(m)
+    print(f"parameters ({len(plan.param_names)}, in the file's units):")
+    w = max(len(n) for n in plan.param_names)
+    for name, v in zip(plan.param_names, plan.defaults):
+        f, unit = _param_unit(name, u)
+        print(f"  {name:<{w}} = {_fmt(v * f, 8)}" + (f" {unit}" if unit else ""))
+    print("drivers:")
+    for line in driver_lines(m):
+        print("  " + line)
+    if m.gait is not None:
+        g = m.gait
+        print(f"gait: foot {g.foot}, ground [{', '.join(_fmt(c) for c in g.ground)}], up "
+              f"[{', '.join(_fmt(c) for c in g.up_vector)}], phases "
+              f"{', '.join(_fmt(math.degrees(p), 5) + '°' for p in g.phases)}")
+    return 0
+
+
+def solve_columns(plan, file_units: bool):
+    """Column names of the solve CSV and the factor of each block (SI → output units)."""
+    u = plan.mechanism.units
+    L = u.length if file_units else "m"
+    kL = 1.0 / LENGTH[u.length] if file_units else 1.0
+    kA = 180.0 / math.pi if file_units else 1.0
+    A = "deg" if file_units else "rad"
+    n = plan.n_inputs
+    iu = [A if plan.input_kinds[k] == "rotary" else L for k in range(n)]
+    ik = [kA if plan.input_kinds[k] == "rotary" else kL for k in range(n)]
+    cols = [f"{plan.input_names[k]}.q [{iu[k]}]" for k in range(n)] + ["valid"]
+    for p in plan.point_names:
+        cols += [f"{p}.x [{L}]", f"{p}.y [{L}]", f"{p}.vx [{L}/s]", f"{p}.vy [{L}/s]",
+                 f"{p}.ax [{L}/s^2]", f"{p}.ay [{L}/s^2]"]
+        for k in range(n):
+            sfx = "" if n == 1 else f"_{plan.input_names[k]}"
+            cols += [f"{p}.d{c}_dq{sfx} [{L}/{iu[k]}]" for c in "xy"]
+        for i in range(n):
+            for j in range(i, n):
+                if n == 1:
+                    cols += [f"{p}.d2{c}_dq2 [{L}/{iu[0]}^2]" for c in "xy"]
+                else:
+                    den = f"{iu[i]}^2" if iu[i] == iu[j] else f"({iu[i]}·{iu[j]})"
+                    cols += [f"{p}.d2{c}_dq_{plan.input_names[i]}_dq_{plan.input_names[j]} [{L}/{den}]"
+                             for c in "xy"]
+    return cols, kL, ik
+
+
+def solve_table(plan, q, state, file_units: bool) -> np.ndarray:
+    """(n, n_columns) values of the solve CSV (see :func:`solve_columns`)."""
+    cols, kL, ik = solve_columns(plan, file_units)
+    n = plan.n_inputs
+    rows = len(q)
+    blocks = [q * np.asarray(ik)[None, :], state.valid.astype(float)[:, None]]
+    pos, vel, acc = state.pos, state.vel, state.acc
+    d1, d2 = state.dpos_dq, state.d2pos_dq2
+    for pi in range(plan.n_points):
+        blocks += [pos[:, pi] * kL, vel[:, pi] * kL, acc[:, pi] * kL]
+        for k in range(n):
+            blocks.append(d1[:, pi, :, k] * kL / ik[k])
+        for i in range(n):
+            for j in range(i, n):
+                blocks.append(d2[:, pi, :, i, j] * kL / (ik[i] * ik[j]))
+    out = np.concatenate([np.asarray(b, dtype=float).reshape(rows, -1) for b in blocks], axis=1)
+    assert out.shape[1] == len(cols)
+    # unbuildable rows: NaN everywhere but the inputs and valid
+    out[~state.valid, n + 1:] = np.nan
+    return out
+
+
+def _cell(v: float) -> str:
+    if math.isnan(v):
+        return "nan"
+    if v == int(v) and abs(v) < 1e15:
+        return str(int(v)) if v != 0 or math.copysign(1, v) > 0 else "0"
+    return repr(float(v))
+
+
+def cmd_solve(args) -> int:
+    from ..plot.figures import sweep_inputs, tracked_point
+    from ..solve import solve
+    m, plan = _compile(args.file)
+    ranges = _ranges(plan, args)
+    q, moving, cyclic = sweep_inputs(plan, args.steps, ranges)
+    state = solve(plan, None, q)
+    cols, kL, ik = solve_columns(plan, args.file_units)
+    table = solve_table(plan, q, state, args.file_units)
+    u = m.units
+    L = u.length if args.file_units else "m"
+    what = (f"{len(q)} positions of {plan.input_names[moving]} over one turn" if cyclic
+            else f"{len(q)} samples of {', '.join(plan.input_names)} over the given range(s)")
+    print(f"{args.file}: {what}; {state.n_unbuildable} cannot be assembled")
+    foot = tracked_point(plan)
+    fi = plan.point_index(foot)
+    iu = [("°" if args.file_units else "rad") if k == "rotary" else L for k in plan.input_kinds]
+    heads = ([f"{n} [{v}]" for n, v in zip(plan.input_names, iu)]
+             + ["valid", f"{foot}.x [{L}]", f"{foot}.y [{L}]", f"|v| [{L}/s]", f"|a| [{L}/s²]"])
+    rows_at = range(len(q)) if len(q) <= 10 else np.unique(np.linspace(0, len(q) - 1, 8).round().astype(int))
+    width = [max(11, len(h) + 1) for h in heads]
+    print("".join(f"{h:>{w}}" for h, w in zip(heads, width)))
+    for r in rows_at:
+        vals = list(table[r, :plan.n_inputs]) + [int(state.valid[r])]
+        P = state.pos[r, fi] * kL
+        V = state.vel[r, fi] * kL
+        A = state.acc[r, fi] * kL
+        vals += [P[0], P[1], float(np.hypot(*V)), float(np.hypot(*A))]
+        cells = [str(v) if isinstance(v, int) else ("nan" if not np.isfinite(v) else f"{v:.5g}") for v in vals]
+        print("".join(f"{c:>{w}}" for c, w in zip(cells, width)))
+    if len(q) > 10:
+        print(f"({len(rows_at)} of {len(q)} rows shown" + (", all points in --csv)" if not args.csv else ")"))
+    if args.csv:
+        with atomic_path(args.csv) as tmp:
+            with open(tmp, "w", encoding="utf-8", newline="") as fh:
+                fh.write(",".join(cols) + "\n")
+                for row in table:
+                    fh.write(",".join(_cell(v) for v in row) + "\n")
+        print(f"wrote {args.csv} ({len(table)} rows × {len(cols)} columns, "
+              f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})")
+    return 0
+
+
+def analysis_lines(summary: dict, units) -> list[str]:
+    """The human-readable analysis (lengths in the file's unit, speeds in m/s, angles in degrees)."""
+    s = summary
+    kL = 1.0 / LENGTH[units.length]
+    Lu = units.length
+    out = [f"mobility: {s['mobility_formula']} ({s['formula']})"]
+    if s.get("structural_formula"):
+        out.append(f"structural formula: {s['structural_formula']}   ({s['structural_formula_numbered']})")
+    if s.get("note"):
+        out.append(f"note: {s['note']}")
+    if s.get("unbuildable") is None:
+        return out
+    steps = s.get("steps")
+    if s.get("full_rotation"):
+        out.append(f"buildability: the crank turns fully (0 of {steps} positions unbuildable)")
+    else:
+        rng = ", ".join(f"{math.degrees(r['start']):.1f}°…{math.degrees(r['end']):.1f}°"
+                        for r in s.get("buildable_ranges", []))
+        out.append(f"buildability: the crank cannot turn fully: {s['unbuildable']} of {steps} positions cannot be "
+                   f"assembled" + (f"; buildable {rng}" if rng else "; no position can be assembled"))
+    for k, t in (s.get("transmission_angles") or {}).items():
+        if t["min"] is None:
+            out.append(f"transmission angle at {k}: no buildable position")
+            continue
+        out.append(f"transmission angle at {k}: min {math.degrees(t['min']):.2f}°, max {math.degrees(t['max']):.2f}°"
+                   f" (worst deviation from 90°: {math.degrees(t['worst_deviation_from_90']):.2f}°)")
+    dc = s.get("dead_centres") or []
+    if dc:
+        out.append("dead centres: " + ", ".join(f"{math.degrees(d['angle']):.2f}° ({d['kind']}, {d['link']})"
+                                                for d in dc))
+    else:
+        out.append("dead centres: none found")
+    g = s.get("gait")
+    if g:
+        out.append(f"gait of foot {g['foot']} (support: {g['support']}):")
+        rows = [
+            ("contact arc", f"{math.degrees(g['contact_start']) % 360:.2f}° … "
+                            f"{math.degrees(g['contact_end']) % 360:.2f}°"),
+            ("step length", f"{_fmt(g['step_length'] * kL, 5)} {Lu}"),
+            ("lift", f"{_fmt(g['lift'] * kL, 5)} {Lu}"),
+            ("sag (support)", f"{_fmt(g['sag'] * kL, 5)} {Lu}"),
+            ("duty factor", f"{g['duty_factor']:.4f}"),
+            ("contact ratio", f"{_fmt(g['contact_ratio'], 5)}"),
+        ]
+        for key, lab in (("support_speed", "support speed |v|"), ("support_vx", "support speed |vx|")):
+            st = g[key]
+            rows.append((lab, f"max {_fmt(st['max'], 5)}, min {_fmt(st['min'], 5)}, mean {_fmt(st['mean'], 5)}, "
+                              f"midrange {_fmt(st['midrange'], 5)} m/s"))
+        rows.append(("support ax", f"min {_fmt(g['support_ax']['min'], 5)}, max {_fmt(g['support_ax']['max'], 5)} "
+                                   f"m/s²"))
+        w = max(len(r[0]) for r in rows)
+        out += [f"  {a:<{w}}  {b}" for a, b in rows]
+    elif s.get("gait_error"):
+        out.append(f"gait: not available: {s['gait_error']}")
+    mod = s.get("module")
+    if mod:
+        out.append(f"walking module ({len(mod['phases'])} legs at "
+                   f"{', '.join(f'{math.degrees(p):.0f}°' for p in mod['phases'])}): feet on the ground min "
+                   f"{mod['min_feet']}, max {mod['max_feet']}, mean {mod['mean_feet']:.3f}; airborne "
+                   f"{100 * mod['airborne_fraction']:.1f}% of the cycle")
+    return out
+
+
+def cmd_analyze(args) -> int:
+    from ..analysis.summary import analyze
+    m, plan = _compile(args.file)
+    summary = analyze(plan, steps=args.steps)
+    if args.json:
+        summary = {"file": str(args.file), **summary}
+        print(json.dumps(json_ready(summary), ensure_ascii=False, indent=2, allow_nan=False))
+        return 0
+    print(f"{m.name or Path(args.file).stem}  [{args.file}]")
+    for line in analysis_lines(summary, m.units):
+        print(line)
+    return 0
+
+
+def cmd_plot(args) -> int:
+    from ..plot.figures import close, mechanism_figure
+    m, plan = _compile(args.file)
+    fig = mechanism_figure(plan, args.steps, ranges=_ranges(plan, args), dpi=args.dpi)
+    try:
+        with atomic_path(args.output) as tmp:
+            fig.savefig(tmp, format=args.output.suffix.lower()[1:], dpi=args.dpi)
+    finally:
+        close(fig)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_animate(args) -> int:
+    from ..plot.figures import animation, close, save_animation
+    m, plan = _compile(args.file)
+    fig, anim = animation(plan, args.frames, args.fps, ranges=_ranges(plan, args))
+    progress = None
+    if sys.stderr.isatty():
+        def progress(i, n):
+            print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
+    try:
+        with atomic_path(args.output) as tmp:
+            save_animation(anim, tmp, args.fps, progress=progress)
+    finally:
+        close(fig)
+    print(f"wrote {args.output} ({args.frames} frames at {_fmt(args.fps)} fps)")
+    return 0
+
+
+def cmd_report(args) -> int:
+    from ..report.html import write_report
+    m, plan = _compile(args.file)
+    path = write_report(plan, args.output, steps=args.steps, frames=args.frames, ranges=_ranges(plan, args),
+                        source=str(args.file))
+    print(f"wrote {path}")
+    return 0
+
+
+# -- the parser -------------------------------------------------------------------------------------
+def build_parser() -> argparse.ArgumentParser:
+    from .. import __version__
+    p = argparse.ArgumentParser(prog="assur", description="Structural and kinematic analysis of planar mechanisms "
+                                "described in mechanism files (format assur/1).")
+    p.add_argument("--version", action="version", version=f"assur {__version__}")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    def add(name, func, help_):
+        sp = sub.add_parser(name, help=help_, description=help_)
+        sp.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
+        sp.set_defaults(func=func)
+        return sp
+
+    def add_range(sp):
+        sp.add_argument("--range", nargs=2, type=float, action="append", metavar=("START", "STOP"),
+                        help="run an input from START to STOP (the file's angle or length unit); once per input, "
+                             "in driver order; needed for a linear input or several moving inputs")
+
+    add("validate", cmd_validate, "load and compile a mechanism file and report whether it is valid")
+    add("info", cmd_info, "structure (mobility, Assur groups, structural formula), parameters and drivers")
+    sp = add("solve", cmd_solve, "positions, velocities, accelerations and analogues over one turn")
+    sp.add_argument("--steps", type=_positive(1), required=True, metavar="N", help="number of input positions")
+    sp.add_argument("--csv", type=Path, metavar="OUT", help="write every point's values to this CSV file")
+    sp.add_argument("--file-units", action="store_true",
+                    help="lengths in the file's unit and angles in degrees (default: SI, m and rad)")
+    add_range(sp)
+    sp = add("analyze", cmd_analyze, "buildability, transmission angles, dead centres and gait metrics")
+    sp.add_argument("--steps", type=_positive(16), default=720, metavar="N", help="samples per turn (default 720)")
+    sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    sp = add("plot", cmd_plot, "a figure: paths, kinematic diagram, velocity and acceleration curves")
+    sp.add_argument("-o", "--output", type=_output(PLOT_EXTENSIONS), required=True, metavar="OUT",
+                    help="output image (.png, .svg or .pdf)")
+    sp.add_argument("--steps", type=_positive(16), default=360, metavar="N", help="samples per turn (default 360)")
+    sp.add_argument("--dpi", type=_positive(10), default=100, help="resolution of a PNG (default 100)")
+    add_range(sp)
+    sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
+    sp.add_argument("-o", "--output", type=_output(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
+                    help="output animation (.gif, .mp4 or .html)")
+    sp.add_argument("--frames", type=_positive(2), default=60, metavar="N", help="frames per turn (default 60)")
+    sp.add_argument("--fps", type=_positive_float, default=20.0, metavar="F", help="frames per second (default 20)")
+    add_range(sp)
+    sp = add("report", cmd_report, "one self-contained HTML page with the structure, analysis, plots and animation")
+    sp.add_argument("-o", "--output", type=Path, required=True, metavar="DIR", help="output directory (index.html)")
+    sp.add_argument("--steps", type=_positive(16), default=360, metavar="N", help="samples per turn (default 360)")
+    sp.add_argument("--frames", type=_positive(2), default=36, metavar="N",
+                    help="frames of the embedded animation (default 36)")
+    add_range(sp)
+    return p
+
+
+def format_error(exc: BaseException) -> str:
+    return f"error: {exc}"
+
+
+def main(argv=None) -> int:
+    """Run the command line; returns the exit status (0 ok, 1 bad input, 2 usage error)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # usage errors (2) and --help/--version (0)
+        return int(exc.code) if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    try:
+        return int(args.func(args) or 0)
+    except (AssurError, CommandError) as exc:
+        print(format_error(exc), file=sys.stderr)
+        return 1
+    except ImportError as exc:   # an optional dependency (e.g. imageio-ffmpeg for MP4)
+        print(format_error(exc), file=sys.stderr)
+        return 1
+    except BrokenPipeError:      # e.g. `assur analyze --json f | head`
+        with contextlib.suppress(OSError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    except OSError as exc:       # an output cannot be written
+        name = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"error: cannot write{name}: {exc.strerror or exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
