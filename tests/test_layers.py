@@ -7,7 +7,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "assur"
 LAYER = {"kernels": 0, "errors": 0, "tolerances": 0,
          "model": 1, "structure": 1,
-         "compile": 2, "plan": 2, "solve": 2, "state": 2,
+         "compile": 2, "plan": 2, "solve": 2, "state": 2, "compiled_backend": 2,
          "analysis": 3, "io": 3, "gears": 3, "wheelstep": 3,
          "synthesis": 4, "plot": 4, "report": 4, "cli": 4, "__main__": 4, "__root__": 4}
 
@@ -30,8 +30,9 @@ def imported_tops(path: Path):
             parts = base + (node.module.split(".") if node.module else [])
             if parts:
                 yield parts[0], node.lineno
-            else:  # "from .. import x" from the package root: the public API, for the top layer only
-                yield "__root__", node.lineno
+            else:  # "from . import module", or a name of the package root (the public API, top layer only)
+                for alias in node.names:
+                    yield (alias.name if alias.name in LAYER else "__root__"), node.lineno
         elif isinstance(node, ast.Import):
             for alias in node.names:
                 if alias.name.startswith("assur."):

@@ -231,8 +231,13 @@ def _prepare(plan: SolvePlan, params, inputs):
     return params, inputs
 
 
+#: with backend="auto", batches at least this large use the compiled backend when numba is installed
+AUTO_COMPILED_MIN_SAMPLES = 20_000
+
+
 def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None, order: int = 2,
-          on_unbuildable: str = "nan", method: str = "closed", tolerances=DEFAULT) -> State:
+          on_unbuildable: str = "nan", method: str = "closed", backend: str = "auto",
+          tolerances=DEFAULT) -> State:
     """Solve positions (and, with ``order`` ≥ 1/2, velocities and accelerations) of every point.
 
     params: (..., n_params) design parameters (default: the file's); inputs: (..., n_inputs)
@@ -240,6 +245,9 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     (...,): a scalar or a 1-D array is a batch of values); speeds/accels: (..., n_inputs) input rates (default: the drivers' speeds, zero
     input acceleration). Leading axes broadcast. Returns a :class:`State`.
     on_unbuildable: 'nan' (NaN + ``valid`` mask), 'warn' (also warn with the count), 'raise'.
+    backend: 'numpy', 'numba' (the fused compiled loop of :mod:`assur.compiled_backend`; plans it
+    does not cover fall back to numpy) or 'auto' (numba for batches of at least
+    ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed). Both give the same numbers.
     """
     if on_unbuildable not in ON_UNBUILDABLE:
         raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
@@ -247,10 +255,25 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
         raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
     if order not in (0, 1, 2):
         raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
+    if backend not in ("auto", "numpy", "numba"):
+        raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
     params, inputs = _prepare(plan, params, inputs)
     n = plan.n_inputs
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     names = plan.point_names
+    compiled = None
+    size = int(np.prod(shape)) if shape else 1
+    if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
+        from . import compiled_backend
+        if backend == "numba" or compiled_backend.available():
+            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand)
+    if compiled is not None:
+        z, dz, d2z, valid = compiled
+        if order < 2:
+            d2z = None
+        if order < 1:
+            dz = None
+        return _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
 
     def run(direction):
         q = []
@@ -283,6 +306,12 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             for j in range(i + 1, n):
                 mixed = run(eye[i] + eye[j])
                 d2z[..., i, j] = d2z[..., j, i] = 0.5 * (stack(mixed, "dd") - d2z[..., i, i] - d2z[..., j, j])
+    return _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
+
+
+def _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable) -> State:
+    """NaN out the unbuildable samples, report them as asked, and wrap the arrays in a State."""
+    n = plan.n_inputs
     # invalid samples: NaN everywhere, never finite garbage
     inv = ~valid
     if inv.any():
@@ -301,7 +330,7 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
                f"they are NaN with valid=False")
         if on_unbuildable == "raise":
             raise UnbuildableError(msg, n_bad, total)
-        warnings.warn(msg, UnbuildableWarning, stacklevel=2)
+        warnings.warn(msg, UnbuildableWarning, stacklevel=3)
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):

@@ -237,6 +237,10 @@ def cmd_info(args) -> int:
     if s["structural_formula"]:
         print(f"structural formula: {s['structural_formula']}")
         print(f"                    {s['structural_formula_numbered']}")
+    from ..structure.assur import analyse
+    undetermined = getattr(analyse(m), "undetermined", ())
+    if undetermined:
+        print(f"not determined by the drivers: {', '.join(undetermined)}")
     from ..compile import compile as compile_
     plan = compile_(m)
     print(f"parameters ({len(plan.param_names)}, in the file's units):")
@@ -299,7 +303,6 @@ def solve_table(plan, q, state, file_units: bool) -> np.ndarray:
             for j in range(i, n):
                 blocks.append(d2[:, pi, :, i, j] * kL / (ik[i] * ik[j]))
     out = np.concatenate([np.asarray(b, dtype=float).reshape(rows, -1) for b in blocks], axis=1)
-    assert out.shape[1] == len(cols)
     # unbuildable rows: NaN everywhere but the inputs and valid
     out[~state.valid, n + 1:] = np.nan
     return out
@@ -450,10 +453,9 @@ def cmd_animate(args) -> int:
     from ..plot.figures import animation, close, save_animation
     m, plan = _compile(args.file)
     fig, anim = animation(plan, args.frames, args.fps, ranges=_ranges(plan, args))
-    progress = None
-    if sys.stderr.isatty():
-        def progress(i, n):
-            print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
+    def show(i, n):
+        print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
+    progress = show if sys.stderr.isatty() else None
     try:
         with atomic_path(args.output) as tmp:
             save_animation(anim, tmp, args.fps, progress=progress)

@@ -74,21 +74,35 @@ class Structure:
     @property
     def structural_formula(self) -> str:
         """The papers' notation with body names, e.g. ``I(frame, crank) → II(coupler, rocker)``."""
-        return self._formula(self.body_label)
+        return self._formula(self.body_label, numbered=False)
 
     @property
     def structural_formula_numbered(self) -> str:
         """The papers' notation with body numbers (frame 0, links in file order), e.g. ``I(0,1) → II(2,3)``."""
-        return self._formula(str).replace(", ", ",")
+        return self._formula(str, numbered=True).replace(", ", ",")
 
-    def _formula(self, label) -> str:
+    def _formula(self, label, numbered: bool) -> str:
+        """A driven actuator (cylinder + rod of given length) is one member, named once."""
         roman = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}
+        driven = {b: d.bodies[0] for d in self.drivers if d.kind == "linear" for b in d.bodies}
+        bodies = self.graph.bodies
+
+        def names(members):
+            out = []
+            for b in members:
+                if b in driven:
+                    text = label(driven[b]) if numbered else bodies[b].source
+                else:
+                    text = label(b)
+                if text not in out:
+                    out.append(text)
+            return out
+
         parts = []
         for d in self.drivers:
-            names = [label(0)] + [label(b) for b in d.bodies]
-            parts.append(f"I({', '.join(names)})")
+            parts.append(f"I({', '.join([label(0)] + names(d.bodies))})")
         for g in self.groups:
-            parts.append(f"{roman.get(g.group_class, str(g.group_class))}({', '.join(label(b) for b in g.bodies)})")
+            parts.append(f"{roman.get(g.group_class, str(g.group_class))}({', '.join(names(g.bodies))})")
         return " → ".join(parts)
 
     def describe(self) -> list[dict]:
