@@ -13,7 +13,9 @@ Cases (the four-bar of the docs: ground 100 mm, crank 30 mm, coupler |AB|, rocke
      so no (designs, angles, ...) array larger than one chunk exists.
 
 Engines, timed round-robin inside each repeat so that machine noise hits them alike:
-  * assur ``solve(order=2)`` (positions + velocities + accelerations) and ``solve(order=0)``;
+  * assur ``solve(order=2, backend="numba")`` (positions + velocities + accelerations; the
+    compiled backend, its kernel compiled before timing) and ``solve(order=0)``, and the numpy
+    backend ``solve(order=2, backend="numpy")`` for comparison;
   * pylinkage's numba path: ``Linkage.step_fast()`` (-> ``solver.simulation.simulate``) and
     ``Linkage.step_fast_with_kinematics()`` for one design, ``population.simulate_batch`` (the
     engine of ``Ensemble.simulate``) for the population;
@@ -127,18 +129,18 @@ class AssurBench:
         p[:, self.ix["C.x"]] = designs[:, 3]
         return p
 
-    def single(self, q, order):
-        st = assur.solve(self.plan, None, q, order=order)
+    def single(self, q, order, backend="numba"):
+        st = assur.solve(self.plan, None, q, order=order, backend=backend)
         if order == 0:
             return st.pos, None, None
         return st.pos, st.vel, st.acc
 
-    def population(self, params, q, order, chunk):
+    def population(self, params, q, order, chunk, backend="numba"):
         n = len(params)
         out = np.empty((n, 6))
         iA, iB = self.iA, self.iB
         for i in range(0, n, chunk):
-            st = assur.solve(self.plan, params[i:i + chunk, None, :], q, order=order)
+            st = assur.solve(self.plan, params[i:i + chunk, None, :], q, order=order, backend=backend)
             pos = st.pos                                   # (chunk, n_angles, n_points, 2)
             m = 0.5 * (pos[..., iA, :] + pos[..., iB, :])  # coupler midpoint
             out[i:i + chunk, 0:2] = m.min(axis=1)
@@ -421,6 +423,7 @@ def main(argv=None):
         lkk_n.step_fast_with_kinematics(iterations=n)
         ab.single(angles(n), 2)
         ab.single(angles(n), 0)
+        ab.single(angles(n), 2, "numpy")
 
     # ---- timings --------------------------------------------------------------------------------
     rows = []   # (case, engine, what, samples, times, note)
@@ -442,6 +445,7 @@ def main(argv=None):
         engines = [
             ("assur order=2", lambda q=q: ab.single(q, 2), "pos+vel+acc", n, ""),
             ("assur order=0", lambda q=q: ab.single(q, 0), "pos", n, ""),
+            ("assur numpy order=2", lambda q=q: ab.single(q, 2, "numpy"), "pos+vel+acc", n, "numpy backend"),
             ("pylinkage step_fast", lambda lk=lk_n, n=n: lk.step_fast(iterations=n), "pos", n, "numba"),
             ("pylinkage step_fast_with_kinematics", lambda lk=lkk_n, n=n: lk.step_fast_with_kinematics(iterations=n),
              "pos+vel+acc", n, "numba"),
@@ -466,6 +470,8 @@ def main(argv=None):
          "pos+vel+acc", ns, f"chunks of {args.chunk}"),
         ("assur order=0|pos", keep("a0", lambda: ab.population(params, q360, 0, args.chunk)),
          "pos", ns, f"chunks of {args.chunk}"),
+        ("assur numpy order=2|pos+vel+acc", lambda: ab.population(params, q360, 2, args.chunk, "numpy"),
+         "pos+vel+acc", ns, f"chunks of {args.chunk}; numpy backend"),
         ("pylinkage simulate_batch|pos", keep("pl", lambda: pb.population(sd, cons, pos0, 360, args.chunk)),
          "pos", ns, f"chunks of {args.chunk}; numba"),
         ("plain Python|pos+vel+acc", lambda: plain_population(designs[:npl], 360, True),

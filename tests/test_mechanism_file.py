@@ -147,6 +147,44 @@ def test_round_trip_of_random_numbers(units, xs, length, angle, offset):
     assert assur.loads(assur.dumps(m)) == m
 
 
+SPATIAL = """
+format = "assur/1"
+dimension = 3
+[units]
+length = "mm"
+angle = "deg"
+[points]
+A0 = [0, 0, 0]
+D0 = [100, 0, 30]
+A = [20, 10, 0]
+B = [90, 70, 50]
+[links]
+frame = ["A0", "D0"]
+crank = ["A0", "A"]
+coupler = ["A", "B"]
+rocker = ["D0", "B"]
+[joints]
+A = "spherical"
+B = "spherical"
+"""
+
+
+def test_round_trip_of_a_spatial_description():
+    m = assur.loads(SPATIAL)
+    assert m.dimension == 3 and m.sketch("D0") == (100 * 1e-3, 0.0, 30 * 1e-3)
+    text = assur.dumps(m)
+    assert assur.loads(text) == m
+    assert tomllib.loads(text)["joints"] == {"A": "spherical", "B": "spherical"}
+
+
+def test_style_table_is_ignored():
+    plain = FULL.format(**MM_DEG)
+    styled = plain + '\n[style]\ncolor = "red"\n[style.points]\nA = { marker = "o" }\n'
+    m = assur.loads(styled)
+    assert m == assur.loads(plain)
+    assert "style" not in tomllib.loads(assur.dumps(m))
+
+
 # -- error messages ------------------------------------------------------------------------------------------------
 BASE = """
 format = "assur/1"

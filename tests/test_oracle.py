@@ -195,6 +195,10 @@ CASES = {
     "linear_actuator_RRP": (m_linear, [GroupKind.RRP]),
     "linear_actuator_RRR": (m_boom, [GroupKind.RRR]),
 }
+#: design spread (see perturbed_designs); the boom's frame pivots are close together (|OF| = L/4), so it
+#: gets a smaller one: far from the file's design the Newton oracle may start in the other branch's basin
+#: (see test_newton_oracle_keeps_one_branch_for_a_design_far_from_the_sketch)
+SPREAD = {"linear_actuator_RRR": 0.02}
 
 
 def compiled(name):
@@ -308,7 +312,7 @@ def test_groups_found_have_the_expected_kinds(name):
 def test_closed_form_equals_newton_oracle(name):
     m, plan, _ = compiled(name)
     rng = np.random.default_rng([RNG_SEED, sorted(CASES).index(name)])
-    P = perturbed_designs(plan, N_DESIGNS, rng)
+    P = perturbed_designs(plan, N_DESIGNS, rng, SPREAD.get(name, 0.06))
     keep = buildable_designs(plan, P)
     assert keep.sum() >= 0.6 * N_DESIGNS
     P = P[keep][:, None, :]                                   # (D, 1, n_params)
@@ -336,7 +340,7 @@ def test_closed_form_equals_newton_oracle(name):
 def test_solved_positions_satisfy_every_constraint_of_the_file(name):
     m, plan, _ = compiled(name)
     rng = np.random.default_rng([RNG_SEED, 100 + sorted(CASES).index(name)])
-    P = perturbed_designs(plan, N_DESIGNS, rng)
+    P = perturbed_designs(plan, N_DESIGNS, rng, SPREAD.get(name, 0.06))
     P = P[buildable_designs(plan, P)][:, None, :]
     if plan.input_kinds[0] == "rotary":
         q = plan.sketch_inputs[0] + np.linspace(-np.pi, np.pi, 73)     # a full turn for cranks
@@ -370,9 +374,13 @@ def _fd_check(plan, P, q, h):
     qq = q[:, None] + offsets                                  # (N, 5)
     s = assur.solve(plan, P[:, None, None, :], qq)             # (D, N, 5)
     ok = np.all(s.valid, axis=-1)                              # the whole stencil can be assembled
-    assert ok.mean() >= 0.5
     L = plan.length_scale
     pos, d1, d2 = s.pos, s.dpos_dq[..., 0], s.d2pos_dq2[..., 0, 0]
+    # leave out samples next to a singular position (|dpos/dq| > 100·L, e.g. nearly parallel slide lines),
+    # where finite differences of any step say nothing
+    with np.errstate(invalid="ignore"):
+        ok &= np.nan_to_num(np.max(np.abs(d1), axis=(-1, -2, -3)), nan=np.inf) < 100 * L
+    assert ok.mean() >= 0.5
     vel, acc = s.vel, s.acc
     st = lambda a, k: a[:, :, k]                               # noqa: E731
     fd1 = _richardson(st(pos, 0), st(pos, 1), st(pos, 3), st(pos, 4), h)
@@ -392,11 +400,39 @@ def _fd_check(plan, P, q, h):
 def test_velocities_and_accelerations_equal_central_differences(name):
     m, plan, _ = compiled(name)
     rng = np.random.default_rng([RNG_SEED, 200 + sorted(CASES).index(name)])
-    P = perturbed_designs(plan, 20, rng)
+    P = perturbed_designs(plan, 20, rng, SPREAD.get(name, 0.06))
     P = P[buildable_designs(plan, P)]
     q = neighbourhood(plan, 5)
-    h = 1e-3 if plan.input_kinds[0] == "rotary" else 1e-3 * plan.length_scale
+    h = 2e-4 if plan.input_kinds[0] == "rotary" else 2e-4 * plan.length_scale
     _fd_check(plan, P, q, h)
+
+
+def m_fivebar():
+    # two cranks (O1: 0.3, O2: 0.4) and two couplers (0.8, 0.7) meeting at C
+    A = 0.3 * cmath.exp(1.0j)
+    B = 1 + 0.4 * cmath.exp(2.0j)
+    C = circle_circle(A, 0.8, B, 0.7)
+    return (HEAD + f"[points]\nO1 = [0.0, 0.0]\nO2 = [1.0, 0.0]\nA = {xy(A)}\nB = {xy(B)}\nC = {xy(C)}\n"
+            '[links]\nframe = ["O1", "O2"]\ncrank1 = ["O1", "A"]\ncrank2 = ["O2", "B"]\nleft = ["A", "C"]\n'
+            'right = ["B", "C"]\n' + crank_driver("O1", "A", "crank1") + crank_driver("O2", "B", "crank2", "-20 rpm"))
+
+
+def test_two_input_closed_form_equals_newton_oracle():
+    plan = assur.compile(assur.loads(m_fivebar()))
+    assert [g.kind for g in plan.structure.groups] == [GroupKind.RRR] and plan.n_inputs == 2
+    rng = np.random.default_rng([RNG_SEED, 400])
+    P = perturbed_designs(plan, N_DESIGNS, rng)
+    P = P[buildable_designs(plan, P)][:, None, :]
+    q = plan.sketch_inputs + rng.uniform(-0.4, 0.4, (6, 2))             # (N, 2)
+    closed = assur.solve(plan, P, q)
+    newton = assur.solve(plan, P, q, method="newton")
+    both = closed.valid & newton.valid
+    assert both.mean() >= 0.5 and np.count_nonzero(closed.valid != newton.valid) <= 0.01 * both.size
+    for attr in ("pos", "dpos_dq", "d2pos_dq2"):                       # d2pos_dq2 includes the mixed ∂²/∂q1∂q2
+        a, b = getattr(closed, attr)[both], getattr(newton, attr)[both]
+        axes = tuple(range(1, a.ndim))
+        scale = plan.length_scale + np.max(np.abs(b), axis=axes)
+        assert np.all(np.max(np.abs(a - b), axis=axes) <= 1e-9 * scale), attr
 
 
 # -- class-III group (no closed form: solved by Newton) -------------------------------------------------------
@@ -425,7 +461,7 @@ def test_triad_sixbar_solution_satisfies_constraints_and_differences():
     assert s.valid.mean() >= 0.8
     r = constraint_residuals(plan, P[:, None, :], s)
     assert np.all(r[s.valid] <= 1e-10 * plan.length_scale)
-    _fd_check(plan, P, q, 1e-3)
+    _fd_check(plan, P, q, 2e-4)
 
 
 # -- engine bugs found ------------------------------------------------------------------------------------------
@@ -450,9 +486,9 @@ def test_passive_cylinder_compiles_and_matches_newton():
                                        "candidates pass the side test (the hinted point is the same on both), "
                                        "compile._fix_branches keeps the last one (−1), and the closed form then "
                                        "points the cylinder away from its rod (negative stroke)")
-@pytest.mark.parametrize("side", ["left", "right"])
-def test_passive_cylinder_with_hint_points_from_F_to_A(side):
-    plan = assur.compile(assur.loads(m_cylinder(f'[branches]\nA = {{ side = "{side}", of = ["O", "F"] }}\n')))
+def test_passive_cylinder_with_hint_points_from_F_to_A():
+    # A = 0.4·e^{0.3i} is on the left of O → F (cross product > 0), so the hint is satisfiable
+    plan = assur.compile(assur.loads(m_cylinder('[branches]\nA = { side = "left", of = ["O", "F"] }\n')))
     q = neighbourhood(plan, 5)
     s = assur.solve(plan, inputs=q)
     F, A = s.point("F").pos, s.point("A").pos
@@ -473,4 +509,25 @@ def test_branch_hint_is_honoured_by_the_newton_oracle():
     A, B, O1 = closed.point("A").pos, closed.point("B").pos, closed.point("O1").pos
     side = (O1[:, 0] - A[:, 0]) * (B[:, 1] - A[:, 1]) - (O1[:, 1] - A[:, 1]) * (B[:, 0] - A[:, 0])
     assert np.all(side < 0)
+    np.testing.assert_allclose(newton.pos, closed.pos, rtol=0, atol=1e-9)
+
+
+@pytest.mark.xfail(strict=True, reason="engine bug: the Newton oracle continues only in the inputs, from the "
+                                       "file's sketch poses; for a design away from the file's, neighbouring "
+                                       "inputs of the same design land on different assembly branches")
+def test_newton_oracle_keeps_one_branch_for_a_design_far_from_the_sketch():
+    plan = assur.compile(assur.loads(m_boom()))
+    # frame pivots moved (O by 0.11, F by 0.13 of |OF| = 0.5), boom 13 % longer; the stroke range
+    # [r − |OF|, r + |OF|] ≈ [0.82, 1.32] m contains every input below
+    P = plan.params_with(O__x=0.1, O__y=-0.45, F__x=0.27, F__y=-0.25, boom__length=1.07)
+    q = np.array([0.894427191, 0.93, 0.96, 1.0])
+    closed, newton = assur.solve(plan, P, q), assur.solve(plan, P, q, method="newton")
+    assert np.all(closed.valid) and np.all(newton.valid)
+
+    def side(s):
+        O, F, B = (s.point(n).pos for n in "OFB")
+        return np.sign((F[:, 0] - O[:, 0]) * (B[:, 1] - O[:, 1]) - (F[:, 1] - O[:, 1]) * (B[:, 0] - O[:, 0]))
+
+    assert np.all(side(closed) == side(closed)[0])          # the closed form keeps its sign
+    assert np.all(side(newton) == side(newton)[0])          # so must the oracle
     np.testing.assert_allclose(newton.pos, closed.pos, rtol=0, atol=1e-9)

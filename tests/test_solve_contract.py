@@ -285,6 +285,59 @@ def test_branch_hint_on_an_unbranched_point_is_an_error():
     assert str(info.value) == "branches.A: 'A' is not the point a branched group solves (branched points: B)"
 
 
+COLLINEAR = """
+format = "assur/1"
+[units]
+length = "m"
+angle = "rad"
+[points]
+O = [0.0, 0.0]
+O1 = [1.0, 0.0]
+A = [0.3, 0.0]
+B = [{bx}, {by}]
+[links]
+frame = ["O", "O1"]
+crank = ["O", "A"]
+rocker = ["O1", "B"]
+[links.coupler]
+points = ["A", "B"]
+{length}
+[[drivers]]
+name = "crank"
+link = "crank"
+pivot = "O"
+arm = "A"
+"""
+
+
+def test_a_sketch_that_does_not_tell_the_branch_is_an_error():
+    # B on the line A–O1 beyond O1 (coupler 1.2 = |A − O1| + rocker 0.5): the circles about A and O1 touch,
+    # both assemblies coincide
+    with pytest.raises(assur.SpecError) as info:
+        assur.compile(assur.loads(COLLINEAR.format(bx=1.5, by=0.0, length="")))
+    assert str(info.value) == ("points.B: the sketch does not tell the assembly branch of 'B' (both branches "
+                               "coincide); move it off the line or set [branches.B]")
+
+
+@pytest.mark.xfail(strict=True, reason="engine bug: compile._fix_branches tests a [branches] hint on the sketch "
+                                       "position, where a collinear B is on the line for both candidates (side 0), "
+                                       "so the remedy the error message suggests always fails with 'no assembly "
+                                       "puts B on the left of A → O1'")
+def test_a_hint_settles_a_collinear_sketch():
+    plan = assur.compile(assur.loads(COLLINEAR.format(bx=1.5, by=0.0, length="")
+                                     + '[branches]\nB = { side = "left", of = ["A", "O1"] }\n'))
+    s = assur.solve(plan, inputs=0.5)
+    assert np.all(_side_of_B(s) == 1)
+
+
+def test_a_sketch_that_cannot_be_assembled_is_an_error():
+    # coupler 5 m: |A − O1| + rocker = 0.7 + 0.63 < 5, no assembly at the sketch input (triangle inequality)
+    with pytest.raises(assur.SpecError) as info:
+        assur.compile(assur.loads(COLLINEAR.format(bx=0.6, by=0.2, length="length = 5.0")))
+    assert str(info.value) == ("points.B: the group solving 'B' cannot be assembled in the sketch position "
+                               "(check the dimensions and the sketch)")
+
+
 # -- structure errors ------------------------------------------------------------------------------------------------
 def _drivers_removed(text, keep):
     head, *drivers = text.split("[[drivers]]")

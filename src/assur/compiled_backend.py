@@ -125,10 +125,38 @@ def available() -> bool:
     return True
 
 
-def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float):
-    """(z, dz, d2z, valid) as the numpy backend returns them, or None if the plan is not covered.
+def cache_dir():
+    """Where generated kernels live: $ASSUR_CACHE_DIR, else $XDG_CACHE_HOME/assur/kernels, else ~/.cache."""
+    import os
+    from pathlib import Path
+    base = os.environ.get("ASSUR_CACHE_DIR")
+    if base:
+        return Path(base)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "assur" / "kernels"
 
-    params (..., n_params), inputs (..., 1); shapes broadcast."""
+
+def kernel(pk: _Packer, with_bodies: bool):
+    """The plan's generated straight-line kernel (compiled once, cached on disk by numba)."""
+    key = "_kernel_bodies" if with_bodies else "_kernel_points"
+    k = pk.__dict__.get(key)
+    if k is None:
+        point_out = [pk.pidx[p] for p in pk.plan.point_names]
+        body_out = list(range(len(pk.plan.body_names))) if with_bodies else []
+        src = pk.K.generate_source(pk.ops, point_out, body_out)
+        try:
+            k = pk.K.load_kernel(src, cache_dir())
+        except OSError:
+            import tempfile
+            from pathlib import Path
+            k = pk.K.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
+        pk.__dict__[key] = k
+    return k
+
+
+def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float, with_bodies: bool = False):
+    """(z, dz, d2z, valid) as the numpy backend returns them (points, then — with ``with_bodies`` —
+    body orientations), or None if the plan is not covered. params (..., n_params), inputs (..., 1)."""
     pk = packer(plan)
     if pk is None:
         return None
@@ -140,16 +168,18 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
         v = np.broadcast_to(np.asarray(fn(w, lines, designs), dtype=complex), designs.shape[:1])
         G[:, i, 0], G[:, i, 1] = v.real, v.imag
     design_of = np.broadcast_to(np.arange(designs.shape[0]).reshape(params.shape[:-1]), shape).ravel()
-    q = np.ascontiguousarray(np.broadcast_to(inputs[..., 0], shape).ravel(), dtype=float)
-    n_points, n_bodies = len(plan.point_names), len(plan.body_names)
-    m = n_points + n_bodies
-    out = np.empty((3, q.size, m, 2))
-    point_out = np.array([pk.pidx[p] for p in plan.point_names], dtype=np.int64)
-    body_out = np.arange(n_bodies, dtype=np.int64)
-    valid = pk.K.run(np.array(pk.ops, dtype=np.int64), G, np.ascontiguousarray(design_of, dtype=np.int64), q,
-                     point_out, body_out, tol, n_points, n_bodies, out)
-    cz = out.view(np.complex128)[..., 0]            # (3, S, m)
-    z = cz[0].reshape(shape + (m,))
-    dz = cz[1].reshape(shape + (m, 1))
-    d2z = cz[2].reshape(shape + (m, 1, 1))
+    q_unique = inputs[..., 0]
+    angle_of = np.broadcast_to(np.arange(q_unique.size).reshape(q_unique.shape), shape).ravel()
+    q_flat = q_unique.ravel()
+    cq, sq = np.cos(q_flat), np.sin(q_flat)
+    n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
+    S = design_of.size
+    outz, outd, outdd = (np.empty((S, n_out, 2)) for _ in range(3))
+    valid = np.empty(S, dtype=np.bool_)
+    kernel(pk, with_bodies)(G, np.ascontiguousarray(design_of, dtype=np.int64),
+                            np.ascontiguousarray(angle_of, dtype=np.int64), cq, sq, tol, outz, outd, outdd, valid)
+    as_c = lambda a: a.view(np.complex128)[..., 0]  # noqa: E731 - (S, m, 2) float → (S, m) complex, no copy
+    z = as_c(outz).reshape(shape + (n_out,))
+    dz = as_c(outd).reshape(shape + (n_out, 1))
+    d2z = as_c(outdd).reshape(shape + (n_out, 1, 1))
     return z, dz, d2z, valid.reshape(shape)

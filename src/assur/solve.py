@@ -273,7 +273,8 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             d2z = None
         if order < 1:
             dz = None
-        return _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
+        return _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
+                       has_bodies=False)
 
     def run(direction):
         q = []
@@ -306,10 +307,11 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             for j in range(i + 1, n):
                 mixed = run(eye[i] + eye[j])
                 d2z[..., i, j] = d2z[..., j, i] = 0.5 * (stack(mixed, "dd") - d2z[..., i, i] - d2z[..., j, j])
-    return _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
+    return _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
 
 
-def _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable) -> State:
+def _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
+            has_bodies: bool = True) -> State:
     """NaN out the unbuildable samples, report them as asked, and wrap the arrays in a State."""
     n = plan.n_inputs
     # invalid samples: NaN everywhere, never finite garbage
@@ -336,7 +338,7 @@ def _finish(plan, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildab
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
         raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
     return State(plan=plan, inputs=np.broadcast_to(inputs, shape + (n,)), valid=valid, n_unbuildable=n_bad,
-                 qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z)
+                 qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z, _params=params, _has_bodies=has_bodies)
 
 
 def _fmt_input(plan, k, v):

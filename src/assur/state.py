@@ -15,7 +15,13 @@ import numpy as np
 
 
 def _xy(z):
-    return None if z is None else np.stack([z.real, z.imag], axis=-1)
+    """(..., m) complex → (..., m, 2) real, as a view where the memory allows."""
+    if z is None:
+        return None
+    try:
+        return z[..., None].view(np.float64)
+    except ValueError:
+        return np.stack([z.real, z.imag], axis=-1)
 
 
 def _move_xy(a, n_extra):
@@ -38,6 +44,10 @@ class State:
     _z: np.ndarray = field(repr=False)
     _dz: np.ndarray | None = field(repr=False, default=None)       # (..., m, n_inputs)
     _d2z: np.ndarray | None = field(repr=False, default=None)      # (..., m, n_inputs, n_inputs)
+    #: the design parameters solved (for the lazy body orientations of the compiled backend)
+    _params: np.ndarray | None = field(repr=False, default=None)
+    #: False when the backend returned points only; body orientations are then solved on first use
+    _has_bodies: bool = field(repr=False, default=True)
 
     @property
     def _np(self) -> int:
@@ -62,8 +72,13 @@ class State:
 
     # -- time derivatives ------------------------------------------------------------------------------
     def _rate(self, dz, d2z):
+        if dz.shape[-1] == 1 and self.qdot.ndim == 1:   # one input: plain products, no einsum
+            w, a = float(self.qdot[0]), float(self.qddot[0])
+            vel = dz[..., 0] * w
+            acc = None if d2z is None else (d2z[..., 0, 0] * (w * w) + (dz[..., 0] * a if a else 0.0))
+            return vel, acc
         qd = self.qdot + 0j
-        vel = None if dz is None else np.einsum("...pk,...k->...p", dz, qd)
+        vel = np.einsum("...pk,...k->...p", dz, qd)
         acc = None
         if d2z is not None:
             acc = (np.einsum("...pk,...k->...p", dz, self.qddot + 0j)
@@ -84,6 +99,16 @@ class State:
 
     # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
     def _theta_jets(self):
+        if not self._has_bodies:
+            full = self.__dict__.get("_full")
+            if full is None:
+                import importlib   # solve imports state: resolve it at call time
+                order = 0 if self._dz is None else (1 if self._d2z is None else 2)
+                full = importlib.import_module("assur.solve").solve(
+                    self.plan, self._params, self.inputs, speeds=self.qdot, accels=self.qddot, order=order,
+                    backend="numpy")
+                self.__dict__["_full"] = full
+            return full._theta_jets()
         e = self._z[..., self._np:]
         th = np.angle(e)
         d1 = d2 = None

@@ -1,11 +1,13 @@
-"""Compiled (numba) kernel: one fused loop over samples that interprets a solve plan's op table.
+"""Compiled (numba) kernels: the plan's closed forms fused into one loop over samples.
 
-The numpy backend evaluates each group on whole arrays of jets; this backend runs the same
-closed forms sample by sample in native code, with every jet held in registers as a tuple:
+The numpy backend evaluates each group on whole arrays of jets; this backend generates, per plan,
+a straight-line numba function (``generate_source``) that runs the same closed forms sample by
+sample in native code, with every jet held in registers as a tuple:
 a complex jet is ``(x, y, dx, dy, ddx, ddy)``, a real jet ``(v, d, dd)`` (derivatives by the
 single input q). It is numerically the same computation (tests compare the two backends).
 
-Op table rows (int64, width ``OP_WIDTH``); slots index the per-design complex constants
+``_sample`` interprets the same op table (a reference for the generated code). Op table rows
+(int64, width ``OP_WIDTH``); slots index the per-design complex constants
 ``G (n_designs, n_slots, 2)``:
 
 ====  =========  =============================================================================
@@ -25,7 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 OP_WIDTH = 14
 FRAMEPT, CRANK, PLACE, FROM_TWO, RRR, RRP, RPR = range(7)
@@ -240,38 +242,116 @@ def _sample(ops, g, q, P, O, E, tol):
     return ok
 
 
-@njit(parallel=True, cache=True, error_model="numpy")
-def run(ops, G, design_of, q, point_out, body_out, tol, n_points, n_bodies, out):
-    """Solve every sample: design_of (S,) design index, q (S,) input; out (3, S, m, 2) float:
-    [value, d/dq, d²/dq²] × (x, y) of the m = n_points + n_bodies outputs (points, then body
-    orientations exp(iθ)); returns valid (S,) bool. point_out/body_out map output slots."""
-    S = q.shape[0]
-    valid = np.empty(S, dtype=np.bool_)
-    n_chunks = 64 if S >= 64 * 256 else 1
-    per = (S + n_chunks - 1) // n_chunks
-    for c in prange(n_chunks):
-        P = np.zeros((n_points, 6))
-        O = np.zeros((n_bodies, 6))
-        E = np.zeros((n_bodies, 6))
-        E[0, 0] = 1.0
-        for i in range(c * per, min(S, (c + 1) * per)):
-            ok = _sample(ops, G[design_of[i]], q[i], P, O, E, tol)
-            valid[i] = ok
-            if ok:
-                for k in range(point_out.shape[0]):
-                    p = point_out[k]
-                    for j in range(3):
-                        out[j, i, k, 0] = P[p, 2 * j]
-                        out[j, i, k, 1] = P[p, 2 * j + 1]
-                for k in range(body_out.shape[0]):
-                    b = body_out[k]
-                    m = point_out.shape[0] + k
-                    for j in range(3):
-                        out[j, i, m, 0] = E[b, 2 * j]
-                        out[j, i, m, 1] = E[b, 2 * j + 1]
-            else:
-                for k in range(out.shape[2]):
-                    for j in range(3):
-                        out[j, i, k, 0] = np.nan
-                        out[j, i, k, 1] = np.nan
-    return valid
+# -- straight-line kernels generated per plan ----------------------------------------------------
+
+def _slot(s: int) -> str:
+    return f"(G[g, {s}, 0], G[g, {s}, 1])"
+
+
+def generate_source(ops, point_out, body_out) -> str:
+    """Python source of a fused, straight-line numba kernel for one op table.
+
+    The kernel ``kernel(G, design_of, angle_of, cq, sq, tol, outz, outd, outdd, valid)`` solves
+    sample i of design ``design_of[i]`` at the input whose cosine and sine are
+    ``cq[angle_of[i]]``, ``sq[angle_of[i]]`` (computed once per distinct input by numpy), and writes
+    value, d/dq and d²/dq² of the requested points (then bodies' exp(iθ)) as (x, y) pairs.
+    """
+    body = []
+    for row in ops:
+        code = int(row[0])
+        o = [int(x) for x in row]
+        if code == FRAMEPT:
+            body.append(f"P{o[1]} = (G[g, {o[2]}, 0], G[g, {o[2]}, 1], 0.0, 0.0, 0.0, 0.0)")
+        elif code == CRANK:
+            b, pivot, sw, sense, sk = o[1], o[2], o[3], o[6], o[7]
+            body.append(f"E{b} = crank(c, s, {float(sense)!r}, {_slot(sk)})")
+            body.append(f"O{b} = _csub(P{pivot}, _cmulk(E{b}, G[g, {sw}, 0], G[g, {sw}, 1]))")
+        elif code == PLACE:
+            b, p, sw = o[1], o[2], o[3]
+            body.append(f"P{p} = _cadd(O{b}, _cmulk(E{b}, G[g, {sw}, 0], G[g, {sw}, 1]))")
+        elif code == FROM_TWO:
+            b, p1, p2, sw1, sinv = o[1], o[2], o[3], o[4], o[5]
+            body.append(f"E{b} = _cmulk(_csub(P{p2}, P{p1}), G[g, {sinv}, 0], G[g, {sinv}, 1])")
+            body.append(f"O{b} = _csub(P{p1}, _cmulk(E{b}, G[g, {sw1}, 0], G[g, {sw1}, 1]))")
+        elif code == RRR:
+            body.append(f"P{o[5]}, good = rrr(P{o[1]}, P{o[3]}, G[g, {o[2]}, 0], G[g, {o[4]}, 0], "
+                        f"{float(o[6])!r}, tol)")
+            body.append("ok = ok and good")
+        elif code == RRP:
+            A, sra, gb, sq_, su, sk, soff, J, branch, sb, swj = o[1:12]
+            body.append(f"P{J}, E{sb}, good = rrp(P{A}, G[g, {sra}, 0], O{gb}, E{gb}, {_slot(sq_)}, {_slot(su)}, "
+                        f"{_slot(sk)}, {_slot(soff)}, {float(branch)!r}, tol)")
+            body.append("ok = ok and good")
+            body.append(f"O{sb} = _csub(P{J}, _cmulk(E{sb}, G[g, {swj}, 0], G[g, {swj}, 1]))")
+        elif code == RPR:
+            gb, gp, sb, sp, swg, sc, sinvu, sinvus, sws, branch = o[1:11]
+            body.append(f"eu, good = rpr(P{gp}, P{sp}, G[g, {sc}, 0], G[g, {sc}, 1], {float(branch)!r}, tol)")
+            body.append("ok = ok and good")
+            body.append(f"E{gb} = _cmulk(eu, G[g, {sinvu}, 0], G[g, {sinvu}, 1])")
+            body.append(f"O{gb} = _csub(P{gp}, _cmulk(E{gb}, G[g, {swg}, 0], G[g, {swg}, 1]))")
+            body.append(f"E{sb} = _cmulk(eu, G[g, {sinvus}, 0], G[g, {sinvus}, 1])")
+            body.append(f"O{sb} = _csub(P{sp}, _cmulk(E{sb}, G[g, {sws}, 0], G[g, {sws}, 1]))")
+        else:  # pragma: no cover - the packer emits only the codes above
+            raise ValueError(f"unknown op code {code}")
+    names = [f"P{int(p)}" for p in point_out] + [f"E{int(b)}" for b in body_out]
+    write = []
+    for k, name in enumerate(names):
+        for j, arr in enumerate(("outz", "outd", "outdd")):
+            write.append(f"{arr}[i, {k}, 0] = {name}[{2 * j}]")
+            write.append(f"{arr}[i, {k}, 1] = {name}[{2 * j + 1}]")
+    pre = ["E0 = (1.0, 0.0, 0.0, 0.0, 0.0, 0.0)", "O0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)"]
+    lines = [
+        '"""Generated by assur.kernels.compiled.generate_source; do not edit."""',
+        "import numpy as np",
+        "from numba import njit",
+        "from assur.kernels.compiled import _cadd, _csub, _cmulk, crank, rrr, rrp, rpr",
+        "",
+        "",
+        '@njit(cache=True, error_model="numpy", fastmath={"contract"})',
+        "def one(i, g, c, s, G, tol, outz, outd, outdd):",
+        "    ok = True",
+        *["    " + ln for ln in pre + body],
+        "    if ok:",
+        *["        " + ln for ln in write],
+        "    else:",
+        "        for k in range(outz.shape[1]):",
+        "            for j in range(2):",
+        "                outz[i, k, j] = np.nan",
+        "                outd[i, k, j] = np.nan",
+        "                outdd[i, k, j] = np.nan",
+        "    return ok",
+        "",
+        "",
+        '@njit(cache=True, error_model="numpy")',
+        "def kernel(G, design_of, angle_of, cq, sq, tol, outz, outd, outdd, valid):",
+        "    for i in range(design_of.shape[0]):",
+        "        a = angle_of[i]",
+        "        valid[i] = one(i, design_of[i], cq[a], sq[a], G, tol, outz, outd, outdd)",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def load_kernel(source: str, cache_dir):
+    """Import a generated kernel module from ``cache_dir`` (written once per distinct source, so
+    numba's on-disk cache is reused across processes)."""
+    import hashlib
+    import importlib.util
+    import os
+    from pathlib import Path
+    digest = hashlib.sha1(source.encode()).hexdigest()[:16]
+    name = f"assur_kernel_{digest}"
+    path = Path(cache_dir) / f"{name}.py"
+    if not path.exists() or path.read_text(encoding="utf-8") != source:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(source, encoding="utf-8")
+        tmp.replace(path)
+    import sys
+    if name in sys.modules:
+        return sys.modules[name].kernel
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module   # numba's cache re-imports the module by name
+    spec.loader.exec_module(module)
+    return module.kernel
