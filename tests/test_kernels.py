@@ -170,9 +170,6 @@ def test_circle_circle_jet_derivatives_match_central_differences(circ, branch, r
     np.testing.assert_array_less(np.abs(z.dd - dd_fd), 1e-3 * scale)
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: circle_circle/circle_line/rotation_from_slide reject plain "
-                                       "complex arrays (planar._tolerant_radicand reads rad.v), while line_line "
-                                       "accepts them; DESIGN rule 1 asks for array-first kernels")
 def test_kernels_accept_plain_arrays_like_line_line():
     # line_line already works on plain arrays: lines y = 0 and x = 1 meet at 1 + 0i
     z, ok = planar.line_line(np.array(0j), 1 + 0j, np.array(1 + 0j), 1j)

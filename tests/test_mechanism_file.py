@@ -312,9 +312,6 @@ def test_a_wrong_format_version_is_reported():
     assert str(info.value) == "mech.toml: format: must be 'assur/1': 'assur/2'"
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: io/mechanism_file.py builds 'on_something' only from links "
-                                       "that passed validation, so a link with one unknown point also reports "
-                                       "its other points as 'is not on any link'")
 def test_an_unknown_point_does_not_cascade():
     text = ('format = "assur/1"\n[points]\nO = [0, 0]\nA = [1, 0]\nB = [2, 0]\n'
             '[links]\nframe = ["O"]\ncrank = ["O", "A"]\ncoupler = ["A", "B", "Q"]\n')

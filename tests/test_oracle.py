@@ -470,10 +470,6 @@ def test_passive_cylinder_is_structurally_an_rpr_dyad():
     assert [g.kind for g in assur.analyse(m).groups] == [GroupKind.RPR]
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: compile._fix_branches compares only the group's point "
-                                       "positions; a passive actuator's group (cylinder + rod) has no point of "
-                                       "its own, both RPR branches give the same points, so compile raises "
-                                       "'the sketch does not tell the assembly branch'")
 def test_passive_cylinder_compiles_and_matches_newton():
     plan = assur.compile(assur.loads(m_cylinder()))
     q = neighbourhood(plan, 7)
@@ -482,10 +478,6 @@ def test_passive_cylinder_compiles_and_matches_newton():
     np.testing.assert_allclose(np.exp(1j * closed.body_angle), np.exp(1j * newton.body_angle), rtol=0, atol=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: with a [branches] hint on a passive actuator both "
-                                       "candidates pass the side test (the hinted point is the same on both), "
-                                       "compile._fix_branches keeps the last one (−1), and the closed form then "
-                                       "points the cylinder away from its rod (negative stroke)")
 def test_passive_cylinder_with_hint_points_from_F_to_A():
     # A = 0.4·e^{0.3i} is on the left of O → F (cross product > 0), so the hint is satisfiable
     plan = assur.compile(assur.loads(m_cylinder('[branches]\nA = { side = "left", of = ["O", "F"] }\n')))
@@ -497,9 +489,6 @@ def test_passive_cylinder_with_hint_points_from_F_to_A():
     np.testing.assert_allclose(np.exp(1j * cyl), np.exp(1j * direction), rtol=0, atol=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: method='newton' ignores [branches] hints (kernels/newton.py "
-                                       "starts its homotopy from the sketch poses), so a hint that flips the "
-                                       "sketch's assembly makes the oracle disagree with the closed form")
 def test_branch_hint_is_honoured_by_the_newton_oracle():
     hint = '[branches]\nB = { side = "right", of = ["A", "O1"] }\n'
     plan = assur.compile(assur.loads(m_fourbar(hint)))
@@ -512,9 +501,6 @@ def test_branch_hint_is_honoured_by_the_newton_oracle():
     np.testing.assert_allclose(newton.pos, closed.pos, rtol=0, atol=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: the Newton oracle continues only in the inputs, from the "
-                                       "file's sketch poses; for a design away from the file's, neighbouring "
-                                       "inputs of the same design land on different assembly branches")
 def test_newton_oracle_keeps_one_branch_for_a_design_far_from_the_sketch():
     plan = assur.compile(assur.loads(m_boom()))
     # frame pivots moved (O by 0.11, F by 0.13 of |OF| = 0.5), boom 13 % longer; the stroke range

@@ -319,10 +319,6 @@ def test_a_sketch_that_does_not_tell_the_branch_is_an_error():
                                "coincide); move it off the line or set [branches.B]")
 
 
-@pytest.mark.xfail(strict=True, reason="engine bug: compile._fix_branches tests a [branches] hint on the sketch "
-                                       "position, where a collinear B is on the line for both candidates (side 0), "
-                                       "so the remedy the error message suggests always fails with 'no assembly "
-                                       "puts B on the left of A → O1'")
 def test_a_hint_settles_a_collinear_sketch():
     plan = assur.compile(assur.loads(COLLINEAR.format(bx=1.5, by=0.0, length="")
                                      + '[branches]\nB = { side = "left", of = ["A", "O1"] }\n'))

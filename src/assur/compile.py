@@ -212,7 +212,8 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
     if B.problems:
         raise SpecError(B.problems)
     plan.defaults.setflags(write=False)
-    return _fix_branches(plan, tolerances)
+    sketch_e = [cmath.exp(1j * B.sketch_angle(b)) for b in range(len(g.bodies))]
+    return _fix_branches(plan, tolerances, sketch_e)
 
 
 def _side(g, body, actuator_input):
@@ -272,62 +273,93 @@ def _inner_point(g, grp, sa, sb) -> str:
     raise StructureError("dyad without an inner revolute")
 
 
-def _fix_branches(plan: SolvePlan, tol) -> SolvePlan:
-    """Choose each branched step's sign at the sketch: from a [branches] hint, else the assembly
-    nearest the sketch coordinates of the group's points. Done once, at compile time."""
+BRANCHED = ("RRR", "RRP", "RPR")
+
+
+def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
+    """Choose each branched step's sign once, at compile time, at the sketch input.
+
+    With a ``[branches]`` hint: the assembly that puts the point on the stated side (decided a little
+    off the sketch input when the sketch itself lies on the line). Otherwise: the assembly nearest the
+    sketch — the group's points and its bodies' orientations (a cylinder's direction, say).
+    ``sketch_e`` (n_bodies,) complex: each body's orientation in the sketch.
+    """
     from .solve import run_steps  # L2 sibling
     m = plan.mechanism
     hints = {h.point: h for h in m.branches}
     steps = list(plan.steps)
     params = plan.defaults
-    inputs = plan.sketch_inputs
+    q0 = plan.sketch_inputs
     scale = plan.length_scale
+    nudge = np.array([1e-3 if k == "rotary" else 1e-3 * scale for k in plan.input_kinds])
     used_hints = set()
-    for i, st in enumerate(steps):
-        if st.kind not in ("RRR", "RRP", "RPR"):
-            continue
-        cands = []
+
+    def candidates(i, st, inputs):
+        out = []
         for sign in (1, -1):
             trial = steps[: i] + [Step(st.kind, st.bodies, st.key_point, sign, st.data)]
-            pos, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1)
-            cands.append((sign, pos, bool(np.all(valid))))
-        if not any(ok for _, _, ok in cands):
+            pos, poses, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1)
+            out.append((sign, pos, poses, bool(np.all(valid))))
+        return out
+
+    for i, st in enumerate(steps):
+        if st.kind not in BRANCHED:
+            continue
+        cands = candidates(i, st, q0)
+        if not any(c[3] for c in cands):
             raise SpecError([(f"points.{st.key_point}",
                               f"the group solving '{st.key_point}' cannot be assembled in the sketch position "
                               f"(check the dimensions and the sketch)")])
+        allowed = [c for c in cands if c[3]]
         hint = hints.get(st.key_point)
         if hint is not None:
             used_hints.add(hint.point)
             want = 1 if hint.side == "left" else -1
-            chosen = None
-            for sign, pos, ok in cands:
-                if not ok:
-                    continue
-                a, b, z = (pos[hint.of[0]], pos[hint.of[1]], pos[st.key_point])
-                side = np.sign(np.imag(np.conj(b - a) * (z - a)))
-                if side == want:
-                    chosen = sign
-            if chosen is None:
+
+            def side(pos):
+                a, b, z = pos[hint.of[0]], pos[hint.of[1]], pos[st.key_point]
+                c = np.imag(np.conj(b - a) * (z - a))
+                return 0 if abs(c) <= 1e-12 * scale * scale else int(np.sign(c))
+
+            matches = [c for c in allowed if side(c[1]) == want]
+            if not matches or len({side(c[1]) for c in allowed}) == 1:
+                # on the line in the sketch: decide just off the sketch input
+                for dq in (nudge, -nudge):
+                    near = [c for c in candidates(i, st, q0 + dq) if c[3]]
+                    ok_signs = {c[0] for c in near if side(c[1]) == want}
+                    if ok_signs and len(ok_signs) < len(near):
+                        matches = [c for c in allowed if c[0] in ok_signs]
+                        break
+            if not matches:
                 raise SpecError([(f"branches.{st.key_point}",
                                   f"no assembly puts {st.key_point} on the {hint.side} of {hint.of[0]} → {hint.of[1]}")])
+            allowed = matches
+        if len(allowed) == 1:
+            chosen = allowed[0][0]
         else:
             group_points = {p for b in st.bodies for p in plan.structure.graph.bodies[b].points}
-            dev = []
-            for sign, pos, ok in cands:
-                if not ok:
-                    dev.append(math.inf)
-                    continue
-                dev.append(sum(abs(pos[p] - _c(m.sketch(p))) for p in group_points))
-            if abs(dev[0] - dev[1]) <= tol.branch_separation * scale and math.isfinite(dev[0]):
+            dev = [sum(abs(c[1][p] - _c(m.sketch(p))) for p in group_points)
+                   + scale * sum(abs(c[2][b] - sketch_e[b]) for b in st.bodies) for c in allowed]
+            if abs(dev[0] - dev[1]) <= tol.branch_separation * scale:
                 raise SpecError([(f"points.{st.key_point}",
                                   f"the sketch does not tell the assembly branch of '{st.key_point}' (both branches "
                                   f"coincide); move it off the line or set [branches.{st.key_point}]")])
-            chosen = cands[int(np.argmin(dev))][0]
+            chosen = allowed[int(np.argmin(dev))][0]
         steps[i] = Step(st.kind, st.bodies, st.key_point, chosen, st.data)
     unused = set(hints) - used_hints
     if unused:
         p = sorted(unused)[0]
         raise SpecError([(f"branches.{p}", f"'{p}' is not the point a branched group solves "
-                          f"(branched points: {', '.join(s.key_point for s in steps if s.kind in ('RRR', 'RRP', 'RPR'))})")])
+                          f"(branched points: {', '.join(s.key_point for s in steps if s.kind in BRANCHED)})")])
     from dataclasses import replace
-    return replace(plan, steps=tuple(steps))
+    fixed = replace(plan, steps=tuple(steps))
+    # the assembled sketch pose of every body: the seed of the Newton solver (honours the branches)
+    pos, poses, valid = run_steps(fixed, fixed.steps, params, q0, order=0, origins=True)
+    seeds = []
+    for b in range(len(fixed.body_names)):
+        o, e = poses.get(b, (np.nan, np.nan))
+        if not (np.all(valid) and np.isfinite(o) and np.isfinite(e)):
+            seeds = None
+            break
+        seeds.append((float(np.real(o)), float(np.imag(o)), float(np.angle(e))))
+    return replace(fixed, sketch_poses=None if seeds is None else tuple(seeds))

@@ -61,6 +61,8 @@ class SolvePlan:
     geometry_program: tuple = field(repr=False, default=())
     lines: tuple = field(repr=False, default=())
     length_scale: float = 1.0
+    #: (x, y, θ) of every body assembled at the sketch inputs: the Newton solver's seed
+    sketch_poses: tuple | None = field(repr=False, default=None)
 
     @property
     def n_params(self) -> int:

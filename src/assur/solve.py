@@ -166,6 +166,8 @@ _EXEC = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr
 #: continuation stage sizes for the Newton fallback: crank angle (rad), actuator length (× length scale)
 _STAGE_ANGLE = np.radians(10.0)
 _STAGE_LENGTH = 0.05
+#: at least this many stages when the design differs from the file's
+_STAGES_PARAMS = 12
 
 
 def _run(plan, steps, params, q_jets, order, tol, method, warm):
@@ -199,18 +201,25 @@ def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
             deltas.append(d)
         finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
         m = max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
+        # designs other than the file's are reached by continuing in the parameters too
+        dp = params - plan.defaults
+        moved = bool(np.any(dp != 0))
+        if moved:
+            m = max(m, _STAGES_PARAMS)
         for i in range(1, m):
             t = i / m
             q_stage = [Jet.const(q_s[k] + t * deltas[k], 0) for k in range(len(q_jets))]
-            _run(plan, steps, params, q_stage, 0, tol, method, warm)
+            _run(plan, steps, plan.defaults + t * dp if moved else params, q_stage, 0, tol, method, warm)
     return _run(plan, steps, params, q_jets, order, tol, method, warm)
 
 
-def run_steps(plan, steps, params, inputs, order=0, upto=None):
-    """Positions (complex values by point name) and validity after the first ``upto`` steps (compile-time helper)."""
+def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False):
+    """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
+    orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
     q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
     c = _execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, DEFAULT)
-    return {p: z.v for p, z in c.pos.items()}, c.valid
+    poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
+    return {p: z.v for p, z in c.pos.items()}, poses, c.valid
 
 
 def _prepare(plan: SolvePlan, params, inputs):

@@ -405,10 +405,12 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                 P.add("gait.up", "must be perpendicular to gait.ground")
             gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases))
 
-    # every point must be on something
+    # every point must be on something (as listed, even by a link with other problems)
     on_something = set()
-    for lk in links:
-        on_something |= set(lk.points)
+    for spec in ldata.values():
+        plist = spec if isinstance(spec, list) else (spec.get("points") if isinstance(spec, dict) else None)
+        if isinstance(plist, list):
+            on_something |= {p for p in plist if isinstance(p, str)}
     for pr in prismatic:
         if pr.point:
             on_something.add(pr.point)

@@ -138,8 +138,10 @@ def as_jet(x, order: int) -> Jet:
     return x if isinstance(x, Jet) else Jet.const(x, order)
 
 
-def sqrt(x: Jet) -> Jet:
-    """Square root of a real, non-negative jet (derivatives are infinite at 0: a toggle)."""
+def sqrt(x):
+    """Square root of a real, non-negative jet (derivatives are infinite at 0: a toggle), or of an array."""
+    if not isinstance(x, Jet):
+        return np.sqrt(x)
     s = np.sqrt(x.v)
     d = dd = None
     if x.d is not None:

@@ -23,7 +23,10 @@ from .jet import Jet, expi
 
 
 def _group_unknowns(c, st):
-    """Initial (sketch) pose of every group body: list of (x, y, θ)."""
+    """Initial (sketch) pose of every group body: list of (x, y, θ) — the plan's assembled sketch
+    poses (which honour the branch choices) when it has them, else the sketch coordinates."""
+    if c.plan.sketch_poses is not None:
+        return [c.plan.sketch_poses[b] for b in st.bodies]
     m, g = c.plan.mechanism, c.g
     out = []
     for b in st.bodies:

@@ -1,4 +1,4 @@
-"""Closed-form planar kernels on complex jets (batch axes first, points as complex numbers).
+"""Closed-form planar kernels on complex arrays or jets (batch axes first, points as complex numbers).
 
 Every kernel returns ``(result, valid)``: samples that cannot be assembled are NaN with
 ``valid`` False, never finite garbage. Branch signs are explicit (+1/−1) and never chosen by
@@ -16,12 +16,13 @@ import numpy as np
 from .jet import Jet, abs2, cross, dot, sqrt, value
 
 
-def _tolerant_radicand(rad: Jet, scale2, tol: float):
-    """Clamp tiny negative radicands (tangency within round-off) to 0; flag the rest invalid."""
-    v = rad.v
+def _tolerant_radicand(rad, scale2, tol: float):
+    """Clamp tiny negative radicands (tangency within round-off) to 0; flag the rest invalid.
+    Works on jets and on plain arrays alike."""
+    v = value(rad)
     valid = v >= -tol * scale2
     clamped = np.where(valid, np.maximum(v, 0.0), np.nan)
-    return Jet(clamped, rad.d, rad.dd), valid
+    return (Jet(clamped, rad.d, rad.dd) if isinstance(rad, Jet) else clamped), valid
 
 
 def circle_circle(c1, r1, c2, r2, branch, tol: float = 1e-12):
