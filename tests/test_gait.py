@@ -178,3 +178,17 @@ def test_legs_are_a_batch_axis(plan):
     # a foot counted on the ground is on the low side: y within [y_min, y(180°)] (spec 000 §6)
     y = s.pos[..., foot, 1]
     assert np.all(y[on] <= (L1 + L2 - L5) / 1000 + 1e-9)
+
+
+def test_walking_module_of_the_paper004_file():
+    """The four-bar file's module: two legs in antiphase. Each leg is down a duty share of the cycle,
+    so the mean number of feet down is 2·duty (an identity), and antiphase with duty > 0.5 never
+    leaves the module airborne."""
+    from pathlib import Path
+    p = assur.compile(assur.load(Path(__file__).resolve().parents[1] / "examples" / "walker_fourbar.toml"))
+    phases = p.mechanism.gait.phases
+    assert phases == pytest.approx((0.0, math.pi))
+    g = gait_metrics(p)
+    mm = module_metrics(g, phases)
+    assert mm.mean_feet == pytest.approx(2 * g.duty_factor, abs=2 / 720)
+    assert g.duty_factor > 0.5 and mm.min_feet == 1 and mm.airborne_fraction == 0.0
