@@ -154,6 +154,24 @@ def kernel(pk: _Packer, with_bodies: bool):
     return k
 
 
+def _constants(pk: _Packer, designs: np.ndarray) -> np.ndarray:
+    """The kernel's per-design constants G (n_designs, n_slots, 2); the last small set is memoised
+    (repeated solves of one design skip this work)."""
+    key = designs.tobytes() if designs.size <= 4096 else None
+    memo = pk.__dict__.get("_memo")
+    if key is not None and memo is not None and memo[0] == key:
+        return memo[1]
+    w, lines = geometry(pk.plan, designs)
+    G = np.empty((designs.shape[0], len(pk.slots), 2))
+    for i, fn in enumerate(pk.slots):
+        v = np.broadcast_to(np.asarray(fn(w, lines, designs), dtype=complex), designs.shape[:1])
+        G[:, i, 0], G[:, i, 1] = v.real, v.imag
+    if key is not None:
+        G.setflags(write=False)
+        pk.__dict__["_memo"] = (key, G)
+    return G
+
+
 def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float, with_bodies: bool = False):
     """(z, dz, d2z, valid) as the numpy backend returns them (points, then — with ``with_bodies`` —
     body orientations), or None if the plan is not covered. params (..., n_params), inputs (..., 1)."""
@@ -162,11 +180,7 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
         return None
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     designs = params.reshape(-1, params.shape[-1])
-    w, lines = geometry(plan, designs)
-    G = np.empty((designs.shape[0], len(pk.slots), 2))
-    for i, fn in enumerate(pk.slots):
-        v = np.broadcast_to(np.asarray(fn(w, lines, designs), dtype=complex), designs.shape[:1])
-        G[:, i, 0], G[:, i, 1] = v.real, v.imag
+    G = _constants(pk, designs)
     design_of = np.broadcast_to(np.arange(designs.shape[0]).reshape(params.shape[:-1]), shape).ravel()
     q_unique = inputs[..., 0]
     angle_of = np.broadcast_to(np.arange(q_unique.size).reshape(q_unique.shape), shape).ravel()
