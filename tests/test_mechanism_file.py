@@ -319,3 +319,24 @@ def test_an_unknown_point_does_not_cascade():
         assur.loads(text, source="mech.toml")
     # B is listed by the coupler; the only problem is the unknown Q
     assert str(info.value) == "mech.toml: links.coupler[2]: unknown point 'Q' (known: A, B, O)"
+
+
+def test_an_invalid_link_does_not_cascade_into_its_driver():
+    """A driver on a link that has its own problem reports only the link's problem."""
+    text = """
+format = "assur/1"
+[points]
+A = [0, 0]
+B = [1, 0]
+O1 = [0.5, 0.5]
+[links]
+frame = ["A", "O1"]
+coupler = ["A", "B", "Q"]
+[[drivers]]
+name = "c"
+link = "coupler"
+pivot = "A"
+"""
+    with pytest.raises(assur.SpecError) as err:
+        assur.loads(text)
+    assert err.value.problems == [("links.coupler[2]", "unknown point 'Q' (known: A, B, O1)")]

@@ -299,7 +299,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                 if k not in allowed:
                     P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
             link = spec.get("link")
-            if link not in link_points or link == FRAME:
+            if link not in link_names or link == FRAME:
                 P.add(f"{path}.link", f"must be a moving link {_known(link_names - {FRAME})}: {link!r}")
             pivot, arm = spec.get("pivot"), spec.get("arm")
             pts = link_points.get(link, set())
