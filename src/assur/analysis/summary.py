@@ -81,3 +81,37 @@ def analyze(plan, params=None, steps: int = 720) -> dict:
 def _nanf(x):
     x = float(x)
     return None if not math.isfinite(x) else x
+
+
+def format_number(v, digits: int = 6) -> str:
+    """A number for people: ``digits`` significant digits, '—' for a missing or non-finite value."""
+    if v is None:
+        return "—"
+    v = float(v)
+    if not math.isfinite(v):
+        return "—"
+    if v == 0:
+        return "0"
+    return f"{v:.{digits}g}"
+
+
+def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> list[tuple[str, str, str]]:
+    """The gait metrics of an ``analyze`` summary as (quantity, value, unit) rows; lengths are shown
+    divided by ``length_factor`` (the file's unit), speeds in m/s. Shared by the CLI and the report."""
+    n = format_number
+    rows = [
+        ("support definition", g["support"], ""),
+        ("contact arc", f"{math.degrees(g['contact_start']) % 360:.2f} … {math.degrees(g['contact_end']) % 360:.2f}", "°"),
+        ("step length", n(g["step_length"] / length_factor, 5), length_unit),
+        ("lift (path height)", n(g["lift"] / length_factor, 5), length_unit),
+        ("sag (support height variation)", n(g["sag"] / length_factor, 5), length_unit),
+        ("duty factor", f"{g['duty_factor']:.4f}", ""),
+        ("contact ratio (support / transfer)", n(g["contact_ratio"], 5), ""),
+    ]
+    for key, label in (("support_speed", "support speed |v|"), ("support_vx", "support speed |vx|")):
+        for stat in ("max", "min", "mean", "midrange"):
+            rows.append((f"{label} {stat}", n(g[key][stat], 5), "m/s"))
+    rows.append(("support acceleration ax min", n(g["support_ax"]["min"], 5), "m/s²"))
+    rows.append(("support acceleration ax max", n(g["support_ax"]["max"], 5), "m/s²"))
+    rows.append(("crank speed ω", n(g["omega"], 5), "rad/s"))
+    return rows

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import AssurError, SpecError
+from ..analysis.summary import format_number, gait_rows
 from ..io.units import ANGLE, LENGTH
 
 PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
@@ -124,15 +125,7 @@ def _param_unit(name: str, units):
     return 1.0, ""
 
 
-def _fmt(v, digits=6):
-    if v is None:
-        return "—"
-    v = float(v)
-    if not math.isfinite(v):
-        return str(v)
-    if v == 0:
-        return "0"
-    return f"{v:.{digits}g}"
+_fmt = format_number
 
 
 def _speed_text(kind, speed, units):
@@ -393,24 +386,10 @@ def analysis_lines(summary: dict, units) -> list[str]:
         out.append("dead centres: none found")
     g = s.get("gait")
     if g:
-        out.append(f"gait of foot {g['foot']} (support: {g['support']}):")
-        rows = [
-            ("contact arc", f"{math.degrees(g['contact_start']) % 360:.2f}° … "
-                            f"{math.degrees(g['contact_end']) % 360:.2f}°"),
-            ("step length", f"{_fmt(g['step_length'] * kL, 5)} {Lu}"),
-            ("lift", f"{_fmt(g['lift'] * kL, 5)} {Lu}"),
-            ("sag (support)", f"{_fmt(g['sag'] * kL, 5)} {Lu}"),
-            ("duty factor", f"{g['duty_factor']:.4f}"),
-            ("contact ratio", f"{_fmt(g['contact_ratio'], 5)}"),
-        ]
-        for key, lab in (("support_speed", "support speed |v|"), ("support_vx", "support speed |vx|")):
-            st = g[key]
-            rows.append((lab, f"max {_fmt(st['max'], 5)}, min {_fmt(st['min'], 5)}, mean {_fmt(st['mean'], 5)}, "
-                              f"midrange {_fmt(st['midrange'], 5)} m/s"))
-        rows.append(("support ax", f"min {_fmt(g['support_ax']['min'], 5)}, max {_fmt(g['support_ax']['max'], 5)} "
-                                   f"m/s²"))
+        out.append(f"gait of foot {g['foot']}:")
+        rows = gait_rows(g, 1.0 / kL, Lu)
         w = max(len(r[0]) for r in rows)
-        out += [f"  {a:<{w}}  {b}" for a, b in rows]
+        out += [f"  {a:<{w}}  {b} {u}".rstrip() for a, b, u in rows]
     elif s.get("gait_error"):
         out.append(f"gait: not available: {s['gait_error']}")
     mod = s.get("module")

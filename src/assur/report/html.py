@@ -17,6 +17,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from ..analysis.summary import format_number, gait_rows
 from ..errors import SpecError, UnbuildableError
 from ..io.units import ANGLE, LENGTH
 
@@ -42,15 +43,7 @@ def _e(x) -> str:
     return html.escape(str(x))
 
 
-def _num(v, digits=6) -> str:
-    if v is None:
-        return "—"
-    v = float(v)
-    if not math.isfinite(v):
-        return "—"
-    if v == 0:
-        return "0"
-    return f"{v:.{digits}g}"
+_num = format_number
 
 
 def _deg(v, digits=2) -> str:
@@ -174,22 +167,7 @@ def analysis_html(summary: dict, plan) -> str:
     g = s.get("gait")
     if g:
         parts.append(f"<h3>Gait of foot {_e(g['foot'])}</h3>")
-        rows = [
-            ("support definition", g["support"], ""),
-            ("contact arc start", f"{math.degrees(g['contact_start']) % 360:.2f}", "°"),
-            ("contact arc end", f"{math.degrees(g['contact_end']) % 360:.2f}", "°"),
-            ("step length", _num(g["step_length"] * kL, 5), Lu),
-            ("lift (path height)", _num(g["lift"] * kL, 5), Lu),
-            ("sag (support height variation)", _num(g["sag"] * kL, 5), Lu),
-            ("duty factor", f"{g['duty_factor']:.4f}", ""),
-            ("contact ratio (support / transfer)", _num(g["contact_ratio"], 5), ""),
-        ]
-        for key, lab in (("support_speed", "support speed |v|"), ("support_vx", "support speed |vx|")):
-            for stat in ("max", "min", "mean", "midrange"):
-                rows.append((f"{lab} {stat}", _num(g[key][stat], 5), "m/s"))
-        rows.append(("support acceleration ax min", _num(g["support_ax"]["min"], 5), "m/s²"))
-        rows.append(("support acceleration ax max", _num(g["support_ax"]["max"], 5), "m/s²"))
-        rows.append(("crank speed ω", _num(g["omega"], 5), "rad/s"))
+        rows = gait_rows(g, 1.0 / kL, Lu)
         parts.append(_table(["quantity", "value", "unit"], rows, num_cols=(1,)))
     elif s.get("gait_error"):
         parts.append(f'<h3>Gait</h3><p class="note">not available: {_e(s["gait_error"])}</p>')
