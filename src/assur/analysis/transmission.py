@@ -74,15 +74,16 @@ def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
     cyc = Cycle(plan, params, order=0)
     crank = next(s for s in plan.steps if s.kind == "crank")
     pivot, arm = crank.data[0], crank.data[1]
-    # the dyad that attaches at the arm, and its other point on the same side
+    # the link hinged at the arm (whatever group solves it), and another of its points
     follower = None
-    for st in plan.steps:
-        if st.kind in ("RRR", "RRP") and st.data[1] == arm:
-            follower = (st.data[4], plan.body_names[st.data[0].body])
-            break
-        if st.kind == "RRR" and st.data[3] == arm:
-            follower = (st.data[4], plan.body_names[st.data[2].body])
-            break
+    g = plan.structure.graph
+    for b in g.bodies_at(arm):
+        body = g.bodies[b]
+        if body.kind == "link" and b != crank.bodies[0]:
+            others = [p for p in body.points if p != arm]
+            if others:
+                follower = (others[0], body.name)
+                break
     if follower is None:
         return []
     J, link = follower

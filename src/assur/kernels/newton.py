@@ -150,6 +150,12 @@ def solve_group(c, st):
         dx = np.where(done[..., None], 0.0, np.where(singular[..., None], np.nan, dx))
         x = x + dx
     F, J = F_and_J(x)
+    # one more Newton step polishes the converged samples to round-off
+    with np.errstate(all="ignore"):
+        good = np.all(np.isfinite(F), axis=-1) & (np.abs(np.linalg.det(np.where(np.isfinite(J), J, 0.0))) > 1e-300)
+        if good.any():
+            x[good] = x[good] - np.linalg.solve(J[good], F[good][..., None])[..., 0]
+    F, J = F_and_J(x)
     ok = np.all(np.abs(F) < 1e3 * tol.newton_residual * scale, axis=-1) & np.all(np.isfinite(x), axis=-1)
     x = np.where(ok[..., None], x, np.nan)
     c.warm[key] = x
