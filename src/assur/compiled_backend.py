@@ -1,9 +1,9 @@
 """The compiled backend: pack a plan into an op table and run it in one fused numba loop.
 
 Covers one-input plans made of cranks and RRR, RRP and RPR dyads (walking legs, four-bars,
-slider-cranks, slotted levers, passive cylinders); anything else (several inputs, PRP/PPR,
-driven actuators, Newton groups) returns ``None`` and the numpy backend solves it. numba is
-imported only when this backend runs.
+slider-cranks, slotted levers, passive cylinders) on batches laid out as designs × inputs;
+anything else (several inputs, PRP/PPR, driven actuators, Newton groups, a design per sample)
+returns ``None`` and the numpy backend solves it. numba is imported only when this backend runs.
 """
 from __future__ import annotations
 
@@ -172,28 +172,50 @@ def _constants(pk: _Packer, designs: np.ndarray) -> np.ndarray:
     return G
 
 
-def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float, with_bodies: bool = False):
-    """(z, dz, d2z, valid) as the numpy backend returns them (points, then — with ``with_bodies`` —
-    body orientations), or None if the plan is not covered. params (..., n_params), inputs (..., 1)."""
+def separable(pshape: tuple, ishape: tuple, shape: tuple):
+    """Split the batch shape into (design axes, input axes): the params vary only over the leading
+    axes and the inputs only over the trailing ones. Returns k (the split) or None."""
+    n = len(shape)
+    ps = (1,) * (n - len(pshape)) + tuple(pshape)
+    qs = (1,) * (n - len(ishape)) + tuple(ishape)
+    for k in range(n + 1):
+        if all(x == 1 for x in ps[k:]) and all(x == 1 for x in qs[:k]):
+            return k
+    return None
+
+
+def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float,
+                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False):
+    """Run the plan's kernel; None if the plan or the batch layout is not covered.
+
+    params (..., n_params), inputs (..., 1); shapes broadcast to ``shape``; the params must vary
+    over leading axes only and the inputs over trailing axes only (designs × inputs). Returns
+    ``(buffer (6·n_out, D, N), (pos, first, second), valid)`` where the three are float views
+    (shape + (n_out, 2)) of the buffer: the position and, with ``rates = (w1, w2, w3)``,
+    ``w1·d/dq`` and ``w2·d²/dq² + w3·d/dq`` (velocity and acceleration for (ω, ω², α)).
+    """
     pk = packer(plan)
     if pk is None:
         return None
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
-    designs = params.reshape(-1, params.shape[-1])
+    k = separable(params.shape[:-1], inputs.shape[:-1], shape)
+    if k is None:
+        return None
+    n, n_params = len(shape), params.shape[-1]
+    lead, trail = shape[:k], shape[k:]
+    p_pad = params.reshape((1,) * (n - (params.ndim - 1)) + params.shape)
+    designs = np.broadcast_to(p_pad[(slice(None),) * k + (0,) * (n - k)], lead + (n_params,))
+    designs = np.ascontiguousarray(designs.reshape(-1, n_params))
+    q_pad = inputs[..., 0].reshape((1,) * (n - (inputs.ndim - 1)) + inputs.shape[:-1])
+    q = np.ascontiguousarray(np.broadcast_to(q_pad[(0,) * k], trail).reshape(-1), dtype=float)
     G = _constants(pk, designs)
-    design_of = np.broadcast_to(np.arange(designs.shape[0]).reshape(params.shape[:-1]), shape).ravel()
-    q_unique = inputs[..., 0]
-    angle_of = np.broadcast_to(np.arange(q_unique.size).reshape(q_unique.shape), shape).ravel()
-    q_flat = q_unique.ravel()
-    cq, sq = np.cos(q_flat), np.sin(q_flat)
+    cq, sq = np.cos(q), np.sin(q)
     n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
-    S = design_of.size
-    outz, outd, outdd = (np.empty((S, n_out, 2)) for _ in range(3))
-    valid = np.empty(S, dtype=np.bool_)
-    kernel(pk, with_bodies)(G, np.ascontiguousarray(design_of, dtype=np.int64),
-                            np.ascontiguousarray(angle_of, dtype=np.int64), cq, sq, tol, outz, outd, outdd, valid)
-    as_c = lambda a: a.view(np.complex128)[..., 0]  # noqa: E731 - (S, m, 2) float → (S, m) complex, no copy
-    z = as_c(outz).reshape(shape + (n_out,))
-    dz = as_c(outd).reshape(shape + (n_out, 1))
-    d2z = as_c(outdd).reshape(shape + (n_out, 1, 1))
-    return z, dz, d2z, valid.reshape(shape)
+    D, N = designs.shape[0], q.size
+    out = np.empty((6 * n_out, D, N))
+    valid = np.empty((D, N), dtype=np.bool_)
+    w1, w2, w3 = (float(r) for r in rates)
+    kernel(pk, with_bodies)(G, cq, sq, tol, w1, w2, w3, out, valid)
+    rows = out.reshape((n_out, 6) + shape)
+    views = tuple(np.moveaxis(rows[:, 2 * j:2 * j + 2], (0, 1), (-2, -1)) for j in range(3))
+    return out, views, valid.reshape(shape)

@@ -163,11 +163,6 @@ _EXEC = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr
          "newton": _newton}
 
 
-#: continuation stage sizes for the Newton fallback: crank angle (rad), actuator length (× length scale)
-_STAGE_ANGLE = np.radians(10.0)
-_STAGE_LENGTH = 0.05
-#: at least this many stages when the design differs from the file's
-_STAGES_PARAMS = 12
 
 
 def _run(plan, steps, params, q_jets, order, tol, method, warm):
@@ -194,10 +189,10 @@ def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
             v = np.asarray(qj.v, dtype=float)
             if plan.input_kinds[k] == "rotary":
                 d = (v - q_s[k] + np.pi) % (2 * np.pi) - np.pi
-                stage.append(_STAGE_ANGLE)
+                stage.append(tol.stage_angle)
             else:
                 d = v - q_s[k]
-                stage.append(_STAGE_LENGTH * plan.length_scale)
+                stage.append(tol.stage_length * plan.length_scale)
             deltas.append(d)
         finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
         m = max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
@@ -205,7 +200,7 @@ def _execute(plan, steps, params, q_jets, order, tol, method="closed"):
         dp = params - plan.defaults
         moved = bool(np.any(dp != 0))
         if moved:
-            m = max(m, _STAGES_PARAMS)
+            m = max(m, tol.stages_for_new_design)
         for i in range(1, m):
             t = i / m
             q_stage = [Jet.const(q_s[k] + t * deltas[k], 0) for k in range(len(q_jets))]
@@ -275,15 +270,20 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
         from . import compiled_backend
         if backend == "numba" or compiled_backend.available():
-            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand)
+            qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+            qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+            # one scalar nonzero speed: the kernel writes velocities and accelerations directly
+            time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
+            rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
+            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand, rates)
     if compiled is not None:
-        z, dz, d2z, valid = compiled
-        if order < 2:
-            d2z = None
-        if order < 1:
-            dz = None
-        return _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
-                       has_bodies=False)
+        buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
+        inv = ~valid
+        if inv.any():
+            buffer[:, inv.reshape(buffer.shape[1:])] = np.nan
+        xyz = (pos, first if order >= 1 else None, second if order >= 2 else None)
+        return _finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
+                       has_bodies=False, xyz=xyz, xyz_time=time_mode)
 
     def run(direction):
         q = []
@@ -320,12 +320,13 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
 
 
 def _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
-            has_bodies: bool = True) -> State:
-    """NaN out the unbuildable samples, report them as asked, and wrap the arrays in a State."""
+            has_bodies: bool = True, xyz=None, xyz_time: bool = False) -> State:
+    """NaN out the unbuildable samples, report them as asked, and wrap the arrays in a State.
+    ``xyz``: the compiled backend's (pos, first, second) float views instead of z, dz, d2z."""
     n = plan.n_inputs
     # invalid samples: NaN everywhere, never finite garbage
     inv = ~valid
-    if inv.any():
+    if xyz is None and inv.any():
         cnan = complex(np.nan, np.nan)   # both coordinates NaN (a plain nan would give nan + 0j)
         z = np.where(inv[..., None], cnan, z)
         if dz is not None:
@@ -347,7 +348,8 @@ def _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_u
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
         raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
     return State(plan=plan, inputs=np.broadcast_to(inputs, shape + (n,)), valid=valid, n_unbuildable=n_bad,
-                 qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z, _params=params, _has_bodies=has_bodies)
+                 qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z, _params=params, _has_bodies=has_bodies,
+                 _xyz=xyz, _xyz_time=xyz_time)
 
 
 def _fmt_input(plan, k, v):

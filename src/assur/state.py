@@ -48,6 +48,10 @@ class State:
     _params: np.ndarray | None = field(repr=False, default=None)
     #: False when the backend returned points only; body orientations are then solved on first use
     _has_bodies: bool = field(repr=False, default=True)
+    #: the compiled backend's float views (pos, first, second), each (..., n_points, 2): with
+    #: ``_xyz_time`` velocity and acceleration at qdot/qddot, else the analogues d/dq, d²/dq²
+    _xyz: tuple | None = field(repr=False, default=None)
+    _xyz_time: bool = field(repr=False, default=False)
 
     @property
     def _np(self) -> int:
@@ -60,14 +64,29 @@ class State:
     # -- positions and analogues -----------------------------------------------------------------
     @property
     def pos(self) -> np.ndarray:
+        if self._xyz is not None:
+            return self._xyz[0]
         return _xy(self._z[..., : self._np])
 
     @property
     def dpos_dq(self) -> np.ndarray | None:
+        if self._xyz is not None:
+            first = self._xyz[1]
+            if first is None:
+                return None
+            return (first / float(self.qdot[0]) if self._xyz_time else first)[..., None]
         return None if self._dz is None else _move_xy(self._dz[..., : self._np, :], 1)
 
     @property
     def d2pos_dq2(self) -> np.ndarray | None:
+        if self._xyz is not None:
+            first, second = self._xyz[1], self._xyz[2]
+            if second is None:
+                return None
+            if self._xyz_time:
+                w, a = float(self.qdot[0]), float(self.qddot[0])
+                second = (second - first * (a / w)) / (w * w)
+            return second[..., None, None]
         return None if self._d2z is None else _move_xy(self._d2z[..., : self._np, :, :], 2)
 
     # -- time derivatives ------------------------------------------------------------------------------
@@ -87,12 +106,23 @@ class State:
 
     @property
     def vel(self) -> np.ndarray | None:
+        if self._xyz is not None:
+            first = self._xyz[1]
+            if first is None or self._xyz_time:
+                return first
+            return first * float(self.qdot[0])
         if self._dz is None:
             return None
         return _xy(self._rate(self._dz[..., : self._np, :], None)[0])
 
     @property
     def acc(self) -> np.ndarray | None:
+        if self._xyz is not None:
+            first, second = self._xyz[1], self._xyz[2]
+            if second is None or self._xyz_time:
+                return second
+            w, a = float(self.qdot[0]), float(self.qddot[0])
+            return second * (w * w) + first * a
         if self._d2z is None:
             return None
         return _xy(self._rate(self._dz[..., : self._np, :], self._d2z[..., : self._np, :, :])[1])
@@ -103,7 +133,8 @@ class State:
             full = self.__dict__.get("_full")
             if full is None:
                 import importlib   # solve imports state: resolve it at call time
-                order = 0 if self._dz is None else (1 if self._d2z is None else 2)
+                first, second = self._xyz[1:] if self._xyz is not None else (self._dz, self._d2z)
+                order = 0 if first is None else (1 if second is None else 2)
                 full = importlib.import_module("assur.solve").solve(
                     self.plan, self._params, self.inputs, speeds=self.qdot, accels=self.qddot, order=order,
                     backend="numpy")

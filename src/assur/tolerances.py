@@ -20,8 +20,13 @@ class Tolerances:
     newton_residual: float = 1e-12
     #: Newton iteration cap per continuation step.
     newton_iterations: int = 30
-    #: Continuation steps from the sketch configuration to the requested input (Newton fallback).
-    newton_continuation: int = 8
+    #: Newton fallback: each sample is continued from the sketch to its input in stages of at most this
+    #: crank angle (rad) ...
+    stage_angle: float = 0.17453292519943295   # 10°
+    #: ... or this actuator stroke, relative to the length scale ...
+    stage_length: float = 0.05
+    #: ... and in at least this many stages when the design differs from the file's.
+    stages_for_new_design: int = 12
     #: Branch choice at compile time is ambiguous when the two candidate assemblies are closer than
     #: this, relative to the length scale.
     branch_separation: float = 1e-6

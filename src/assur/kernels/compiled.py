@@ -6,8 +6,7 @@ sample in native code, with every jet held in registers as a tuple:
 a complex jet is ``(x, y, dx, dy, ddx, ddy)``, a real jet ``(v, d, dd)`` (derivatives by the
 single input q). It is numerically the same computation (tests compare the two backends).
 
-``_sample`` interprets the same op table (a reference for the generated code). Op table rows
-(int64, width ``OP_WIDTH``); slots index the per-design complex constants
+Op table rows (int64, width ``OP_WIDTH``); slots index the per-design complex constants
 ``G (n_designs, n_slots, 2)``:
 
 ====  =========  =============================================================================
@@ -105,17 +104,6 @@ def _cscale(a, r):
 
 
 @njit(inline="always", cache=True, error_model="numpy")
-def _load(P, i):
-    return (P[i, 0], P[i, 1], P[i, 2], P[i, 3], P[i, 4], P[i, 5])
-
-
-@njit(inline="always", cache=True, error_model="numpy")
-def _store(P, i, a):
-    for k in range(6):
-        P[i, k] = a[k]
-
-
-@njit(inline="always", cache=True, error_model="numpy")
 def _dot(a, b):
     """Re(conj(a)·b) as a real jet"""
     v = a[0] * b[0] + a[1] * b[1]
@@ -126,26 +114,24 @@ def _dot(a, b):
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rrr(c1, c2, r1, r2, branch, tol):
-    """circle–circle on jets: (z, ok); branch +1 puts z left of c1 → c2."""
+    """circle–circle on jets: (z, ok); branch +1 puts z left of c1 → c2. Branchless (vectorisable):
+    a radicand in [−tol, 0) counts as 0; below that ``ok`` is False (the caller NaNs the sample)."""
     D = _csub(c2, c1)
     d2 = _abs2(D)
-    ok = d2[0] > 0.0
     inv2 = _rinv(d2)
     a = _rmul((d2[0] + r1 * r1 - r2 * r2, d2[1], d2[2]), inv2)
     a = (0.5 * a[0], 0.5 * a[1], 0.5 * a[2])
     h2 = (r1 * r1 * inv2[0] - a[0] * a[0], r1 * r1 * inv2[1] - 2.0 * a[0] * a[1],
           r1 * r1 * inv2[2] - 2.0 * (a[1] * a[1] + a[0] * a[2]))
-    if h2[0] < 0.0:
-        ok = ok and h2[0] >= -tol
-        h2 = (0.0, h2[1], h2[2])
-    h = _rsqrt(h2)
+    ok = (d2[0] > 0.0) & (h2[0] >= -tol)
+    h = _rsqrt((max(h2[0], 0.0), h2[1], h2[2]))
     f = (a[0], branch * h[0], a[1], branch * h[1], a[2], branch * h[2])
     return _cadd(c1, _cmul(D, f)), ok
 
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rrp(pa, r, og, eg, gq, gu, gk, goff, branch, tol):
-    """circle–line on jets for an RRP dyad: (z, e_slider, ok)."""
+    """circle–line on jets for an RRP dyad: (z, e_slider, ok). Branchless."""
     es = _cmulk(eg, gk[0], gk[1])
     qj = _cadd(_cadd(og, _cmulk(eg, gq[0], gq[1])), _cmulk(es, goff[0], goff[1]))
     U = _cmulk(eg, gu[0], gu[1])
@@ -154,25 +140,20 @@ def rrp(pa, r, og, eg, gq, gu, gk, goff, branch, tol):
     ww = _abs2(w)
     rad = (proj[0] * proj[0] - ww[0] + r * r, 2.0 * proj[0] * proj[1] - ww[1],
            2.0 * (proj[1] * proj[1] + proj[0] * proj[2]) - ww[2])
-    ok = True
-    if rad[0] < 0.0:
-        ok = rad[0] >= -tol * (r * r + 1e-300)
-        rad = (0.0, rad[1], rad[2])
-    sq = _rsqrt(rad)
+    ok = rad[0] >= -tol * (r * r + 1e-300)
+    sq = _rsqrt((max(rad[0], 0.0), rad[1], rad[2]))
     t = (branch * sq[0] - proj[0], branch * sq[1] - proj[1], branch * sq[2] - proj[2])
     return _cadd(qj, _cscale(U, t)), es, ok
 
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rpr(pg, ps, cpar, cperp, branch, tol):
-    """orientation e·u of an RPR group's guide line on jets: (e_u, ok)."""
+    """orientation e·u of an RPR group's guide line on jets: (e_u, ok). Branchless."""
     D = _csub(ps, pg)
     DD = _abs2(D)
-    rad = (DD[0] - cperp * cperp, DD[1], DD[2])
-    ok = True
-    if rad[0] < 0.0:
-        ok = rad[0] >= -tol * (DD[0] + 1e-300)
-        rad = (0.0, rad[1], rad[2])
+    rad0 = DD[0] - cperp * cperp
+    ok = rad0 >= -tol * (DD[0] + 1e-300)
+    rad = (max(rad0, 0.0), DD[1], DD[2])
     s = _rsqrt(rad)
     # e_u = D / (s·branch + i·c_perp) = D·(s·branch − i·c_perp) / (s² + c_perp²)
     den = _rinv((rad[0] + cperp * cperp, rad[1], rad[2]))
@@ -189,144 +170,92 @@ def crank(c, s, sense, k):
     return (vr, vi, -sense * vi, sense * vr, -vr, -vi)
 
 
-@njit(cache=True, error_model="numpy")
-def _sample(ops, g, q, P, O, E, tol):
-    """Solve one sample by interpreting the op table; returns False if a group cannot be assembled."""
-    ok = True
-    for r in range(ops.shape[0]):
-        op = ops[r]
-        code = op[0]
-        if code == FRAMEPT:
-            s = op[2]
-            _store(P, op[1], _ckonst(g[s, 0], g[s, 1]))
-        elif code == CRANK:
-            b, pivot, sw, sense, sk = op[1], op[2], op[3], op[6], op[7]
-            e = crank(math.cos(q), math.sin(q), float(sense), (g[sk, 0], g[sk, 1]))
-            _store(E, b, e)
-            _store(O, b, _csub(_load(P, pivot), _cmulk(e, g[sw, 0], g[sw, 1])))
-        elif code == PLACE:
-            b, p, sw = op[1], op[2], op[3]
-            _store(P, p, _cadd(_load(O, b), _cmulk(_load(E, b), g[sw, 0], g[sw, 1])))
-        elif code == FROM_TWO:
-            b, p1, p2, sw1, sinv = op[1], op[2], op[3], op[4], op[5]
-            a1 = _load(P, p1)
-            e = _cmulk(_csub(_load(P, p2), a1), g[sinv, 0], g[sinv, 1])
-            _store(E, b, e)
-            _store(O, b, _csub(a1, _cmulk(e, g[sw1, 0], g[sw1, 1])))
-        elif code == RRR:
-            z, good = rrr(_load(P, op[1]), _load(P, op[3]), g[op[2], 0], g[op[4], 0], float(op[6]), tol)
-            ok = ok and good
-            _store(P, op[5], z)
-        elif code == RRP:
-            A, sra, gb, sq, su, sk, soff, J, branch, sb, swj = (op[1], op[2], op[3], op[4], op[5], op[6], op[7],
-                                                               op[8], op[9], op[10], op[11])
-            z, es, good = rrp(_load(P, A), g[sra, 0], _load(O, gb), _load(E, gb), (g[sq, 0], g[sq, 1]),
-                              (g[su, 0], g[su, 1]), (g[sk, 0], g[sk, 1]), (g[soff, 0], g[soff, 1]),
-                              float(branch), tol)
-            ok = ok and good
-            _store(P, J, z)
-            _store(E, sb, es)
-            _store(O, sb, _csub(z, _cmulk(es, g[swj, 0], g[swj, 1])))
-        elif code == RPR:
-            gb, gp, sb, sp, swg, sc, sinvu, sinvus, sws, branch = (op[1], op[2], op[3], op[4], op[5], op[6],
-                                                                   op[7], op[8], op[9], op[10])
-            pg = _load(P, gp)
-            eu, good = rpr(pg, _load(P, sp), g[sc, 0], g[sc, 1], float(branch), tol)
-            ok = ok and good
-            eg = _cmulk(eu, g[sinvu, 0], g[sinvu, 1])
-            _store(E, gb, eg)
-            _store(O, gb, _csub(pg, _cmulk(eg, g[swg, 0], g[swg, 1])))
-            es = _cmulk(eu, g[sinvus, 0], g[sinvus, 1])
-            _store(E, sb, es)
-            _store(O, sb, _csub(_load(P, sp), _cmulk(es, g[sws, 0], g[sws, 1])))
-    return ok
-
-
 # -- straight-line kernels generated per plan ----------------------------------------------------
 
-def _slot(s: int) -> str:
-    return f"(G[g, {s}, 0], G[g, {s}, 1])"
-
-
 def generate_source(ops, point_out, body_out) -> str:
-    """Python source of a fused, straight-line numba kernel for one op table.
+    """Python source of a fused, straight-line, branchless numba kernel for one op table.
 
-    The kernel ``kernel(G, design_of, angle_of, cq, sq, tol, outz, outd, outdd, valid)`` solves
-    sample i of design ``design_of[i]`` at the input whose cosine and sine are
-    ``cq[angle_of[i]]``, ``sq[angle_of[i]]`` (computed once per distinct input by numpy), and writes
-    value, d/dq and d²/dq² of the requested points (then bodies' exp(iθ)) as (x, y) pairs.
+    ``kernel(G, cq, sq, tol, w1, w2, w3, out, valid)`` solves every design d of ``G (D, n_slots, 2)``
+    (its constants loaded once) at every input u whose cosine and sine are ``cq[u]``, ``sq[u]``
+    (computed once per input by numpy). It writes ``out (6·n_out, D, N)``: x, y of the value, of
+    ``w1·d/dq`` and of ``w2·d²/dq² + w3·d/dq`` for the requested points, then bodies' exp(iθ) —
+    with (w1, w2, w3) = (ω, ω², α) position, velocity and acceleration, with (1, 1, 0) the analogues.
+    The inner loop is branchless with rows contiguous in u, so LLVM vectorises it. A sample whose group cannot be
+    assembled gets ``valid[i] = False`` (its numbers are meaningless: the caller NaNs them).
     """
+    slots: dict[int, str] = {}
+
+    def k(sl: int) -> str:
+        """The constant of slot ``sl`` as an (x, y) tuple variable, loaded once per design run."""
+        slots[sl] = f"k{sl}"
+        return f"k{sl}"
+
     body = []
     for row in ops:
         code = int(row[0])
         o = [int(x) for x in row]
         if code == FRAMEPT:
-            body.append(f"P{o[1]} = (G[g, {o[2]}, 0], G[g, {o[2]}, 1], 0.0, 0.0, 0.0, 0.0)")
+            body.append(f"P{o[1]} = ({k(o[2])}[0], {k(o[2])}[1], 0.0, 0.0, 0.0, 0.0)")
         elif code == CRANK:
             b, pivot, sw, sense, sk = o[1], o[2], o[3], o[6], o[7]
-            body.append(f"E{b} = crank(c, s, {float(sense)!r}, {_slot(sk)})")
-            body.append(f"O{b} = _csub(P{pivot}, _cmulk(E{b}, G[g, {sw}, 0], G[g, {sw}, 1]))")
+            body.append(f"E{b} = crank(c, s, {float(sense)!r}, {k(sk)})")
+            body.append(f"O{b} = _csub(P{pivot}, _cmulk(E{b}, {k(sw)}[0], {k(sw)}[1]))")
         elif code == PLACE:
             b, p, sw = o[1], o[2], o[3]
-            body.append(f"P{p} = _cadd(O{b}, _cmulk(E{b}, G[g, {sw}, 0], G[g, {sw}, 1]))")
+            body.append(f"P{p} = _cadd(O{b}, _cmulk(E{b}, {k(sw)}[0], {k(sw)}[1]))")
         elif code == FROM_TWO:
             b, p1, p2, sw1, sinv = o[1], o[2], o[3], o[4], o[5]
-            body.append(f"E{b} = _cmulk(_csub(P{p2}, P{p1}), G[g, {sinv}, 0], G[g, {sinv}, 1])")
-            body.append(f"O{b} = _csub(P{p1}, _cmulk(E{b}, G[g, {sw1}, 0], G[g, {sw1}, 1]))")
+            body.append(f"E{b} = _cmulk(_csub(P{p2}, P{p1}), {k(sinv)}[0], {k(sinv)}[1])")
+            body.append(f"O{b} = _csub(P{p1}, _cmulk(E{b}, {k(sw1)}[0], {k(sw1)}[1]))")
         elif code == RRR:
-            body.append(f"P{o[5]}, good = rrr(P{o[1]}, P{o[3]}, G[g, {o[2]}, 0], G[g, {o[4]}, 0], "
-                        f"{float(o[6])!r}, tol)")
-            body.append("ok = ok and good")
+            body.append(f"P{o[5]}, good = rrr(P{o[1]}, P{o[3]}, {k(o[2])}[0], {k(o[4])}[0], {float(o[6])!r}, tol)")
+            body.append("ok = ok & good")
         elif code == RRP:
             A, sra, gb, sq_, su, sk, soff, J, branch, sb, swj = o[1:12]
-            body.append(f"P{J}, E{sb}, good = rrp(P{A}, G[g, {sra}, 0], O{gb}, E{gb}, {_slot(sq_)}, {_slot(su)}, "
-                        f"{_slot(sk)}, {_slot(soff)}, {float(branch)!r}, tol)")
-            body.append("ok = ok and good")
-            body.append(f"O{sb} = _csub(P{J}, _cmulk(E{sb}, G[g, {swj}, 0], G[g, {swj}, 1]))")
+            body.append(f"P{J}, E{sb}, good = rrp(P{A}, {k(sra)}[0], O{gb}, E{gb}, {k(sq_)}, {k(su)}, {k(sk)}, "
+                        f"{k(soff)}, {float(branch)!r}, tol)")
+            body.append("ok = ok & good")
+            body.append(f"O{sb} = _csub(P{J}, _cmulk(E{sb}, {k(swj)}[0], {k(swj)}[1]))")
         elif code == RPR:
             gb, gp, sb, sp, swg, sc, sinvu, sinvus, sws, branch = o[1:11]
-            body.append(f"eu, good = rpr(P{gp}, P{sp}, G[g, {sc}, 0], G[g, {sc}, 1], {float(branch)!r}, tol)")
-            body.append("ok = ok and good")
-            body.append(f"E{gb} = _cmulk(eu, G[g, {sinvu}, 0], G[g, {sinvu}, 1])")
-            body.append(f"O{gb} = _csub(P{gp}, _cmulk(E{gb}, G[g, {swg}, 0], G[g, {swg}, 1]))")
-            body.append(f"E{sb} = _cmulk(eu, G[g, {sinvus}, 0], G[g, {sinvus}, 1])")
-            body.append(f"O{sb} = _csub(P{sp}, _cmulk(E{sb}, G[g, {sws}, 0], G[g, {sws}, 1]))")
+            body.append(f"eu, good = rpr(P{gp}, P{sp}, {k(sc)}[0], {k(sc)}[1], {float(branch)!r}, tol)")
+            body.append("ok = ok & good")
+            body.append(f"E{gb} = _cmulk(eu, {k(sinvu)}[0], {k(sinvu)}[1])")
+            body.append(f"O{gb} = _csub(P{gp}, _cmulk(E{gb}, {k(swg)}[0], {k(swg)}[1]))")
+            body.append(f"E{sb} = _cmulk(eu, {k(sinvus)}[0], {k(sinvus)}[1])")
+            body.append(f"O{sb} = _csub(P{sp}, _cmulk(E{sb}, {k(sws)}[0], {k(sws)}[1]))")
         else:  # pragma: no cover - the packer emits only the codes above
             raise ValueError(f"unknown op code {code}")
     names = [f"P{int(p)}" for p in point_out] + [f"E{int(b)}" for b in body_out]
     write = []
-    for k, name in enumerate(names):
-        for j, arr in enumerate(("outz", "outd", "outdd")):
-            write.append(f"{arr}[i, {k}, 0] = {name}[{2 * j}]")
-            write.append(f"{arr}[i, {k}, 1] = {name}[{2 * j + 1}]")
-    pre = ["E0 = (1.0, 0.0, 0.0, 0.0, 0.0, 0.0)", "O0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)"]
+    for name in names[: len(point_out)]:   # a finite position, or the sample is not valid (x − x ≠ 0 for inf, NaN)
+        write.append(f"ok = ok & ({name}[0] - {name}[0] == 0.0) & ({name}[1] - {name}[1] == 0.0)")
+    for m, name in enumerate(names):
+        for xy in (0, 1):
+            write.append(f"out[{6 * m + xy}, d, u] = {name}[{xy}]")
+            write.append(f"out[{6 * m + 2 + xy}, d, u] = {name}[{2 + xy}] * w1")
+            write.append(f"out[{6 * m + 4 + xy}, d, u] = {name}[{4 + xy}] * w2 + {name}[{2 + xy}] * w3")
+    loads = [f"{var} = (G[d, {sl}, 0], G[d, {sl}, 1])" for sl, var in sorted(slots.items())]
+    i8 = " " * 8
     lines = [
         '"""Generated by assur.kernels.compiled.generate_source; do not edit."""',
-        "import numpy as np",
         "from numba import njit",
         "from assur.kernels.compiled import _cadd, _csub, _cmulk, crank, rrr, rrp, rpr",
         "",
         "",
         '@njit(cache=True, error_model="numpy", fastmath={"contract"})',
-        "def one(i, g, c, s, G, tol, outz, outd, outdd):",
-        "    ok = True",
-        *["    " + ln for ln in pre + body],
-        "    if ok:",
-        *["        " + ln for ln in write],
-        "    else:",
-        "        for k in range(outz.shape[1]):",
-        "            for j in range(2):",
-        "                outz[i, k, j] = np.nan",
-        "                outd[i, k, j] = np.nan",
-        "                outdd[i, k, j] = np.nan",
-        "    return ok",
-        "",
-        "",
-        '@njit(cache=True, error_model="numpy")',
-        "def kernel(G, design_of, angle_of, cq, sq, tol, outz, outd, outdd, valid):",
-        "    for i in range(design_of.shape[0]):",
-        "        a = angle_of[i]",
-        "        valid[i] = one(i, design_of[i], cq[a], sq[a], G, tol, outz, outd, outdd)",
+        "def kernel(G, cq, sq, tol, w1, w2, w3, out, valid):",
+        "    E0 = (1.0, 0.0, 0.0, 0.0, 0.0, 0.0)",
+        "    O0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)",
+        "    for d in range(G.shape[0]):",
+        *["        " + ln for ln in loads],
+        "        for u in range(cq.shape[0]):",
+        f"{i8}    c = cq[u]",
+        f"{i8}    s = sq[u]",
+        f"{i8}    ok = True",
+        *[i8 + "    " + ln for ln in body],
+        *[i8 + "    " + ln for ln in write],
+        f"{i8}    valid[d, u] = ok",
         "",
     ]
     return "\n".join(lines)
