@@ -8,7 +8,7 @@ table and writes it to ``benchmarks/results.md``. See ``benchmarks/README.md``.
 Cases (the four-bar of the docs: ground 100 mm, crank 30 mm, coupler |AB|, rocker |CB|):
   1. one design at 360, 3 600 and 36 000 crank angles;
   2. a population of 10 000 random Grashof crank-rockers x 360 angles, evaluated in chunks of
-     500 designs; each chunk is reduced to a per-design summary (bounding box of the coupler
+     100 designs; each chunk is reduced to a per-design summary (bounding box of the coupler
      midpoint's path, and for the pos+vel+acc engines the peak speed and acceleration of B),
      so no (designs, angles, ...) array larger than one chunk exists.
 

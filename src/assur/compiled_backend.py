@@ -136,14 +136,15 @@ def cache_dir():
     return (Path(xdg) if xdg else Path.home() / ".cache") / "assur" / "kernels"
 
 
-def kernel(pk: _Packer, with_bodies: bool):
-    """The plan's generated straight-line kernel (compiled once, cached on disk by numba)."""
-    key = "_kernel_bodies" if with_bodies else "_kernel_points"
+def kernel(pk: _Packer, with_bodies: bool, order: int = 2):
+    """The plan's generated straight-line kernel for a derivative order (compiled once, cached on
+    disk by numba)."""
+    key = f"_kernel_{'bodies' if with_bodies else 'points'}_{order}"
     k = pk.__dict__.get(key)
     if k is None:
         point_out = [pk.pidx[p] for p in pk.plan.point_names]
         body_out = list(range(len(pk.plan.body_names))) if with_bodies else []
-        src = pk.K.generate_source(pk.ops, point_out, body_out)
+        src = pk.K.generate_source(pk.ops, point_out, body_out, order)
         try:
             k = pk.K.load_kernel(src, cache_dir())
         except OSError:
@@ -185,7 +186,7 @@ def separable(pshape: tuple, ishape: tuple, shape: tuple):
 
 
 def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float,
-                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False):
+                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False, order: int = 2):
     """Run the plan's kernel; None if the plan or the batch layout is not covered.
 
     params (..., n_params), inputs (..., 1); shapes broadcast to ``shape``; the params must vary
@@ -212,10 +213,10 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
     cq, sq = np.cos(q), np.sin(q)
     n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
     D, N = designs.shape[0], q.size
-    out = np.empty((6 * n_out, D, N))
+    out = np.empty((6 * n_out, D, N))         # rows of derivatives above ``order`` stay unwritten
     valid = np.empty((D, N), dtype=np.bool_)
     w1, w2, w3 = (float(r) for r in rates)
-    kernel(pk, with_bodies)(G, cq, sq, tol, w1, w2, w3, out, valid)
+    kernel(pk, with_bodies, order)(G, cq, sq, tol, w1, w2, w3, out, valid)
     rows = out.reshape((n_out, 6) + shape)
     views = tuple(np.moveaxis(rows[:, 2 * j:2 * j + 2], (0, 1), (-2, -1)) for j in range(3))
     return out, views, valid.reshape(shape)

@@ -275,7 +275,8 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             # one scalar nonzero speed: the kernel writes velocities and accelerations directly
             time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
             rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
-            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand, rates)
+            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand, rates,
+                                                       order=order)
     if compiled is not None:
         buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
         inv = ~valid

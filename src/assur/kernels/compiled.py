@@ -174,7 +174,7 @@ def crank(c, s, sense, k):
 
 # -- straight-line kernels generated per plan ----------------------------------------------------
 
-def generate_source(ops, point_out, body_out) -> str:
+def generate_source(ops, point_out, body_out, order: int = 2) -> str:
     """Python source of a fused, straight-line, branchless numba kernel for one op table.
 
     ``kernel(G, cq, sq, tol, w1, w2, w3, out, valid)`` solves every design d of ``G (D, n_slots, 2)``
@@ -182,7 +182,8 @@ def generate_source(ops, point_out, body_out) -> str:
     (computed once per input by numpy). It writes ``out (6·n_out, D, N)``: x, y of the value, of
     ``w1·d/dq`` and of ``w2·d²/dq² + w3·d/dq`` for the requested points, then bodies' exp(iθ) —
     with (w1, w2, w3) = (ω, ω², α) position, velocity and acceleration, with (1, 1, 0) the analogues.
-    The inner loop is branchless with rows contiguous in u, so LLVM vectorises it. A sample whose group cannot be
+    The inner loop is branchless with rows contiguous in u, so LLVM vectorises it. With ``order``
+    < 2 the rows of the higher derivatives are not written (LLVM then drops their arithmetic). A sample whose group cannot be
     assembled gets ``valid[i] = False`` (its numbers are meaningless: the caller NaNs them).
     """
     slots: dict[int, str] = {}
@@ -237,7 +238,7 @@ def generate_source(ops, point_out, body_out) -> str:
         is_frame = m < len(point_out) and int(point_out[m]) in frame_points
         for xy in (0, 1):
             rows = [(6 * m + xy, f"{name}[{xy}]"), (6 * m + 2 + xy, f"{name}[{2 + xy}] * w1"),
-                    (6 * m + 4 + xy, f"{name}[{4 + xy}] * w2 + {name}[{2 + xy}] * w3")]
+                    (6 * m + 4 + xy, f"{name}[{4 + xy}] * w2 + {name}[{2 + xy}] * w3")][: order + 1]
             (constant_rows if is_frame else moving_rows).extend(rows)
     loads = [f"{var} = (G[d, {sl}, 0], G[d, {sl}, 1])" for sl, var in sorted(slots.items())]
     frame_body = [ln for ln in body if ln.split(" = ", 1)[0].strip() in {f"P{p}" for p in frame_points}]
