@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import assur
+from mechanisms import rssr
 from assur.analysis.gait import gait_metrics
 from assur.cli.main import main
 
@@ -155,33 +156,7 @@ sense = "{sense}"
 speed = "10 rpm"
 """
 
-SPATIAL = """\
-format = "assur/1"
-name = "RSSR"
-dimension = 3
-[units]
-length = "mm"
-[points]
-O = [0, 0, 0]
-A = [20, 0, 0]
-B = [60, 40, 30]
-C = [80, 40, 0]
-[links]
-frame = ["O", "C"]
-crank = ["O", "A"]
-coupler = ["A", "B"]
-rocker = ["B", "C"]
-[joints]
-A = "spherical"
-B = "spherical"
-[[drivers]]
-name = "crank"
-kind = "rotary"
-link = "crank"
-pivot = "O"
-arm = "A"
-speed = "60 rpm"
-"""
+SPATIAL = rssr("mm", 100.0)
 
 LINEAR = """\
 format = "assur/1"

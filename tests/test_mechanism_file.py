@@ -16,6 +16,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import assur
+from mechanisms import rssr
 
 EXAMPLES = sorted(glob.glob(os.path.join(os.path.dirname(__file__), "..", "examples", "*.toml")))
 
@@ -147,26 +148,7 @@ def test_round_trip_of_random_numbers(units, xs, length, angle, offset):
     assert assur.loads(assur.dumps(m)) == m
 
 
-SPATIAL = """
-format = "assur/1"
-dimension = 3
-[units]
-length = "mm"
-angle = "deg"
-[points]
-A0 = [0, 0, 0]
-D0 = [100, 0, 30]
-A = [20, 10, 0]
-B = [90, 70, 50]
-[links]
-frame = ["A0", "D0"]
-crank = ["A0", "A"]
-coupler = ["A", "B"]
-rocker = ["D0", "B"]
-[joints]
-A = "spherical"
-B = "spherical"
-"""
+SPATIAL = rssr("mm", 100.0, driver=False)
 
 
 def test_round_trip_of_a_spatial_description():

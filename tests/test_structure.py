@@ -12,6 +12,7 @@ import os
 import pytest
 
 import assur
+from mechanisms import rssr
 from assur import GroupKind
 from assur.structure import mobility_chebyshev, mobility_somov_malyshev
 
@@ -97,31 +98,7 @@ def test_mobility_formula_functions():
     assert mobility_somov_malyshev(3, p5=4) == -2
 
 
-RSSR = """
-format = "assur/1"
-dimension = 3
-[units]
-length = "m"
-angle = "deg"
-[points]
-A0 = [0, 0, 0]
-D0 = [1, 0, 0.3]
-A = [0.2, 0.1, 0]
-B = [0.9, 0.7, 0.5]
-[links]
-frame = ["A0", "D0"]
-crank = ["A0", "A"]
-coupler = ["A", "B"]
-rocker = ["D0", "B"]
-[joints]
-A = "spherical"
-B = "spherical"
-[[drivers]]
-name = "crank"
-link = "crank"
-pivot = "A0"
-arm = "A"
-"""
+RSSR = rssr("m", 1.0, driver=True)
 
 
 def test_somov_malyshev_for_a_spatial_rssr():
