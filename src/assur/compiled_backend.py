@@ -204,11 +204,17 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
         return None
     n, n_params = len(shape), params.shape[-1]
     lead, trail = shape[:k], shape[k:]
-    p_pad = params.reshape((1,) * (n - (params.ndim - 1)) + params.shape)
-    designs = np.broadcast_to(p_pad[(slice(None),) * k + (0,) * (n - k)], lead + (n_params,))
-    designs = np.ascontiguousarray(designs.reshape(-1, n_params))
-    q_pad = inputs[..., 0].reshape((1,) * (n - (inputs.ndim - 1)) + inputs.shape[:-1])
-    q = np.ascontiguousarray(np.broadcast_to(q_pad[(0,) * k], trail).reshape(-1), dtype=float)
+    if params.ndim == 1:                       # one design (the common single-design call)
+        designs = params.reshape(1, n_params)
+    else:
+        p_pad = params.reshape((1,) * (n - (params.ndim - 1)) + params.shape)
+        designs = np.broadcast_to(p_pad[(slice(None),) * k + (0,) * (n - k)], lead + (n_params,))
+        designs = np.ascontiguousarray(designs.reshape(-1, n_params))
+    if inputs.shape[:-1] == trail:
+        q = np.ascontiguousarray(inputs.reshape(-1), dtype=float)
+    else:
+        q_pad = inputs[..., 0].reshape((1,) * (n - (inputs.ndim - 1)) + inputs.shape[:-1])
+        q = np.ascontiguousarray(np.broadcast_to(q_pad[(0,) * k], trail).reshape(-1), dtype=float)
     G = _constants(pk, designs)
     cq, sq = np.cos(q), np.sin(q)
     n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
@@ -218,5 +224,6 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
     w1, w2, w3 = (float(r) for r in rates)
     kernel(pk, with_bodies, order)(G, cq, sq, tol, w1, w2, w3, out, valid)
     rows = out.reshape((n_out, 6) + shape)
-    views = tuple(np.moveaxis(rows[:, 2 * j:2 * j + 2], (0, 1), (-2, -1)) for j in range(3))
+    axes = tuple(range(2, 2 + n)) + (0, 1)     # (n_out, 2, *shape) → (*shape, n_out, 2), a view
+    views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))
     return out, views, valid.reshape(shape)

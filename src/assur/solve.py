@@ -348,7 +348,8 @@ def _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_u
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
         raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
-    return State(plan=plan, inputs=np.broadcast_to(inputs, shape + (n,)), valid=valid, n_unbuildable=n_bad,
+    full_inputs = inputs if inputs.shape[:-1] == shape else np.broadcast_to(inputs, shape + (n,))
+    return State(plan=plan, inputs=full_inputs, valid=valid, n_unbuildable=n_bad,
                  qdot=qdot, qddot=qddot, _z=z, _dz=dz, _d2z=d2z, _params=params, _has_bodies=has_bodies,
                  _xyz=xyz, _xyz_time=xyz_time)
 
