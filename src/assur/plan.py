@@ -25,17 +25,6 @@ class Side:
 
 
 @dataclass(frozen=True, slots=True)
-class Slide:
-    """A prismatic pair: ``slider`` keeps its reference point ``ref`` (local) on the guide's line
-    through ``through`` with direction ``u`` (local), its own local line direction being ``u_slider``."""
-    name: str
-    guide: int
-    slider: int
-    # indices into the geometry tables (see compile.Geometry)
-    line: int
-
-
-@dataclass(frozen=True, slots=True)
 class Step:
     kind: str
     bodies: tuple[int, ...]

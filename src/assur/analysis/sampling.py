@@ -1,10 +1,10 @@
-"""Sampling a single-input mechanism over one input cycle, and refining extremes on it."""
+"""Sampling a single-input mechanism over one input cycle; roots and runs on the samples."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import brentq
 
 from ..solve import solve
 
@@ -33,27 +33,6 @@ class Cycle:
     def grid(self, n: int, start: float = 0.0, stop: float = TWO_PI, endpoint: bool = False):
         q = np.linspace(start, stop, n, endpoint=endpoint)
         return q, self.state(q)
-
-
-def refine_extreme(f, q_grid, values, index, sign, lo=None, hi=None):
-    """Refine an extreme of f near grid sample ``index`` (sign +1: minimum, −1: maximum) with a
-    bounded 1-D minimiser between the neighbouring samples (clamped to [lo, hi])."""
-    n = len(q_grid)
-    step = (q_grid[1] - q_grid[0]) if n > 1 else 1.0
-    a = q_grid[index] - step
-    b = q_grid[index] + step
-    if lo is not None:
-        a = max(a, lo)
-    if hi is not None:
-        b = min(b, hi)
-    if not (b > a):
-        return float(q_grid[index]), float(values[index])
-    res = minimize_scalar(lambda q: sign * float(f(q)), bounds=(a, b), method="bounded",
-                          options={"xatol": 1e-12, "maxiter": 200})
-    best_q, best_v = float(q_grid[index]), float(values[index])
-    if np.isfinite(res.fun) and sign * res.fun <= sign * best_v:
-        best_q, best_v = float(res.x), float(sign * res.fun)
-    return best_q, best_v
 
 
 def sign_changes(q, values):

@@ -66,11 +66,6 @@ def _csub(a, b):
 
 
 @njit(inline="always", cache=True, error_model="numpy")
-def _ckonst(kr, ki):
-    return (kr, ki, 0.0, 0.0, 0.0, 0.0)
-
-
-@njit(inline="always", cache=True, error_model="numpy")
 def _abs2(a):
     """|z|² as a real jet"""
     ar, ai, adr, adi, aer, aei = a
