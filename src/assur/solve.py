@@ -245,9 +245,9 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     """Solve positions (and, with ``order`` ≥ 1/2, velocities and accelerations) of every point.
 
     params: (..., n_params) design parameters (default: the file's); inputs: (..., n_inputs)
-    input values (crank angles in rad, actuator lengths in m; a single-input plan also takes
-    (...,): a scalar or a 1-D array is a batch of values); speeds/accels: (..., n_inputs) input rates (default: the drivers' speeds, zero
-    input acceleration). Leading axes broadcast. Returns a :class:`State`.
+    input values (crank angles in rad, actuator lengths in m; for a single-input plan a scalar or
+    a 1-D array is a batch of values); speeds/accels: (..., n_inputs) input rates (default: the
+    drivers' speeds, zero input acceleration). Leading axes broadcast. Returns a :class:`State`.
     on_unbuildable: 'nan' (NaN + ``valid`` mask), 'warn' (also warn with the count), 'raise'.
     backend: 'numpy', 'numba' (the fused compiled loop of :mod:`assur.compiled_backend`; plans it
     does not cover fall back to numpy) or 'auto' (numba for batches of at least
@@ -262,29 +262,46 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     if backend not in ("auto", "numpy", "numba"):
         raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
     params, inputs = _prepare(plan, params, inputs)
-    n = plan.n_inputs
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
-    names = plan.point_names
-    compiled = None
     size = int(np.prod(shape)) if shape else 1
     if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
-        from . import compiled_backend
-        if backend == "numba" or compiled_backend.available():
-            qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
-            qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
-            # one scalar nonzero speed: the kernel writes velocities and accelerations directly
-            time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
-            rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
-            compiled = compiled_backend.solve_compiled(plan, params, inputs, tolerances.radicand, rates,
-                                                       order=order)
-    if compiled is not None:
-        buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
-        inv = ~valid
-        if inv.any():
-            buffer[:, inv.reshape(buffer.shape[1:])] = np.nan
-        xyz = (pos, first if order >= 1 else None, second if order >= 2 else None)
-        return _finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
-                       has_bodies=False, xyz=xyz, xyz_time=time_mode)
+        state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
+                                required=backend == "numba")
+        if state is not None:
+            return state
+    return _solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
+
+
+def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):
+    """The compiled backend, or None where it does not apply (numba missing and not required,
+    a plan or batch layout it does not cover)."""
+    from . import compiled_backend
+    if not (required or compiled_backend.available()):
+        return None
+    n = plan.n_inputs
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+    # one scalar nonzero speed: the kernel writes velocities and accelerations directly
+    time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
+    rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
+    compiled = compiled_backend.solve_compiled(plan, params, inputs, tol.radicand, rates, order=order)
+    if compiled is None:
+        return None
+    buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
+    inv = ~valid
+    if inv.any():
+        buffer[:, inv.reshape(buffer.shape[1:])] = np.nan
+    xyz = (pos, first if order >= 1 else None, second if order >= 2 else None)
+    return _finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
+                   has_bodies=False, xyz=xyz, xyz_time=time_mode)
+
+
+def _solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, method):
+    """The numpy backend: every group on whole arrays of jets, one pass per input direction
+    (and one per pair of inputs for the mixed second derivatives)."""
+    n = plan.n_inputs
+    names = plan.point_names
+    n_bodies = len(plan.body_names)
 
     def run(direction):
         q = []
@@ -292,9 +309,7 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
             d = np.full(inputs.shape[:-1], float(direction[k])) if order >= 1 else None
             dd = np.zeros(inputs.shape[:-1]) if order >= 2 else None
             q.append(Jet(inputs[..., k], d, dd))
-        return _execute(plan, plan.steps, params, q, order, tolerances, method)
-
-    n_bodies = len(plan.body_names)
+        return _execute(plan, plan.steps, params, q, order, tol, method)
 
     def stack(ctx, attr):
         """(..., n_points + n_bodies) complex: point positions, then body orientations e = exp(iθ)."""
@@ -343,7 +358,7 @@ def _finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_u
                f"they are NaN with valid=False")
         if on_unbuildable == "raise":
             raise UnbuildableError(msg, n_bad, total)
-        warnings.warn(msg, UnbuildableWarning, stacklevel=3)
+        warnings.warn(msg, UnbuildableWarning, stacklevel=4)
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
     if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
