@@ -570,3 +570,18 @@ def test_json_is_strict(unbuildable, capsys):
     code, out, _ = run(["analyze", unbuildable, "--steps", 32, "--json"], capsys)
     json.loads(out, parse_constant=lambda c: pytest.fail(f"non-standard JSON constant {c}"))
     assert io.StringIO(out).read().count("\n{") == 0
+
+
+def test_plot_positions_option(fourbar, tmp_path, capsys):
+    """--positions sets how many positions the kinematic diagram draws (its title lists them)."""
+    from assur.plot.figures import close, mechanism_figure
+    import assur as _assur
+    plan = _assur.compile(_assur.load(fourbar))
+    fig = mechanism_figure(plan, 36, positions=3)
+    titles = [ax.get_title() for ax in fig.axes]
+    close(fig)
+    assert any("positions 1–3" in t for t in titles)
+    out = tmp_path / "three.png"
+    assert run(["plot", fourbar, "-o", out, "--steps", 36, "--positions", "3"], capsys)[0] == 0
+    assert out.read_bytes()[:4] == b"\x89PNG"
+    assert run(["plot", fourbar, "-o", out, "--positions", "0"], capsys)[0] == 2

@@ -418,7 +418,7 @@ def cmd_analyze(args) -> int:
 def cmd_plot(args) -> int:
     from ..plot.figures import close, mechanism_figure
     m, plan = _compile(args.file)
-    fig = mechanism_figure(plan, args.steps, ranges=_ranges(plan, args), dpi=args.dpi)
+    fig = mechanism_figure(plan, args.steps, ranges=_ranges(plan, args), positions=args.positions, dpi=args.dpi)
     try:
         with atomic_path(args.output) as tmp:
             fig.savefig(tmp, format=args.output.suffix.lower()[1:], dpi=args.dpi)
@@ -488,6 +488,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="output image (.png, .svg or .pdf)")
     sp.add_argument("--steps", type=_positive(16), default=360, metavar="N", help="samples per turn (default 360)")
     sp.add_argument("--dpi", type=_positive(10), default=100, help="resolution of a PNG (default 100)")
+    sp.add_argument("--positions", type=_positive(1), default=6, metavar="K",
+                    help="positions drawn in the kinematic diagram (default 6)")
     add_range(sp)
     sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
     sp.add_argument("-o", "--output", type=_output(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
