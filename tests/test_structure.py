@@ -8,6 +8,7 @@ W = 6n − 5p5 − 4p4 − 3p3 − 2p2 − p1 (Artobolevsky, *Theory of Mechanis
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import pytest
 
@@ -202,3 +203,12 @@ def test_missing_driver_leaves_bodies_undetermined():
              dict(frame=("O", "O1"), crank=("O", "A"), coupler=("A", "B"), rocker=("O1", "B")), drivers=())
     s = assur.analyse(m)
     assert s.mobility == 1 and s.groups == () and set(s.undetermined) == {"crank", "coupler", "rocker"}
+
+
+def test_idle_spin_of_a_binary_link_between_spherical_joints():
+    """RSSR: W = 2 by Somov–Malyshev, of which one is the coupler's idle spin about its own axis
+    (the S–S link), so the chain has one working freedom — the crank."""
+    s = assur.analyse(assur.loads(RSSR))
+    assert (s.mobility, s.idle, s.mobility_without_idle) == (2, 1, 1)
+    planar = assur.analyse(assur.load(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml"))
+    assert planar.idle == 0

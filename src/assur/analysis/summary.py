@@ -32,6 +32,9 @@ def structure_summary(mech) -> dict:
         "structural_formula_numbered": s.structural_formula_numbered if s.groups or s.drivers else None,
         "groups": s.describe(),
     }
+    if s.idle:
+        out["idle_freedoms"] = s.idle
+        out["mobility_without_idle"] = s.mobility_without_idle
     return out
 
 

@@ -207,6 +207,9 @@ def cmd_info(args) -> int:
     print(f"units: length {u.length}, angle {u.angle}" + (", spatial (dimension = 3)" if m.dimension == 3 else ""))
     pairs = ", ".join(f"{k} = {v}" for k, v in s["pairs"].items())
     print(f"mobility ({s['formula']}): {s['mobility_formula']}")
+    if s.get("idle_freedoms"):
+        print(f"  of which idle: {s['idle_freedoms']} (a link between two spherical joints spins about its axis); "
+              f"W without idle freedoms = {s['mobility_without_idle']}")
     print(f"  moving links n = {s['moving_links']}; pairs {pairs}; drivers: {len(m.drivers)}"
           + (f" ({', '.join(s['drivers'])})" if s["drivers"] else ""))
     if m.dimension == 3:

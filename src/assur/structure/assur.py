@@ -67,6 +67,13 @@ class Structure:
     groups: tuple[AssurGroup, ...]
     #: bodies (their source names) that no Assur group determines with the given drivers
     undetermined: tuple[str, ...] = ()
+    #: idle (local) freedoms of a spatial description: a binary link between two spherical joints
+    #: spins about its own axis without moving anything else
+    idle: int = 0
+
+    @property
+    def mobility_without_idle(self) -> int:
+        return self.mobility - self.idle
 
     def body_label(self, i: int) -> str:
         return self.graph.bodies[i].name
@@ -138,7 +145,10 @@ def analyse(m: Mechanism) -> Structure:
         for p in g.pairs:
             counts[f"p{_SPATIAL_CLASS[p.joint]}"] += 1
         W = mobility_somov_malyshev(n, counts["p5"], counts["p4"], counts["p3"], counts["p2"], counts["p1"])
-        return Structure(g, n, counts, W, "Somov–Malyshev", (), ())
+        kinds = {j.point: j.kind for j in m.joints}
+        idle = sum(1 for b in g.bodies[1:] if b.kind == "link" and len(b.points) == 2
+                   and all(kinds.get(p) == "spherical" for p in b.points))
+        return Structure(g, n, counts, W, "Somov–Malyshev", (), (), idle=idle)
     counts = {"p5": len(g.pairs), "p4": 0}
     W = mobility_chebyshev(n, counts["p5"], 0)
     drivers, groups, undetermined = _decompose(m, g)
