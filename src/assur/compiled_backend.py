@@ -186,7 +186,7 @@ def separable(pshape: tuple, ishape: tuple, shape: tuple):
 
 
 def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol: float,
-                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False, order: int = 2):
+                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False, order: int = 2, shape=None):
     """Run the plan's kernel; None if the plan or the batch layout is not covered.
 
     params (..., n_params), inputs (..., 1); shapes broadcast to ``shape``; the params must vary
@@ -198,7 +198,8 @@ def solve_compiled(plan: SolvePlan, params: np.ndarray, inputs: np.ndarray, tol:
     pk = packer(plan)
     if pk is None:
         return None
-    shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
+    if shape is None:
+        shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     k = separable(params.shape[:-1], inputs.shape[:-1], shape)
     if k is None:
         return None

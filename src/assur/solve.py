@@ -9,6 +9,7 @@ oracle of the closed forms (``method="newton"``).
 """
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -263,7 +264,7 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
         raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
     params, inputs = _prepare(plan, params, inputs)
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
-    size = int(np.prod(shape)) if shape else 1
+    size = math.prod(shape)
     if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
                                 required=backend == "numba")
@@ -284,13 +285,12 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
     # one scalar nonzero speed: the kernel writes velocities and accelerations directly
     time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
     rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
-    compiled = compiled_backend.solve_compiled(plan, params, inputs, tol.radicand, rates, order=order)
+    compiled = compiled_backend.solve_compiled(plan, params, inputs, tol.radicand, rates, order=order, shape=shape)
     if compiled is None:
         return None
     buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
-    inv = ~valid
-    if inv.any():
-        buffer[:, inv.reshape(buffer.shape[1:])] = np.nan
+    if not valid.all():
+        buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
     xyz = (pos, first if order >= 1 else None, second if order >= 2 else None)
     return _finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
                    has_bodies=False, xyz=xyz, xyz_time=time_mode)
