@@ -208,12 +208,23 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
         body_names=tuple(b.name for b in g.bodies), input_names=tuple(input_names),
         input_kinds=tuple(input_kinds), sketch_inputs=np.array(sketch_inputs, dtype=float),
         speeds=np.array(speeds, dtype=float), point_body=tuple(point_body),
-        geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale)
+        geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale,
+        sketch_poses=_sketch_frames(B, g))
     if B.problems:
         raise SpecError(B.problems)
     plan.defaults.setflags(write=False)
-    sketch_e = [cmath.exp(1j * B.sketch_angle(b)) for b in range(len(g.bodies))]
+    sketch_e = [cmath.exp(1j * th) for _, _, th in plan.sketch_poses]
     return _fix_branches(plan, tolerances, sketch_e)
+
+
+def _sketch_frames(B: _Builder, g) -> tuple:
+    """(x, y, θ) of every body's local frame as drawn in the sketch (the frame at the origin; every
+    other body's first point is its local origin)."""
+    out = [(0.0, 0.0, 0.0)]
+    for b in range(1, len(g.bodies)):
+        z0 = B.sketch(g.bodies[b].points[0])
+        out.append((z0.real, z0.imag, B.sketch_angle(b)))
+    return tuple(out)
 
 
 def _side(g, body, actuator_input):
@@ -362,4 +373,5 @@ def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
             seeds = None
             break
         seeds.append((float(np.real(o)), float(np.imag(o)), float(np.angle(e))))
-    return replace(fixed, sketch_poses=None if seeds is None else tuple(seeds))
+    # an unassemblable sketch keeps the sketch's own frames as the seed
+    return fixed if seeds is None else replace(fixed, sketch_poses=tuple(seeds))

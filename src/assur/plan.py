@@ -50,8 +50,9 @@ class SolvePlan:
     geometry_program: tuple = field(repr=False, default=())
     lines: tuple = field(repr=False, default=())
     length_scale: float = 1.0
-    #: (x, y, θ) of every body assembled at the sketch inputs: the Newton solver's seed
-    sketch_poses: tuple | None = field(repr=False, default=None)
+    #: (x, y, θ) of every body at the sketch inputs — assembled by the plan's own steps when the
+    #: sketch assembles, else as drawn: the Newton solver's seed
+    sketch_poses: tuple = field(repr=False, default=())
 
     @property
     def n_params(self) -> int:

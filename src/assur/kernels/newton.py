@@ -15,41 +15,15 @@ implicit differentiation: F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), evalu
 """
 from __future__ import annotations
 
-import cmath
-
 import numpy as np
 
 from .jet import Jet, expi
 
 
 def _group_unknowns(c, st):
-    """Initial (sketch) pose of every group body: list of (x, y, θ) — the plan's assembled sketch
-    poses (which honour the branch choices) when it has them, else the sketch coordinates."""
-    if c.plan.sketch_poses is not None:
-        return [c.plan.sketch_poses[b] for b in st.bodies]
-    m, g = c.plan.mechanism, c.g
-    out = []
-    for b in st.bodies:
-        body = g.bodies[b]
-        pts = body.points
-        z0 = complex(*m.sketch(pts[0])[:2])
-        if body.kind == "link" and len(pts) >= 2:
-            th = cmath.phase(complex(*m.sketch(pts[1])[:2]) - z0)
-        elif body.kind == "block":
-            pr = next(p for p in m.prismatic if p.name == body.source)
-            th = pr.angle
-            if pr.guide != "frame":
-                gl = m.link(pr.guide)
-                th += cmath.phase(complex(*m.sketch(gl.points[1])[:2]) - complex(*m.sketch(gl.points[0])[:2]))
-        elif body.kind in ("cylinder", "rod"):
-            ac = next(a for a in m.actuators if a.name == body.source)
-            a, bb = (complex(*m.sketch(p)[:2]) for p in ac.between)
-            th = cmath.phase(bb - a)
-        else:
-            th = 0.0
-        # local origin: the first point is at the origin of links, blocks and actuator bodies
-        out.append((z0.real, z0.imag, th))
-    return out
+    """Initial pose (x, y, θ) of every group body: the plan's sketch poses (assembled by the plan,
+    so they honour its branch choices)."""
+    return [c.plan.sketch_poses[b] for b in st.bodies]
 
 
 def _residual(c, st, X, derivs: bool):
