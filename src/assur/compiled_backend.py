@@ -56,10 +56,7 @@ class _Packer:
             elif st.kind == "crank":
                 pivot, arm, k, izero, sense = st.data
                 b = st.bodies[0]
-                self.op(K.CRANK, b, self.pidx[pivot], self.slot(lambda w, L, P, b=b, p=pivot: w[(b, p)]),
-                        self.slot(lambda w, L, P, b=b, a=arm, p=pivot: np.conj((w[(b, a)] - w[(b, p)])
-                                                                              / np.abs(w[(b, a)] - w[(b, p)]))),
-                        self.slot(lambda w, L, P, i=izero: P[..., i] + 0j), sense,
+                self.op(K.CRANK, b, self.pidx[pivot], self.slot(lambda w, L, P, b=b, p=pivot: w[(b, p)]), sense,
                         self.slot(lambda w, L, P, b=b, a=arm, p=pivot, i=izero: np.exp(1j * P[..., i]) * np.conj(
                             (w[(b, a)] - w[(b, p)]) / np.abs(w[(b, a)] - w[(b, p)]))))
                 self.place_body(b)

@@ -13,7 +13,7 @@ Op table rows (int64, width ``OP_WIDTH``); slots index the per-design complex co
 code  name       operands
 ====  =========  =============================================================================
 0     FRAMEPT    point, slot                      P[point] = G[slot]
-1     CRANK      body, pivot, slot_w_pivot, slot_uconj, slot_zero, sense, slot_k (= exp(i·zero)·uconj)
+1     CRANK      body, pivot, slot_w_pivot, sense, slot_k (= exp(i·zero)·conj(unit(arm − pivot)))
 2     PLACE      body, point, slot_w              P[point] = O[body] + E[body]·w
 3     FROM_TWO   body, p1, p2, slot_w1, slot_inv  E = (P2 − P1)·inv, O = P1 − E·w1
 4     RRR        A, slot_rA, B, slot_rB, J, branch
@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 OP_WIDTH = 14
@@ -195,7 +194,7 @@ def generate_source(ops, point_out, body_out, order: int = 2) -> str:
         if code == FRAMEPT:
             body.append(f"P{o[1]} = ({k(o[2])}[0], {k(o[2])}[1], 0.0, 0.0, 0.0, 0.0)")
         elif code == CRANK:
-            b, pivot, sw, sense, sk = o[1], o[2], o[3], o[6], o[7]
+            b, pivot, sw, sense, sk = o[1], o[2], o[3], o[4], o[5]
             body.append(f"E{b} = crank(c, s, {float(sense)!r}, {k(sk)})")
             body.append(f"O{b} = _csub(P{pivot}, _cmulk(E{b}, {k(sw)}[0], {k(sw)}[1]))")
         elif code == PLACE:
