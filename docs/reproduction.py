@@ -147,6 +147,17 @@ def table(rows):
     return "\n".join(out)
 
 
+def later_sections() -> list[str]:
+    """Sections of papers 001, 002 and 003, each from ``docs/reproduction_00N.py`` (a ``section() -> str``)."""
+    import runpy
+    out = []
+    for n in ("001", "002", "003"):
+        path = ROOT / "docs" / f"reproduction_{n}.py"
+        if path.exists():
+            out += [runpy.run_path(str(path))["section"]().rstrip("\n"), ""]
+    return out
+
+
 def generate() -> str:
     parts = ["# Reproduction of the papers' printed results",
              "",
@@ -172,7 +183,8 @@ def generate() -> str:
              table(paper004()),
              "",
              *[f"- {e}" for e in ERRATA["004"]],
-             ""]
+             "",
+             *later_sections()]
     return "\n".join(parts)
 
 

@@ -97,6 +97,16 @@ def _compile(path):
     return m, compile_(m)
 
 
+def document_format(path) -> str:
+    """The top-level ``format`` key of a TOML document: "assur/1" (a mechanism, planar or spatial),
+    "assur-gears/1", "assur-wheelstep/1" or "assur-synth/1". A missing key reads as "assur/1" so that the
+    mechanism loader reports what is wrong with the file."""
+    from ..io.mechanism_file import read_toml
+    doc = read_toml(path)
+    fmt = doc.get("format", "assur/1")
+    return fmt if isinstance(fmt, str) else "assur/1"
+
+
 def _ranges(plan, args):
     """--range pairs (file units) → SI, one per input; None when not given."""
     if not getattr(args, "range", None):
@@ -448,6 +458,12 @@ def cmd_animate(args) -> int:
 
 
 def cmd_report(args) -> int:
+    fmt = document_format(args.file)
+    if fmt in ("assur-gears/1", "assur-wheelstep/1"):
+        from ..report.documents import write_document_report
+        path = write_document_report(args.file, args.output, frames=args.frames)
+        print(f"wrote {path}")
+        return 0
     from ..report.html import write_report
     m, plan = _compile(args.file)
     path = write_report(plan, args.output, steps=args.steps, frames=args.frames, ranges=_ranges(plan, args),
@@ -506,6 +522,10 @@ def build_parser() -> argparse.ArgumentParser:
     sp.add_argument("--frames", type=_positive(2), default=36, metavar="N",
                     help="frames of the embedded animation (default 36)")
     add_range(sp)
+    from .synth import register as register_synth
+    from .gears import register as register_gears
+    register_synth(sub)
+    register_gears(sub)   # `assur gears` and `assur wheelstep`
     return p
 
 

@@ -41,16 +41,29 @@ def _known(names) -> str:
     return f"(known: {shown})" if names else "(none defined)"
 
 
-def load(path) -> Mechanism:
-    """Read a mechanism file. Raises SpecError (every problem, with its location)."""
+def read_text(path) -> str:
+    """A document's text; SpecError naming the file if it is missing or unreadable."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise SpecError(f"no such file: {path}") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise SpecError(f"cannot read {path}: {exc}") from None
-    return loads(text, source=str(path))
+
+
+def read_toml(path) -> dict:
+    """Any assur TOML document (mechanism, gears, wheel-step, synthesis problem) as a dict;
+    SpecError with the file and the parser's position if it is not valid TOML."""
+    try:
+        return tomllib.loads(read_text(path))
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError([("", f"not valid TOML: {exc}")], str(path)) from None
+
+
+def load(path) -> Mechanism:
+    """Read a mechanism file. Raises SpecError (every problem, with its location)."""
+    return loads(read_text(path), source=str(path))
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
