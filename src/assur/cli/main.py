@@ -12,13 +12,13 @@ import json
 import math
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import AssurError, SpecError
 from ..analysis.summary import format_number, gait_rows
+from ..io.output import atomic_file as atomic_path
 from ..io.units import ANGLE, LENGTH
 
 PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
@@ -59,31 +59,6 @@ def _output(extensions):
             raise argparse.ArgumentTypeError(f"the output must end with {', '.join(extensions)}: {text!r}")
         return Path(text)
     return parse
-
-
-@contextlib.contextmanager
-def atomic_path(path: Path):
-    """Yield a temporary path next to ``path`` (same suffix); on success it replaces ``path``, on
-    failure it is removed, so a failure never leaves a half-written file."""
-    path = Path(path)
-    if path.is_dir():
-        raise CommandError(f"cannot write {path}: it is a directory")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise CommandError(f"cannot write {path}: the directory {parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=parent)
-    os.close(fd)
-    tmp = Path(tmp)
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(tmp, 0o666 & ~mask)
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
 
 
 def _load(path):

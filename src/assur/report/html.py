@@ -9,12 +9,8 @@ temporary directory next to the output and moved into place, so a failure leaves
 from __future__ import annotations
 
 import base64
-import contextlib
 import html
 import math
-import os
-import shutil
-import tempfile
 from pathlib import Path
 
 from ..analysis.summary import format_number, gait_rows
@@ -258,45 +254,14 @@ def build_report(plan, *, steps: int = 360, frames: int = 36, ranges=None, sourc
             f"<style>{_CSS}</style>\n</head>\n<body>\n" + "\n".join(body) + "\n</body>\n</html>\n")
 
 
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 def write_report(plan, out_dir, *, steps: int = 360, frames: int = 36, ranges=None, source: str | None = None) -> Path:
-    """Write ``out_dir/index.html``. The page is built in a temporary directory next to
-    ``out_dir`` and moved into place; on failure nothing is left behind. Returns the page's path."""
-    out_dir = Path(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise NotADirectoryError(20, "not a directory", str(out_dir))
-    parent = out_dir.parent if str(out_dir.parent) else Path(".")
-    created = []
-    for p in reversed([parent, *parent.parents]):
-        if not p.exists():
-            created.append(p)
-    for p in created:
-        p.mkdir()
-    tmp = None
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", suffix=".tmp", dir=parent))
-        os.chmod(tmp, 0o777 & ~_umask())
+    """Write ``out_dir/index.html`` atomically (``io.output.atomic_directory``): on failure nothing is
+    left behind. Returns the page's path."""
+    from ..io.output import atomic_directory
+    with atomic_directory(out_dir) as tmp:
         page = build_report(plan, steps=steps, frames=frames, ranges=ranges, source=source)
         (tmp / "index.html").write_text(page, encoding="utf-8")
-        if out_dir.is_dir():
-            os.replace(tmp / "index.html", out_dir / "index.html")
-            tmp.rmdir()
-        else:
-            os.rename(tmp, out_dir)
-        tmp = None
-    except BaseException:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
-        for p in reversed(created):
-            with contextlib.suppress(OSError):
-                p.rmdir()
-        raise
-    return out_dir / "index.html"
+    return Path(out_dir) / "index.html"
 
 
 __all__ = ["build_report", "write_report"]
