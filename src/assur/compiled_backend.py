@@ -152,6 +152,42 @@ def kernel(pk: _Packer, with_bodies: bool, order: int = 2):
     return k
 
 
+def _load_source(pk: _Packer, key: str, make_source):
+    k = pk.__dict__.get(key)
+    if k is None:
+        src = make_source()
+        try:
+            k = pk.K.load_kernel(src, cache_dir())
+        except OSError:
+            import tempfile
+            from pathlib import Path
+            k = pk.K.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
+        pk.__dict__[key] = k
+    return k
+
+
+def path_objective(plan: SolvePlan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray,
+                   point: str, cycle_inputs: np.ndarray | None, tol: float):
+    """Fused reduction of a path-synthesis objective; None if the plan is not covered.
+
+    params (D, n_params); target_inputs (D or 1, N) input angles at the targets; target_xy (N, 2);
+    cycle_inputs (M,) or None. Returns (D, 4): Σ squared distance, Σ distance (over the assembled
+    targets), the number of targets and of cycle samples that cannot be assembled.
+    """
+    pk = packer(plan)
+    if pk is None:
+        return None
+    idx = pk.pidx[point]
+    kern = _load_source(pk, f"_objective_{idx}", lambda: pk.K.generate_objective_source(pk.ops, idx))
+    designs = np.ascontiguousarray(params, dtype=float)
+    G = _constants(pk, designs)
+    q = np.ascontiguousarray(target_inputs, dtype=float)
+    cyc = np.zeros(0) if cycle_inputs is None else np.ascontiguousarray(cycle_inputs, dtype=float)
+    out = np.empty((designs.shape[0], 4))
+    kern(G, np.cos(q), np.sin(q), np.ascontiguousarray(target_xy, dtype=float), np.cos(cyc), np.sin(cyc), tol, out)
+    return out
+
+
 def _constants(pk: _Packer, designs: np.ndarray) -> np.ndarray:
     """The kernel's per-design constants G (n_designs, n_slots, 2); the last small set is memoised
     (repeated solves of one design skip this work)."""

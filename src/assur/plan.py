@@ -54,6 +54,14 @@ class SolvePlan:
     #: sketch assembles, else as drawn: the Newton solver's seed
     sketch_poses: tuple = field(repr=False, default=())
 
+    def __getstate__(self):
+        """Pickle the description only: caches that backends keep on the plan (``_``-prefixed:
+        op tables, loaded kernels) are rebuilt where the plan is used (e.g. a worker process)."""
+        return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+
     @property
     def n_params(self) -> int:
         return len(self.param_names)

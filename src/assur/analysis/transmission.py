@@ -36,7 +36,8 @@ def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
     P = lambda name: z[..., idx[name]]  # noqa: E731
     params = plan.defaults if params is None else np.asarray(params, dtype=float)
     _, lines = geometry(plan, params)
-    theta = state.body_angle
+    theta = None if all(st.kind not in ("RRP", "RPR", "PRP", "PPR") for st in plan.steps) \
+        else state.body_angle      # body angles only where a slide's direction is needed
     out = {}
     for st in plan.steps:
         if st.kind == "RRR":

@@ -1,6 +1,106 @@
-"""CLI commands of this area (being built): registered into the main parser by `register(sub)`."""
+"""``assur synth PROBLEM.toml``: dimensional synthesis from a problem file (``format = "assur-synth/1"``).
+
+Prints the objective reached, the evaluations, the wall time and the best design's variables and
+metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
+object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best design found.
+"""
 from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
 
 
 def register(sub) -> None:
-    """Add this module's sub-commands to the argparse sub-parsers `sub`."""
+    """Add ``synth`` to the argparse sub-parsers ``sub``."""
+    from .main import _positive, _positive_float
+    sp = sub.add_parser("synth", help="dimensional synthesis: optimise a mechanism's dimensions for a problem file",
+                        description="Minimise a synthesis problem (format assur-synth/1): differential evolution, "
+                                    "CMA-ES or a local polish, with multi-start, on this process, local workers or "
+                                    "a Dask cluster.")
+    sp.add_argument("file", metavar="PROBLEM", help="synthesis problem file (.toml)")
+    sp.add_argument("-o", "--output", type=Path, metavar="BEST", help="write the best design as a mechanism file")
+    sp.add_argument("--method", choices=("de", "cmaes", "local"), default="de", help="global method (default de)")
+    sp.add_argument("--polish", choices=("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none"), default="auto",
+                    help="local refinement of each start's best (default auto)")
+    sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
+    sp.add_argument("--budget", type=_positive(1), default=None, metavar="N", help="objective evaluations in all")
+    sp.add_argument("--time", type=_positive_float, default=None, metavar="T", help="wall-time limit in seconds")
+    sp.add_argument("--starts", type=_positive(1), default=1, metavar="K", help="independent starts (default 1)")
+    sp.add_argument("--popsize", type=_positive(2), default=15, metavar="P",
+                    help="population per variable (default 15)")
+    sp.add_argument("--maxiter", type=_positive(1), default=1000, metavar="G", help="generations per start")
+    grp = sp.add_mutually_exclusive_group()
+    grp.add_argument("--workers", type=_positive(1), default=None, metavar="N", help="local worker processes")
+    grp.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
+    sp.add_argument("--json", action="store_true", help="print one JSON object")
+    sp.add_argument("--quiet", action="store_true", help="no progress bar")
+    sp.set_defaults(func=cmd_synth)
+
+
+def _fmt(v) -> str:
+    from ..analysis.summary import format_number
+    return "—" if v is None else format_number(v)
+
+
+def cmd_synth(args) -> int:
+    from ..io.mechanism_file import dumps
+    from ..io.output import atomic_file, check_writable
+    from ..synthesis import load_problem, make_executor, synthesize
+    from .main import json_ready
+    problem = load_problem(args.file)
+    if args.output is not None:
+        check_writable(args.output)   # fail on an unusable output before the run, not after it
+    progress = not args.quiet and not args.json and sys.stderr.isatty()
+    executor = make_executor(args.workers, args.dask)
+    try:
+        result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=args.time,
+                            starts=args.starts, polish=args.polish, popsize=args.popsize, maxiter=args.maxiter,
+                            executor=executor, progress=progress)
+    finally:
+        executor.close()
+    written = None
+    if args.output is not None:
+        text = dumps(result.mechanism())
+        with atomic_file(args.output) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        written = str(args.output)
+    if args.json:
+        d = result.as_dict()
+        d["written"] = written
+        print(json.dumps(json_ready(d), ensure_ascii=False, indent=2, allow_nan=False))
+        return 0 if result.feasible else 3
+    u = problem.length_unit
+    unit = {"distance": f" {u}", "squared": f" {u}²"}.get(problem.deviation, "")
+    print(f"{problem.name or Path(args.file).stem}  [{args.file}]")
+    if result.feasible:
+        print(f"objective: {result.objective:.10g}{unit} ({problem.deviation} deviation"
+              f"{' + terms' if problem.terms else ''})")
+    else:
+        print(f"no feasible design found: least total violation {result.violation:.6g}")
+    print(f"constraints: {', '.join(problem.constraints)}")
+    print(f"evaluations: {result.evaluations}  wall time: {result.seconds:.2f} s  stopped: {result.stopped}  "
+          f"({args.method}, {len(result.starts)} start(s), seed {args.seed}, {result.executor})")
+    print("best design:")
+    width = max(len(n) for n in problem.names)
+    for name, v, var in zip(problem.names, result.x_file, problem.variables):
+        vu = u if var.kind == "length" else problem.angle_unit if var.kind == "angle" else ""
+        print(f"  {name:<{width}} = {_fmt(float(v))} {vu}".rstrip())
+    q = result.details["quantities"]
+    if "distances" in q:
+        print("target distances: " + ", ".join(_fmt(d) for d in q["distances"]) + f" {u}")
+    for k in sorted(q):
+        if k not in ("distances", "offsets", "deviation") and not isinstance(q[k], list):
+            print(f"  {k}: {_fmt(q[k])}")
+    bad = {k: v for k, v in result.details["violations"].items() if v}
+    if bad:
+        print("violated: " + ", ".join(f"{k} {v:.4g}" for k, v in bad.items()))
+    g = result.gait()
+    if g is not None:
+        s = problem.length_scale
+        print(f"gait (exact): step {_fmt(g.step_length * s)} {u}, lift {_fmt(g.lift * s)} {u}, "
+              f"sag {_fmt(g.sag * s)} {u}, duty {_fmt(g.duty_factor)}, support speed "
+              f"{_fmt(g.support_speed.min * s)}…{_fmt(g.support_speed.max * s)} {u}/s")
+    if written:
+        print(f"wrote {written}")
+    return 0 if result.feasible else 3

@@ -26,15 +26,23 @@ def _umask() -> int:
     return mask
 
 
-@contextlib.contextmanager
-def atomic_file(path):
-    """Yield a temporary path next to ``path`` (same suffix); on success it replaces ``path``."""
+def check_writable(path) -> Path:
+    """OutputError unless ``path`` can become a file (not a directory; its directory exists).
+    Returns the directory."""
     path = Path(path)
     if path.is_dir():
         raise OutputError(f"cannot write {path}: it is a directory")
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise OutputError(f"cannot write {path}: the directory {parent} does not exist")
+    return parent
+
+
+@contextlib.contextmanager
+def atomic_file(path):
+    """Yield a temporary path next to ``path`` (same suffix); on success it replaces ``path``."""
+    path = Path(path)
+    parent = check_writable(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=parent)
     os.close(fd)
     tmp = Path(tmp)
@@ -84,4 +92,4 @@ def atomic_directory(out_dir):
         raise
 
 
-__all__ = ["OutputError", "atomic_directory", "atomic_file"]
+__all__ = ["OutputError", "atomic_directory", "atomic_file", "check_writable"]

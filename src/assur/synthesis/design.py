@@ -1,0 +1,58 @@
+"""A design as a mechanism: the template with a parameter vector written into it.
+
+``mechanism_with_params(plan, params)`` returns a new frozen ``Mechanism`` whose parameters are
+``params`` (SI, ``plan.param_names`` order): frame points moved, link lengths and point placements
+written explicitly, slide lines and crank zeros set, and the moving points' sketch coordinates
+replaced by the design assembled at the sketch input on the plan's branch — so the written file
+compiles back to the same parameters and the same assembly branch.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..model.mechanism import FRAME, Placement
+
+
+def mechanism_with_params(plan, params, *, name: str | None = None, description: str | None = None):
+    """params: (n_params,) SI → Mechanism (the template's structure, this design's dimensions)."""
+    from ..solve import solve
+    m = plan.mechanism
+    params = np.asarray(params, dtype=float)
+    if params.shape != (plan.n_params,):
+        raise ValueError(f"params must have shape ({plan.n_params},): {params.shape}")
+    value = {n: float(v) for n, v in zip(plan.param_names, params)}
+    st = solve(plan, params, plan.sketch_inputs[None, :], order=0, backend="numpy")
+    assembled = bool(np.all(st.valid))
+    pos = st.pos.reshape(-1, plan.n_points, st.pos.shape[-1])[0]
+    frame_points = set(m.frame.points)
+    points = []
+    for i, (p, xy) in enumerate(m.points):
+        if p in frame_points and f"{p}.x" in value:
+            xy = (value[f"{p}.x"], value[f"{p}.y"])
+        elif assembled and p in plan.point_names:
+            xy = tuple(float(c) for c in pos[plan.point_index(p)])
+        points.append((p, tuple(xy)))
+    links = []
+    for lk in m.links:
+        if lk.name == FRAME or len(lk.points) < 2 or f"{lk.name}.length" not in value:
+            links.append(lk)
+            continue
+        place = []
+        for p in lk.points[2:]:
+            old = lk.placement(p)
+            origin, toward = (old.origin, old.toward) if old is not None else (lk.points[0], lk.points[1])
+            place.append((p, Placement(origin, toward, value[f"{lk.name}.{p}.distance"],
+                                       value[f"{lk.name}.{p}.angle"])))
+        links.append(dataclasses.replace(lk, length=value[f"{lk.name}.length"], place=tuple(place)))
+    prismatic = tuple(dataclasses.replace(pr, angle=value.get(f"{pr.name}.angle", pr.angle),
+                                          offset=value.get(f"{pr.name}.offset", pr.offset)) for pr in m.prismatic)
+    drivers = tuple(dataclasses.replace(d, zero=value[f"{d.name}.zero"]) if d.kind == "rotary"
+                    and f"{d.name}.zero" in value else d for d in m.drivers)
+    return dataclasses.replace(m, points=tuple(points), links=tuple(links), prismatic=prismatic, drivers=drivers,
+                               name=m.name if name is None else name,
+                               description=m.description if description is None else description)
+
+
+__all__ = ["mechanism_with_params"]

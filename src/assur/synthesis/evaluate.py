@@ -1,0 +1,338 @@
+"""Vectorised evaluation of a synthesis problem over a population: ``(n, n_vars) → (n,)``.
+
+``Evaluator(problem)(X)`` maps every design vector (SI) to the mechanism's parameters, solves the
+target positions (and, where the problem needs it, the whole input cycle) with the batched engine,
+and returns an :class:`Evaluation`: the objective ``f`` in the problem file's units (NaN for an
+infeasible design: an infeasible design never gets an objective value), the total constraint
+violation ``V`` (0 exactly when feasible) and its parts, and the scalar ``F`` an optimiser minimises
+(``f`` when feasible, ``infeasible_offset + violation_weight·V`` otherwise, which orders designs by
+Deb's feasibility rules). No Python loop over designs; the population is processed in chunks so
+memory stays bounded; nothing is mutated.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import fourbar as fb
+from ..tolerances import DEFAULT
+from .problem import Problem
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass
+class Evaluation:
+    """Per-design results, each (n,) unless noted."""
+    objective: np.ndarray            # f in file units; NaN where infeasible
+    violation: np.ndarray            # V ≥ 0
+    feasible: np.ndarray             # bool
+    penalised: np.ndarray            # F (the optimiser's scalar)
+    violations: dict = field(default_factory=dict)   # constraint name → (n,)
+    quantities: dict = field(default_factory=dict)   # quantity → (n,) (file units); 'distances' → (n, N)
+
+    def __len__(self) -> int:
+        return len(self.objective)
+
+    @staticmethod
+    def concatenate(parts: list["Evaluation"]) -> "Evaluation":
+        if len(parts) == 1:
+            return parts[0]
+        cat = lambda key: np.concatenate([getattr(p, key) for p in parts])  # noqa: E731
+        keys_v = parts[0].violations.keys()
+        keys_q = parts[0].quantities.keys()
+        return Evaluation(cat("objective"), cat("violation"), cat("feasible"), cat("penalised"),
+                          {k: np.concatenate([p.violations[k] for p in parts]) for k in keys_v},
+                          {k: np.concatenate([p.quantities[k] for p in parts]) for k in keys_q})
+
+    def row(self, i: int) -> dict:
+        """One design's results as plain Python values."""
+        def py(v):
+            v = v[i]
+            return v.tolist() if isinstance(v, np.ndarray) else (bool(v) if isinstance(v, np.bool_) else float(v))
+        return {"objective": None if not self.feasible[i] else float(self.objective[i]),
+                "feasible": bool(self.feasible[i]), "violation": float(self.violation[i]),
+                "violations": {k: py(v) for k, v in self.violations.items()},
+                "quantities": {k: py(v) for k, v in self.quantities.items()}}
+
+
+def default_backend() -> str:
+    """The engine backend every evaluation uses, fixed once so results never depend on chunking."""
+    from ..compiled_backend import available
+    return "numba" if available() else "numpy"
+
+
+class Evaluator:
+    """Pure vectorised objective of a :class:`Problem`. Picklable (for worker processes)."""
+
+    def __init__(self, problem: Problem, *, chunk: int = 512, backend: str | None = None):
+        self.problem = problem
+        self.chunk = int(chunk)
+        self.backend = backend or default_backend()
+        p = problem
+        self._periodic = np.array([v.periodic for v in p.variables], dtype=bool)
+        self._index = {v.name: i for i, v in enumerate(p.variables)}
+        self._param_index = [(p.plan.param_index(name), name, e) for name, e in p.parameters]
+        quantities = {t.quantity for t in p.terms} | {lim.quantity for lim in p.limits}
+        self._order = 2 if "acceleration" in quantities else 0
+        self._cycle_order = 1 if any(q.startswith("gait.speed") for q in quantities) else 0
+        self._quantities = quantities
+        from ..compiled_backend import packer
+        t = p.targets
+        self._fusable = (self.backend == "numba" and t is not None and t.timing != "path"
+                         and quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
+                         and packer(p.plan) is not None)
+
+    def __reduce__(self):
+        return (Evaluator, (self.problem,), {"chunk": self.chunk, "backend": self.backend})
+
+    def __setstate__(self, state):
+        self.chunk, self.backend = state["chunk"], state["backend"]
+
+    # -- public --------------------------------------------------------------------------------------
+    def __call__(self, X, detail: bool = False) -> Evaluation:
+        """X: (n, n_vars) design vectors in SI (angles in rad) → Evaluation. ``detail`` adds the
+        per-target ``distances``/``offsets`` (the general route; without it the fused compiled
+        reduction is used where it applies, which gives the same f and V to round-off)."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        if X.shape[-1] != self.problem.n_vars:
+            raise ValueError(f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")
+        parts = [self._chunk(X[i:i + self.chunk], detail) for i in range(0, len(X), self.chunk)] or [self._chunk(X, detail)]
+        return Evaluation.concatenate(parts)
+
+    def wrap(self, X) -> np.ndarray:
+        """Periodic angles wrapped into [0, 2π)."""
+        X = np.array(X, dtype=float, copy=True)
+        X[..., self._periodic] = np.mod(X[..., self._periodic], TWO_PI)
+        return X
+
+    def params(self, X) -> np.ndarray:
+        """Mechanism parameters (n, n_params) of design vectors X (n, n_vars), SI."""
+        X = self.wrap(np.atleast_2d(X))
+        plan = self.problem.plan
+        p = np.tile(plan.defaults, (len(X), 1))
+        env = {name: p[:, i] for i, name in enumerate(plan.param_names)}
+        env.update({v.name: X[:, j] for j, v in enumerate(self.problem.variables)})
+        with np.errstate(all="ignore"):
+            for idx, name, e in self._param_index:
+                value = np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),))
+                p[:, idx] = value
+                if name not in self._index:
+                    env[name] = p[:, idx]
+        return p
+
+    def target_inputs(self, X) -> np.ndarray:
+        """(n, N) input values at the targets (rad or m)."""
+        t = self.problem.targets
+        X = self.wrap(np.atleast_2d(X))
+        if t.timing == "prescribed":
+            return np.broadcast_to(t.inputs, (len(X), t.n))
+        if t.timing == "free":
+            return X[:, [self._index[n] for n in t.input_variables]]
+        return X[:, [self._index[t.start]]] + t.step * np.arange(t.n)
+
+    # -- one chunk -----------------------------------------------------------------------------------
+    def _fused(self, X, params):
+        """The compiled reduction (D, 4) of ``compiled_backend.path_objective`` where it covers the
+        problem (timed targets, deviation and buildability only), else None."""
+        if not self._fusable:
+            return None
+        from ..compiled_backend import path_objective
+        prob = self.problem
+        cycle = np.linspace(0.0, TWO_PI, prob.cycle_samples, endpoint=False) if prob.needs_cycle() else None
+        q = self.target_inputs(X)
+        q = q[:1] if prob.targets.timing == "prescribed" else q
+        return path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
+                              DEFAULT.radicand)
+
+    def _chunk(self, X, detail: bool = False) -> Evaluation:
+        from ..solve import solve
+        prob, plan = self.problem, self.problem.plan
+        n = len(X)
+        Xw = self.wrap(X)
+        lo, hi = prob.bounds.T
+        out_of_box = np.where(self._periodic, 0.0, np.maximum(0.0, lo - Xw) + np.maximum(0.0, Xw - hi)).sum(axis=1)
+        params = self.params(X)
+        finite = np.all(np.isfinite(params), axis=1)
+        params = np.where(finite[:, None], params, plan.defaults)   # NaN parameters: infeasible, not solved
+        V = {"bounds": out_of_box, "parameters": np.where(finite, 0.0, 1.0)}
+        Q: dict[str, np.ndarray] = {}
+        ls = prob.length_scale
+        f = np.zeros(n)
+        t = prob.targets
+        fused = None if detail else self._fused(X, params)
+        if fused is not None:
+            V["assembly"] = fused[:, 2] / t.n
+            Q["deviation"] = fused[:, 0 if prob.deviation == "squared" else 1] * (ls * ls if prob.deviation == "squared" else ls)
+            if prob.deviation != "none":
+                f = f + prob.deviation_weight * Q["deviation"]
+            if prob.needs_cycle():
+                Q["unbuildable"] = fused[:, 3] / prob.cycle_samples
+                V["buildable"] = Q["unbuildable"]
+        elif t is not None and t.timing != "path":
+            q = self.target_inputs(X)
+            st = solve(plan, params[:, None, :], q[..., None], order=self._order, backend=self.backend)
+            pt = st.pos[:, :, plan.point_index(t.point), :]                        # (n, N, 2)
+            valid = st.valid & finite[:, None]
+            V["assembly"] = np.count_nonzero(~valid, axis=1) / t.n
+            Q["offsets"] = (pt - t.xy) * ls                                        # (n, N, 2)
+            Q["distances"] = np.linalg.norm(Q["offsets"], axis=-1)                 # (n, N)
+            if self._order == 2:
+                Q["acceleration"] = np.sum((st.d2pos_dq2[:, :, plan.point_index(t.point), 0, 0, 0] * ls) ** 2, axis=1)
+        if prob.needs_cycle() and fused is None:
+            self._cycle(params, finite, V, Q)
+        if t is not None and t.timing == "path":
+            Q["distances"] = Q.pop("_path_distances")
+        if "distances" in Q:
+            d = Q["distances"]
+            Q["deviation"] = (d * d).sum(axis=1) if prob.deviation == "squared" else d.sum(axis=1)
+            if prob.deviation != "none":
+                f = f + prob.deviation_weight * Q["deviation"]
+        if prob.fourbar:
+            self._fourbar(X, params, V)
+        for c in ("cyclic_order", "cyclic_order_any", "ascending"):
+            if c in prob.constraints:
+                V[c] = getattr(fb, c)(self.target_inputs(X))
+        env = None
+        for term in prob.terms:
+            v, env = self._quantity(term.quantity, term.expression, X, params, Q, env)
+            f = f + term.weight * (v if term.target is None else np.abs(v - term.target))
+        for i, lim in enumerate(prob.limits):
+            v, env = self._quantity(lim.quantity, lim.expression, X, params, Q, env)
+            viol = np.zeros(n)
+            if lim.low is not None:
+                viol = viol + np.maximum(0.0, lim.low - v)
+            if lim.high is not None:
+                viol = viol + np.maximum(0.0, v - lim.high)
+            V[f"limit[{i}] {lim.quantity}"] = np.where(np.isfinite(v), viol, 1.0)
+        total = sum(V.values())
+        bad_f = ~np.isfinite(f)
+        total = np.where(bad_f & (total == 0), 1.0, total)        # an objective that cannot be computed
+        feasible = total == 0
+        objective = np.where(feasible, f, np.nan)
+        penalised = np.where(feasible, f, prob.infeasible_offset + prob.violation_weight * total)
+        return Evaluation(objective, total, feasible, penalised, V, Q)
+
+    def _cycle(self, params, finite, V, Q):
+        """Whole-cycle samples: buildability, gait quantities, transmission, path distances."""
+        from ..solve import solve
+        prob, plan = self.problem, self.problem.plan
+        M = prob.cycle_samples
+        q = np.linspace(0.0, TWO_PI, M, endpoint=False)
+        st = solve(plan, params[:, None, :], q[:, None], order=self._cycle_order, backend=self.backend)
+        valid = st.valid & finite[:, None]
+        share = np.count_nonzero(~valid, axis=1) / M
+        Q["unbuildable"] = share
+        if "buildable" in prob.constraints:
+            V["buildable"] = share
+        ls = prob.length_scale
+        if prob.targets is not None and prob.targets.timing == "path":
+            path = st.pos[:, :, plan.point_index(prob.targets.point), :]        # (n, M, 2)
+            Q["_path_distances"] = _polyline_distance(path, prob.targets.xy) * ls
+        if any(k.startswith("gait.") for k in self._quantities):
+            Q.update(_sampled_gait(plan, st, ls))
+        if "transmission.min" in self._quantities:
+            from ..analysis.transmission import transmission_angles
+            from ..io.units import ANGLE
+            angles = transmission_angles(plan, st, params[:, None, :])
+            if angles:
+                stack = np.stack([np.broadcast_to(a, valid.shape) for a in angles.values()], axis=0)
+                acute = np.minimum(stack, np.pi - stack)          # RRR's μ ∈ [0, π] folded: worst side
+                with np.errstate(all="ignore"):
+                    worst = np.nanmin(np.where(valid, acute, np.inf), axis=(0, 2))
+                Q["transmission.min"] = np.where(np.isfinite(worst), worst, np.nan) / ANGLE[prob.angle_unit]
+            else:
+                Q["transmission.min"] = np.full(len(params), np.nan)
+
+    def _fourbar(self, X, params, V):
+        prob = self.problem
+        env = self._env(X, params)
+        with np.errstate(all="ignore"):
+            L = np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),)) for _, e in prob.fourbar], axis=1)
+        L = np.where(np.isfinite(L), L, 0.0)
+        safe = np.where(L > 0, L, 1e-300)
+        for c, measure in (("grashof", fb.grashof), ("nondegenerate", fb.nondegenerate),
+                           ("r2_shortest", fb.crank_shortest), ("cidetec_order", fb.cidetec_order)):
+            if c in prob.constraints:
+                V[c] = measure(L)
+        t = prob.targets
+        if t is not None and t.timing != "path":
+            theta = self.target_inputs(X)
+            with np.errstate(all="ignore"):
+                V["assembly"] = V.get("assembly", 0.0) + fb.assembly(safe, theta)
+            if "continuous_motion" in prob.constraints:
+                if t.timing == "free":
+                    start, width = theta[:, 0], fb.gaps(theta).sum(axis=1)
+                elif t.timing == "uniform":
+                    start = theta[:, 0]
+                    width = np.full(len(X), abs(t.step) * (t.n if abs(t.step) * t.n >= TWO_PI - 1e-12 else t.n - 1))
+                    if t.step < 0:
+                        start = theta[:, -1]
+                else:
+                    start, width = theta.min(axis=1), np.ptp(theta, axis=1)
+                with np.errstate(all="ignore"):
+                    V["continuous_motion"] = fb.continuous_motion(safe, start, width)
+
+    def _env(self, X, params):
+        plan = self.problem.plan
+        env = {name: params[:, i] for i, name in enumerate(plan.param_names)}
+        Xw = self.wrap(X)
+        env.update({v.name: Xw[:, j] for j, v in enumerate(self.problem.variables)})
+        return env
+
+    def _quantity(self, name, expression, X, params, Q, env):
+        if expression is not None:
+            env = env or self._env(X, params)
+            with np.errstate(all="ignore"):
+                return np.broadcast_to(np.asarray(expression(env), dtype=float), (len(X),)), env
+        return Q[name], env
+
+
+def _polyline_distance(path, targets):
+    """Distance of each target (N, 2) to the closed polyline path (n, M, 2) → (n, N)."""
+    a = path[:, :, None, :]
+    b = np.roll(path, -1, axis=1)[:, :, None, :]
+    p = targets[None, None, :, :]
+    ab = b - a
+    t = np.clip(np.sum((p - a) * ab, axis=-1) / np.maximum(np.sum(ab * ab, axis=-1), 1e-300), 0.0, 1.0)
+    d = np.linalg.norm(a + t[..., None] * ab - p, axis=-1)      # (n, M, N)
+    return d.min(axis=1)
+
+
+def _sampled_gait(plan, st, ls):
+    """Gait quantities of every design from the cycle samples (see ``analysis.gait`` for the exact,
+    per-design definitions these sample): the contact arc is the arc between the horizontal extremes
+    with the lower mean height."""
+    from ..analysis.gait import _resolve
+    foot, ground, up = _resolve(plan, None, None, None)
+    g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
+    P = st.pos[:, :, plan.point_index(foot), :]
+    x, v = P @ g * ls, P @ u * ls
+    n, M = x.shape
+    with np.errstate(all="ignore"):
+        ia, ib = np.nanargmin(np.where(np.isfinite(x), x, np.inf), axis=1), np.nanargmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
+    k = np.arange(M)
+    arc1 = np.mod(k[None, :] - ia[:, None], M) <= np.mod(ib - ia, M)[:, None]
+    arc2 = np.mod(k[None, :] - ib[:, None], M) <= np.mod(ia - ib, M)[:, None]
+    with np.errstate(all="ignore"):
+        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
+        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
+    contact = np.where((m1 <= m2)[:, None], arc1, arc2)
+    out = {"gait.step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
+           "gait.lift": np.nanmax(v, axis=1) - np.nanmin(v, axis=1) if np.isfinite(v).any() else np.full(n, np.nan),
+           "gait.sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
+           "gait.duty": np.count_nonzero(contact, axis=1) / M}
+    if st.dpos_dq is not None:
+        w = abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0
+        speed = np.linalg.norm(st.dpos_dq[:, :, plan.point_index(foot), :, 0], axis=-1) * w * ls
+        smax = np.where(contact, speed, -np.inf).max(axis=1)
+        smin = np.where(contact, speed, np.inf).min(axis=1)
+        smean = np.where(contact, speed, 0).sum(axis=1) / np.count_nonzero(contact, axis=1)
+        out["gait.speed_mean"] = smean
+        out["gait.speed_spread"] = (smax - smin) / smean
+    bad = ~np.all(st.valid, axis=1)
+    return {k: np.where(bad, np.nan, val) for k, val in out.items()}
+
+
+__all__ = ["Evaluation", "Evaluator", "default_backend"]

@@ -1,0 +1,366 @@
+"""Optimisers for synthesis problems: thin adapters over scipy's differential evolution, CMA-ES
+(``cma``) and a local polish (least squares, Nelder–Mead or L-BFGS-B), with multi-start, a seed,
+a progress bar, a budget of evaluations or of time, and Ctrl-C — none of which loses the best
+design found so far: every evaluated population passes through one :class:`Tracker` that keeps it.
+
+    result = synthesize(problem, method="de", seed=1, budget=200_000, starts=4)
+    result.objective, result.x_file, result.mechanism()
+
+Designs are compared by Deb's feasibility rules (feasible beats infeasible; two infeasible by total
+violation; two feasible by objective), which is exactly the order of the penalised scalar F.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SynthesisError
+from .evaluate import Evaluation, Evaluator
+from .executors import InProcess
+from .problem import Problem
+
+METHODS = ("de", "cmaes", "local")
+POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
+
+
+class _Stop(Exception):
+    def __init__(self, reason):
+        self.reason = reason
+
+
+@dataclass
+class StartResult:
+    """The outcome of one start (picklable, returned by worker processes)."""
+    seed: int
+    x: np.ndarray
+    penalised: float
+    evaluations: int
+    seconds: float
+    stopped: str
+    history: list
+
+
+class Tracker:
+    """Evaluates populations through an executor, counts them, keeps the best design, records the
+    convergence history and stops the run on a budget, a deadline or Ctrl-C."""
+
+    def __init__(self, evaluator: Evaluator, executor=None, *, budget=None, deadline=None, progress=None,
+                 evaluations: int = 0):
+        self.evaluator, self.executor = evaluator, executor or InProcess()
+        self.budget, self.deadline, self.progress = budget, deadline, progress
+        self.evaluations = evaluations
+        self.best_x, self.best_F = None, math.inf
+        self.history: list[tuple[int, float, float]] = []
+        self.t0 = time.monotonic()
+
+    def __call__(self, X, detail: bool = False) -> Evaluation:
+        if self.budget is not None and self.evaluations >= self.budget:
+            raise _Stop("budget")
+        if self.deadline is not None and time.monotonic() >= self.deadline:
+            raise _Stop("time")
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        ev = self.executor.evaluate(self.evaluator, X, detail)
+        self.evaluations += len(X)
+        i = int(np.argmin(ev.penalised))
+        if ev.penalised[i] < self.best_F:
+            self.best_F, self.best_x = float(ev.penalised[i]), self.evaluator.wrap(X[i])
+        self.history.append((self.evaluations, time.monotonic() - self.t0, self.best_F))
+        if self.progress is not None:
+            self.progress(self.evaluations, self.best_F)
+        return ev
+
+    def F(self, X) -> np.ndarray:
+        return self(X).penalised
+
+
+@dataclass
+class SynthesisResult:
+    """The best design of a run, its re-check and the run's record."""
+    problem: Problem
+    x: np.ndarray                      # (n_vars,) SI, periodic angles wrapped
+    objective: float | None            # f in file units; None if no feasible design was found
+    feasible: bool
+    violation: float
+    details: dict                      # Evaluation.row of the best design
+    evaluations: int
+    seconds: float
+    stopped: str                       # 'converged' | 'budget' | 'time' | 'interrupted'
+    method: str
+    seed: int | None
+    starts: list = field(default_factory=list)       # per start: seed, F, evaluations, seconds, stopped
+    history: list = field(default_factory=list)      # (evaluations, seconds, best F) over the run
+    executor: str = "in-process"
+
+    @property
+    def x_file(self) -> np.ndarray:
+        return self.problem.to_file(self.x)
+
+    @property
+    def variables(self) -> dict:
+        return {n: float(v) for n, v in zip(self.problem.names, self.x_file)}
+
+    def params(self) -> np.ndarray:
+        return Evaluator(self.problem).params(self.x[None, :])[0]
+
+    def mechanism(self):
+        """The best design as a Mechanism (write it with ``assur.dump``)."""
+        from .design import mechanism_with_params
+        base = self.problem.plan.mechanism
+        note = (f"Synthesised by assur synth from {self.problem.source or 'a problem'}: "
+                f"objective {self.objective!r} ({self.problem.deviation}), method {self.method}, seed {self.seed}, "
+                f"{self.evaluations} evaluations.")
+        return mechanism_with_params(self.problem.plan, self.params(), name=f"{base.name} (synthesised)",
+                                     description=(base.description.rstrip() + "\n\n" + note).lstrip())
+
+    def gait(self):
+        """Exact gait metrics of the best design (None if the template has no [gait] or it cannot walk)."""
+        from ..analysis.gait import gait_metrics
+        from ..errors import AssurError
+        if self.problem.plan.mechanism.gait is None:
+            return None
+        try:
+            return gait_metrics(self.problem.plan, self.params())
+        except AssurError:
+            return None
+
+    def as_dict(self) -> dict:
+        g = self.gait()
+        return {"problem": self.problem.name, "source": self.problem.source, "method": self.method,
+                "seed": self.seed, "executor": self.executor, "objective": self.objective,
+                "feasible": self.feasible, "violation": self.violation, "length_unit": self.problem.length_unit,
+                "angle_unit": self.problem.angle_unit, "variables": self.variables,
+                "evaluations": self.evaluations, "seconds": self.seconds, "stopped": self.stopped,
+                "constraints": list(self.problem.constraints), "details": self.details,
+                "gait": None if g is None else g.as_dict(), "starts": self.starts,
+                "history": [list(h) for h in self.history]}
+
+
+# -- one start -----------------------------------------------------------------------------------------
+def _unit_box(problem):
+    lo, hi = problem.bounds.T
+    return lo, hi - lo
+
+
+def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100):
+    from scipy.optimize import differential_evolution
+    D = problem.n_vars
+    bounds = list(map(tuple, problem.bounds))
+    pop = max(5, popsize) * D
+    if tracker.budget is not None:   # leave a fifth of the budget to the polish
+        maxiter = min(maxiter, max(1, int(0.8 * (tracker.budget - tracker.evaluations)) // pop - 1))
+    history = []
+
+    def stalled(intermediate_result):
+        """Stop when the best has improved by less than tol (relative) over the last ``patience`` generations."""
+        history.append(float(intermediate_result.fun))
+        if len(history) <= patience:
+            return False
+        old, new = history[-patience - 1], history[-1]
+        return old - new <= tol * max(abs(old), 1e-300)
+    differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
+                           maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False, init="latinhypercube",
+                           mutation=(0.5, 1.0), recombination=0.9, callback=stalled)
+
+
+def _run_cmaes(tracker, problem, rng, popsize, maxiter, tol):
+    import cma
+    lo, width = _unit_box(problem)
+    D = problem.n_vars
+    x0 = rng.uniform(0.2, 0.8, D)
+    opts = {"bounds": [0.0, 1.0], "seed": int(rng.integers(1, 2**31 - 1)), "verbose": -9, "maxiter": maxiter,
+            "tolfun": tol, "tolx": 1e-13}
+    if popsize:
+        opts["popsize"] = max(4, popsize * D // 3)
+    if tracker.budget is not None:
+        opts["maxfevals"] = int(0.8 * (tracker.budget - tracker.evaluations))
+    es = cma.CMAEvolutionStrategy(x0, 0.3, opts)
+    while not es.stop():
+        U = np.asarray(es.ask())
+        es.tell(list(U), tracker.F(lo + U * width).tolist())
+
+
+def _residuals(tracker, problem):
+    """Least-squares residuals of the squared-deviation objective (n, 2N), barrier if infeasible."""
+    w = math.sqrt(max(problem.deviation_weight, 0.0))
+
+    def res(X):
+        ev = tracker(X, detail=True)
+        r = ev.quantities["offsets"].reshape(len(X), -1) * w
+        bad = ~ev.feasible
+        if bad.any():
+            r[bad] = np.sqrt(ev.penalised[bad, None] / r.shape[1])
+        return r
+    return res
+
+
+def _polish(tracker, problem, x0, kind):
+    """Local refinement from x0 (SI); the tracker keeps whatever is best."""
+    from scipy.optimize import least_squares, minimize
+    if kind == "auto":
+        smooth_ls = (problem.deviation == "squared" and not problem.terms and problem.targets is not None
+                     and problem.targets.timing != "path")
+        kind = "least_squares" if smooth_ls else "nelder-mead"
+    periodic = np.array([v.periodic for v in problem.variables])
+    lo, hi = problem.bounds.T
+    lo = np.where(periodic, -np.inf, lo)
+    hi = np.where(periodic, np.inf, hi)
+    x0 = np.clip(x0, np.where(periodic, -np.inf, lo), np.where(periodic, np.inf, hi))
+    scale = np.where(np.isfinite(hi - lo), hi - lo, 2 * np.pi)
+    if kind == "least_squares":
+        res = _residuals(tracker, problem)
+
+        def jac(x):
+            h = 1e-7 * np.maximum(np.abs(x), scale * 1e-3)
+            X = np.vstack([x + np.diag(h), x - np.diag(h)])
+            R = res(X)
+            D = len(x)
+            return ((R[:D] - R[D:]) / (2 * h[:, None])).T
+        for _ in range(3):
+            out = least_squares(lambda x: res(x[None, :])[0], x0, jac=jac, bounds=(lo, hi), method="trf",
+                                x_scale=scale, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
+            if np.allclose(out.x, x0, rtol=0, atol=1e-15):
+                break
+            x0 = np.clip(out.x, lo, hi)
+    elif kind == "nelder-mead":
+        simplex = np.vstack([x0, x0 + np.diag(0.02 * scale)])
+        minimize(lambda x: tracker.F(x[None, :])[0], x0, method="Nelder-Mead",
+                 options={"initial_simplex": simplex, "xatol": 1e-10, "fatol": 1e-12, "maxfev": 400 * len(x0),
+                          "adaptive": len(x0) > 4})
+    elif kind == "l-bfgs-b":
+        def fg(x):
+            h = 1e-7 * np.maximum(np.abs(x), scale * 1e-3)
+            F = tracker.F(np.vstack([x, x + np.diag(h), x - np.diag(h)]))
+            D = len(x)
+            return F[0], (F[1:D + 1] - F[D + 1:]) / (2 * h)
+        minimize(fg, x0, jac=True, method="L-BFGS-B", bounds=list(zip(lo, hi)),
+                 options={"maxiter": 500, "ftol": 1e-15, "gtol": 1e-12})
+
+
+def run_start(problem, method, seed, budget, time_limit, options, evaluator=None, executor=None, progress=None):
+    """One independent start: a global search then a polish. Returns a StartResult (picklable)."""
+    evaluator = evaluator or Evaluator(problem)
+    deadline = None if time_limit is None else time.monotonic() + time_limit
+    tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress)
+    rng = np.random.default_rng(seed)
+    stopped = "converged"
+    try:
+        if method == "de":
+            _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
+        elif method == "cmaes":
+            _run_cmaes(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
+        elif method == "local":
+            x0 = options.get("x0")
+            if x0 is None:
+                lo, width = _unit_box(problem)
+                x0 = lo + rng.uniform(0.2, 0.8, problem.n_vars) * width
+            tracker(np.asarray(x0, dtype=float)[None, :])
+        if options["polish"] != "none" and tracker.best_x is not None:
+            _polish(tracker, problem, tracker.best_x.copy(), options["polish"])
+    except _Stop as stop:
+        stopped = stop.reason
+    except KeyboardInterrupt:
+        stopped = "interrupted"
+    if tracker.best_x is None:
+        raise SynthesisError(f"no design was evaluated (stopped: {stopped}); raise the budget or the time limit")
+    return StartResult(int(seed), tracker.best_x, tracker.best_F, tracker.evaluations,
+                       time.monotonic() - tracker.t0, stopped, tracker.history)
+
+
+def _progress_bar(total, desc):
+    """A tqdm bar on stderr (evaluations), or None when tqdm is missing."""
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover - installed with the synth extra
+        return None, None
+    bar = tqdm(total=total, desc=desc, unit="eval", file=sys.stderr, dynamic_ncols=True, leave=True)
+    last = [0]
+
+    def update(evaluations, best):
+        bar.update(evaluations - last[0])
+        last[0] = evaluations
+        bar.set_postfix_str(f"best {best:.6g}", refresh=False)
+    return bar, update
+
+
+def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None, budget: int | None = None,
+               time_limit: float | None = None, starts: int = 1, polish: str = "auto", popsize: int = 15,
+               maxiter: int = 1000, tol: float = 1e-12, executor=None, progress: bool = False,
+               x0=None, parallel_starts: bool | None = None) -> SynthesisResult:
+    """Minimise the problem's objective subject to its constraints.
+
+    method: 'de' (scipy differential evolution, vectorised), 'cmaes' (cma), or 'local' (polish only,
+    from ``x0`` in file units or a random point). budget: evaluations over all starts; time_limit:
+    seconds over all starts. starts: independent starts with seeds spawned from ``seed``; with a
+    parallel executor they run as tasks (``parallel_starts``, default when starts > 1), otherwise in
+    turn with the population evaluation on the executor. Ctrl-C, the budget and the time limit end
+    the run early and return the best design so far."""
+    if method not in METHODS:
+        raise SynthesisError(f"method must be one of {', '.join(METHODS)}: {method!r}")
+    if polish not in POLISHES:
+        raise SynthesisError(f"polish must be one of {', '.join(POLISHES)}: {polish!r}")
+    if starts < 1:
+        raise SynthesisError(f"starts must be at least 1: {starts}")
+    for name, v in (("budget", budget), ("time_limit", time_limit)):
+        if v is not None and not v > 0:
+            raise SynthesisError(f"{name} must be positive: {v!r}")
+    executor = executor or InProcess()
+    seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
+    options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish,
+               "x0": None if x0 is None else problem.to_si(x0)}
+    per_budget = None if budget is None else max(1, budget // starts)
+    t0 = time.monotonic()
+    results: list[StartResult] = []
+    stopped = "converged"
+    evaluator = Evaluator(problem)
+    if parallel_starts is None:
+        parallel_starts = starts > 1 and executor.workers > 1
+    bar, update = _progress_bar(budget, problem.name or "synth") if progress else (None, None)
+    try:
+        if parallel_starts:
+            args = [(problem, method, s, per_budget, time_limit, options) for s in seeds]
+            results = list(executor.map_starts(run_start, args))
+        else:
+            done = 0
+            for s in seeds:
+                remaining = None if time_limit is None else time_limit - (time.monotonic() - t0)
+                if remaining is not None and remaining <= 0:
+                    stopped = "time"
+                    break
+                prog = None if update is None else (lambda e, b, base=done: update(base + e, b))
+                r = run_start(problem, method, s, per_budget, remaining, options, evaluator, executor, prog)
+                results.append(r)
+                done += r.evaluations
+                if r.stopped == "interrupted":
+                    stopped = "interrupted"
+                    break
+    except KeyboardInterrupt:
+        stopped = "interrupted"
+    finally:
+        if bar is not None:
+            bar.close()
+    if not results:
+        raise SynthesisError(f"the run stopped ({stopped}) before any design was evaluated")
+    best = min(results, key=lambda r: r.penalised)
+    if stopped == "converged":
+        reasons = {r.stopped for r in results}
+        stopped = next((s for s in ("interrupted", "time", "budget") if s in reasons), "converged")
+    ev = evaluator(best.x[None, :], detail=True)
+    row = ev.row(0)
+    history, offset_e, offset_t = [], 0, 0.0
+    for r in results:
+        history += [(e + offset_e, t + offset_t, F) for e, t, F in r.history]
+        offset_e += r.evaluations
+        offset_t += r.seconds
+    return SynthesisResult(problem=problem, x=best.x, objective=row["objective"], feasible=row["feasible"],
+                           violation=row["violation"], details=row, evaluations=sum(r.evaluations for r in results),
+                           seconds=time.monotonic() - t0, stopped=stopped, method=method, seed=seed,
+                           starts=[{"seed": r.seed, "best_F": r.penalised, "evaluations": r.evaluations,
+                                    "seconds": r.seconds, "stopped": r.stopped} for r in results],
+                           history=history, executor=executor.name)
+
+
+__all__ = ["METHODS", "POLISHES", "StartResult", "SynthesisResult", "Tracker", "run_start", "synthesize"]

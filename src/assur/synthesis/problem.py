@@ -1,0 +1,503 @@
+"""Synthesis problems: a template mechanism, design variables with bounds, targets, objective terms
+and constraints — read from a TOML file (``format = "assur-synth/1"``) or built in Python.
+
+Numbers in a problem file are in the template mechanism file's units (lengths in its length unit,
+angles in its angle unit); inside, everything is SI. Objective values are reported in the file's
+length unit (a sum of distances in mm for a problem in mm, squared distances in mm²).
+
+    format = "assur-synth/1"
+    mechanism = "../walker_crank_slider.toml"      # the template, relative to this file
+    [variables]
+    "rod.A.distance" = [1, 1000]                     # a mechanism parameter with its bounds …
+    theta0 = { bounds = [0, 360], kind = "angle" }   # … or a free variable used by [parameters]
+    [parameters]
+    "O4.x" = "x0 + r1*cos(theta0)"                   # mechanism parameter = expression (SI)
+    [targets]
+    point = "A"
+    xy = [[-150, 130], [-75, 130]]
+    inputs = [90, 135]                               # timing: "prescribed" | "free" | "uniform" | "path"
+    [objective]
+    deviation = "distance"                           # "distance" | "squared" | "none"
+    [[objective.terms]]
+    quantity = "gait.sag"                            # weight·quantity, or weight·|quantity − target|
+    weight = 1.0
+    [constraints]
+    use = ["grashof", "assembly"]
+    fourbar = { ground = "r1", crank = "r2", coupler = "r3", rocker = "r4" }
+    [[constraints.limits]]
+    quantity = "gait.step"                           # or expression = "rod.length - crank.length"
+    min = 300
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import SpecError
+from ..io.units import ANGLE, LENGTH
+from .expressions import Expression, ExpressionError
+
+FORMAT = "assur-synth/1"
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+TIMINGS = ("prescribed", "free", "uniform", "path")
+DEVIATIONS = ("distance", "squared", "none")
+KINDS = ("length", "angle", "number")
+#: quantities a term or a limit may name (besides expressions); units: the file's
+QUANTITIES = {
+    "deviation": "the deviation sum of [objective].deviation",
+    "acceleration": "eq. (6) of paper 000: sum over the targets of (d²x/dq²)² of the target point",
+    "gait.step": "step length (x-range of the contact arc)",
+    "gait.lift": "foot lift (range of the height over the cycle)",
+    "gait.sag": "height range over the contact arc",
+    "gait.duty": "contact share of the cycle",
+    "gait.speed_spread": "(max − min)/mean of the foot speed over the contact arc",
+    "gait.speed_mean": "mean foot speed over the contact arc (length unit per second)",
+    "transmission.min": "smallest transmission angle over the cycle, folded to [0°, 90°] (angle unit)",
+    "unbuildable": "share of the cycle that cannot be assembled",
+}
+CONSTRAINTS = {
+    "assembly": "every target position can be assembled (always active)",
+    "buildable": "the whole input cycle can be assembled (sampled at cycle_samples)",
+    "grashof": "four-bar: s + l ≤ p + q",
+    "continuous_motion": "four-bar: the crank passes the whole interval the targets span",
+    "nondegenerate": "four-bar: every link length > 0",
+    "r2_shortest": "four-bar: the crank is the shortest link",
+    "cyclic_order": "free timing: the targets are passed in order within one counter-clockwise turn",
+    "cyclic_order_any": "free timing: in order within one turn, either direction",
+    "cidetec_order": "four-bar: r1 + r2 ≤ r3 + r4 and r2 ≤ r3 ≤ r4 ≤ r1",
+    "ascending": "free timing: crank angles ascending without wrap-around",
+}
+FOURBAR_CONSTRAINTS = {"grashof", "continuous_motion", "nondegenerate", "r2_shortest", "cidetec_order"}
+FREE_TIMING_CONSTRAINTS = {"cyclic_order", "cyclic_order_any", "ascending"}
+
+
+@dataclass(frozen=True, slots=True)
+class Variable:
+    """A design variable: bounds in SI; ``periodic`` angles are wrapped into [0, 2π) before use."""
+    name: str
+    low: float
+    high: float
+    kind: str = "length"
+    periodic: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Targets:
+    """Target points of one mechanism point. xy: (N, 2) SI. timing 'prescribed': ``inputs`` (N,);
+    'free': ``input_variables`` (N names); 'uniform': ``start`` variable + ``step`` (rad);
+    'path': no timing (distance to the nearest point of the sampled path)."""
+    point: str
+    xy: np.ndarray
+    timing: str
+    inputs: np.ndarray | None = None
+    input_variables: tuple[str, ...] = ()
+    start: str | None = None
+    step: float = 0.0
+
+    @property
+    def n(self) -> int:
+        return len(self.xy)
+
+
+@dataclass(frozen=True, slots=True)
+class Term:
+    """weight·quantity, or weight·|quantity − target| when ``target`` is given."""
+    quantity: str
+    weight: float = 1.0
+    target: float | None = None
+    expression: Expression | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Limit:
+    """min ≤ quantity ≤ max (either may be None); violation in the quantity's unit."""
+    quantity: str
+    low: float | None = None
+    high: float | None = None
+    expression: Expression | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Problem:
+    """A dimensional-synthesis problem (see the module docstring). Picklable."""
+    plan: object                                  # SolvePlan of the template
+    variables: tuple[Variable, ...]
+    parameters: tuple[tuple[str, Expression], ...]
+    targets: Targets | None = None
+    deviation: str = "distance"
+    deviation_weight: float = 1.0
+    terms: tuple[Term, ...] = ()
+    constraints: tuple[str, ...] = ("assembly",)
+    limits: tuple[Limit, ...] = ()
+    fourbar: tuple[tuple[str, Expression], ...] = ()
+    cycle_samples: int = 360
+    infeasible_offset: float = 1e7
+    violation_weight: float = 1e3
+    name: str = ""
+    description: str = ""
+    source: str | None = None
+    mechanism_source: str | None = None
+    length_unit: str = "m"
+    angle_unit: str = "rad"
+    _meta: dict = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def n_vars(self) -> int:
+        return len(self.variables)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(v.name for v in self.variables)
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(n_vars, 2) SI bounds."""
+        return np.array([[v.low, v.high] for v in self.variables], dtype=float)
+
+    @property
+    def length_scale(self) -> float:
+        """Multiply an SI length by this to get the file's length unit."""
+        return 1.0 / LENGTH[self.length_unit]
+
+    def variable_scale(self) -> np.ndarray:
+        """(n_vars,) factor SI → file units for each variable."""
+        return np.array([1.0 / LENGTH[self.length_unit] if v.kind == "length" else
+                         1.0 / ANGLE[self.angle_unit] if v.kind == "angle" else 1.0 for v in self.variables])
+
+    def to_si(self, x_file) -> np.ndarray:
+        """Design vectors in file units (..., n_vars) → SI."""
+        return np.asarray(x_file, dtype=float) / self.variable_scale()
+
+    def to_file(self, x_si) -> np.ndarray:
+        return np.asarray(x_si, dtype=float) * self.variable_scale()
+
+    def needs_cycle(self) -> bool:
+        """Whether an evaluation samples the whole input cycle (buildability, gait, transmission, path)."""
+        q = {t.quantity for t in self.terms} | {lim.quantity for lim in self.limits}
+        return ("buildable" in self.constraints or (self.targets is not None and self.targets.timing == "path")
+                or any(s.startswith(("gait.", "transmission.")) or s == "unbuildable" for s in q))
+
+
+# -- reading ------------------------------------------------------------------------------------------
+_TOP = {"format", "name", "description", "mechanism", "variables", "parameters", "targets", "objective",
+        "constraints", "options"}
+
+
+def _param_kind(name: str) -> str:
+    tail = name.rsplit(".", 1)[-1]
+    return "angle" if tail in ("angle", "zero") else "length"
+
+
+def load_problem(path) -> Problem:
+    """Read a problem file. Raises SpecError listing every problem with its location."""
+    from ..io.mechanism_file import read_toml
+    path = Path(path)
+    return problem_from_dict(read_toml(path), base_dir=path.parent, source=str(path))
+
+
+def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, mechanism=None) -> Problem:
+    """Build a Problem from a parsed document. ``mechanism`` (a Mechanism or a SolvePlan) replaces
+    the document's ``mechanism`` path (the Python route)."""
+    from ..compile import compile as compile_
+    from ..io.mechanism_file import load
+    from ..model.mechanism import Mechanism
+    P: list[tuple[str, str]] = []
+
+    def fail():
+        raise SpecError(P, source)
+
+    for key in data:
+        if key not in _TOP:
+            P.append((key, f"unknown key (allowed: {', '.join(sorted(_TOP))})"))
+    if data.get("format") != FORMAT:
+        P.append(("format", f"must be '{FORMAT}': {data.get('format')!r}"))
+    mech_source = None
+    if mechanism is None:
+        ref = data.get("mechanism")
+        if not isinstance(ref, str) or not ref:
+            P.append(("mechanism", f"must be the path of a mechanism file: {ref!r}"))
+            fail()
+        mech_path = (Path(base_dir) / ref)
+        mech_source = str(mech_path)
+        try:
+            mechanism = load(mech_path)
+        except SpecError as exc:
+            P += [(f"mechanism ({ref})" + (f": {p}" if p else ""), m) for p, m in exc.problems]
+            fail()
+    if isinstance(mechanism, Mechanism):
+        plan = compile_(mechanism)
+    else:
+        plan = mechanism
+        mechanism = plan.mechanism
+    if P:
+        fail()
+    units = mechanism.units
+    L, A = LENGTH[units.length], ANGLE[units.angle]
+    scale = {"length": L, "angle": A, "number": 1.0}
+    params = set(plan.param_names)
+
+    def number(where, v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            P.append((where, f"must be a finite number: {v!r}"))
+            return None
+        return float(v)
+
+    # variables
+    variables = []
+    raw_vars = data.get("variables", {})
+    if not isinstance(raw_vars, dict) or not raw_vars:
+        P.append(("variables", "must be a table of at least one design variable with its bounds"))
+        raw_vars = {}
+    for name, spec in raw_vars.items():
+        where = f"variables.{name}"
+        kind = _param_kind(name) if name in params else "length"
+        periodic = None
+        if isinstance(spec, dict):
+            for k in spec:
+                if k not in ("bounds", "kind", "periodic"):
+                    P.append((f"{where}.{k}", "unknown key (allowed: bounds, kind, periodic)"))
+            kind = spec.get("kind", kind)
+            periodic = spec.get("periodic")
+            spec = spec.get("bounds")
+        if kind not in KINDS:
+            P.append((f"{where}.kind", f"must be one of {', '.join(KINDS)}: {kind!r}"))
+            continue
+        if not (isinstance(spec, list) and len(spec) == 2):
+            P.append((where, f"bounds must be [low, high]: {spec!r}"))
+            continue
+        lo, hi = number(f"{where}[0]", spec[0]), number(f"{where}[1]", spec[1])
+        if lo is None or hi is None:
+            continue
+        if not lo < hi:
+            P.append((where, f"low bound must be below the high bound: [{lo:g}, {hi:g}]"))
+            continue
+        if not _NAME.match(name):
+            P.append((where, f"a variable name must be an identifier or a parameter name: {name!r}"))
+            continue
+        if periodic is None:
+            periodic = kind == "angle"
+        variables.append(Variable(name, lo * scale[kind], hi * scale[kind], kind, bool(periodic)))
+    var_names = {v.name for v in variables}
+    known = var_names | params
+
+    def expression(where, text):
+        try:
+            return Expression(text, known)
+        except ExpressionError as exc:
+            P.append((where, str(exc)))
+            return None
+
+    # parameters: identity for variables that are parameters, then the expressions
+    mapping = [(v.name, Expression(v.name, known)) for v in variables if v.name in params]
+    raw_params = data.get("parameters", {})
+    if not isinstance(raw_params, dict):
+        P.append(("parameters", "must be a table: parameter = \"expression\""))
+        raw_params = {}
+    for name, text in raw_params.items():
+        where = f"parameters.{name}"
+        if name not in params:
+            shown = ", ".join(plan.param_names[:14]) + (", …" if len(plan.param_names) > 14 else "")
+            P.append((where, f"not a parameter of the mechanism (its parameters: {shown})"))
+            continue
+        if name in var_names:
+            P.append((where, "is already a design variable"))
+            continue
+        if not isinstance(text, (str, int, float)) or isinstance(text, bool):
+            P.append((where, f"must be an expression string or a number: {text!r}"))
+            continue
+        e = expression(where, str(text))
+        if e is not None:
+            mapping.append((name, e))
+    unused = var_names - params - {n for _, e in mapping for n in e.names}
+    targets = _targets(data.get("targets"), plan, L, A, number, P)
+    if targets is not None:
+        for vn in (*targets.input_variables, *([targets.start] if targets.start else [])):
+            unused.discard(vn)
+            if vn not in var_names:
+                P.append(("targets", f"timing names {vn!r}, which is not a design variable"))
+    # objective
+    obj = data.get("objective", {})
+    if not isinstance(obj, dict):
+        P.append(("objective", "must be a table"))
+        obj = {}
+    for k in obj:
+        if k not in ("deviation", "weight", "terms"):
+            P.append((f"objective.{k}", "unknown key (allowed: deviation, weight, terms)"))
+    deviation = obj.get("deviation", "distance" if targets is not None else "none")
+    if deviation not in DEVIATIONS:
+        P.append(("objective.deviation", f"must be one of {', '.join(DEVIATIONS)}: {deviation!r}"))
+    elif deviation != "none" and targets is None:
+        P.append(("objective.deviation", "needs [targets]"))
+    dev_weight = number("objective.weight", obj.get("weight", 1.0)) or 0.0
+    terms = []
+    for i, t in enumerate(obj.get("terms", [])):
+        item = _quantity_item(t, f"objective.terms[{i}]", ("weight", "target"), expression, number, P, targets)
+        if item is not None:
+            q, e, extra = item
+            w = extra.get("weight", 1.0)
+            terms.append(Term(q, 1.0 if w is None else w, extra.get("target"), e))
+    # constraints
+    con = data.get("constraints", {})
+    if not isinstance(con, dict):
+        P.append(("constraints", "must be a table"))
+        con = {}
+    for k in con:
+        if k not in ("use", "fourbar", "limits"):
+            P.append((f"constraints.{k}", "unknown key (allowed: use, fourbar, limits)"))
+    use = con.get("use", [])
+    if not isinstance(use, list):
+        P.append(("constraints.use", "must be a list of constraint names"))
+        use = []
+    for i, c in enumerate(use):
+        if c not in CONSTRAINTS:
+            P.append((f"constraints.use[{i}]", f"unknown constraint {c!r} (known: {', '.join(CONSTRAINTS)})"))
+    use = [c for c in use if c in CONSTRAINTS]
+    implied = []   # a path without timing, gait and transmission quantities need the whole cycle
+    named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
+    if (targets is not None and targets.timing == "path") or any(
+            q.startswith(("gait.", "transmission.")) for q in named):
+        implied.append("buildable")
+    constraints = tuple(dict.fromkeys(["assembly", *use, *implied]))
+    fourbar = []
+    raw_fb = con.get("fourbar")
+    if raw_fb is not None:
+        if not isinstance(raw_fb, dict) or set(raw_fb) != {"ground", "crank", "coupler", "rocker"}:
+            P.append(("constraints.fourbar", "must give ground, crank, coupler and rocker (expressions)"))
+        else:
+            for role in ("ground", "crank", "coupler", "rocker"):
+                e = expression(f"constraints.fourbar.{role}", str(raw_fb[role]))
+                if e is not None:
+                    fourbar.append((role, e))
+    for c in constraints:
+        if c in FOURBAR_CONSTRAINTS and raw_fb is None:
+            P.append(("constraints.use", f"{c!r} needs constraints.fourbar (the four link lengths)"))
+        if c in FREE_TIMING_CONSTRAINTS and (targets is None or targets.timing != "free"):
+            P.append(("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")"))
+        if c == "continuous_motion" and targets is not None and targets.timing == "path":
+            P.append(("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path"))
+    limits = []
+    for i, t in enumerate(con.get("limits", [])):
+        item = _quantity_item(t, f"constraints.limits[{i}]", ("min", "max"), expression, number, P, targets)
+        if item is not None:
+            q, e, extra = item
+            if extra.get("min") is None and extra.get("max") is None:
+                P.append((f"constraints.limits[{i}]", "needs min or max"))
+            limits.append(Limit(q, extra.get("min"), extra.get("max"), e))
+    opts = data.get("options", {})
+    if not isinstance(opts, dict):
+        P.append(("options", "must be a table"))
+        opts = {}
+    for k in opts:
+        if k not in ("cycle_samples", "infeasible_offset", "violation_weight"):
+            P.append((f"options.{k}", "unknown key (allowed: cycle_samples, infeasible_offset, violation_weight)"))
+    samples = opts.get("cycle_samples", 360)
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 16:
+        P.append(("options.cycle_samples", f"must be an integer ≥ 16: {samples!r}"))
+        samples = 360
+    offset = number("options.infeasible_offset", opts.get("infeasible_offset", 1e7)) or 1e7
+    vw = number("options.violation_weight", opts.get("violation_weight", 1e3)) or 1e3
+    if not (deviation != "none" or terms):
+        P.append(("objective", "nothing to minimise: give a deviation or terms"))
+    for vn in sorted(unused):
+        P.append((f"variables.{vn}", "is used by no parameter, timing or expression"))
+    if plan.n_inputs != 1 and targets is not None:
+        P.append(("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}"))
+    if P:
+        fail()
+    return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
+                   deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
+                   limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
+                   violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
+                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle)
+
+
+def _quantity_item(t, where, keys, expression, number, P, targets):
+    if not isinstance(t, dict):
+        P.append((where, "must be a table with quantity (or expression)"))
+        return None
+    for k in t:
+        if k not in ("quantity", "expression", *keys):
+            P.append((f"{where}.{k}", f"unknown key (allowed: quantity, expression, {', '.join(keys)})"))
+    q, text = t.get("quantity"), t.get("expression")
+    if (q is None) == (text is None):
+        P.append((where, "give exactly one of quantity or expression"))
+        return None
+    e = None
+    if text is not None:
+        e = expression(f"{where}.expression", str(text))
+        if e is None:
+            return None
+        q = f"expression:{text}"
+    elif q not in QUANTITIES:
+        P.append((f"{where}.quantity", f"unknown quantity {q!r} (known: {', '.join(QUANTITIES)})"))
+        return None
+    if q in ("deviation", "acceleration") and targets is None:
+        P.append((f"{where}.quantity", f"{q!r} needs [targets]"))
+    extra = {}
+    for k in keys:
+        if k in t:
+            extra[k] = number(f"{where}.{k}", t[k])
+    return q, e, extra
+
+
+def _targets(raw, plan, L, A, number, P) -> Targets | None:
+    if raw is None:
+        return None
+    if not isinstance(raw, dict):
+        P.append(("targets", "must be a table"))
+        return None
+    for k in raw:
+        if k not in ("point", "xy", "timing", "inputs", "variables", "start", "step"):
+            P.append((f"targets.{k}", "unknown key (allowed: point, xy, timing, inputs, variables, start, step)"))
+    point = raw.get("point")
+    if point not in plan.point_names:
+        P.append(("targets.point", f"unknown point {point!r} (known: {', '.join(plan.point_names)})"))
+        return None
+    xy = raw.get("xy")
+    try:
+        xy = np.array(xy, dtype=float)
+    except (TypeError, ValueError):
+        xy = None
+    if xy is None or xy.ndim != 2 or xy.shape[1] != 2 or len(xy) < 1 or not np.all(np.isfinite(xy)):
+        P.append(("targets.xy", "must be a list of [x, y] points"))
+        return None
+    n = len(xy)
+    timing = raw.get("timing", "prescribed" if "inputs" in raw else "path")
+    if timing not in TIMINGS:
+        P.append(("targets.timing", f"must be one of {', '.join(TIMINGS)}: {timing!r}"))
+        return None
+    unit = A if plan.input_kinds[0] == "rotary" else L
+    t = Targets(point, xy * L, timing)
+    if timing == "prescribed":
+        try:
+            q = np.array(raw.get("inputs"), dtype=float)
+        except (TypeError, ValueError):
+            q = None
+        if q is None or q.shape != (n,) or not np.all(np.isfinite(q)):
+            P.append(("targets.inputs", f"must list one input value per target ({n})"))
+            return None
+        return Targets(point, xy * L, timing, inputs=q * unit)
+    if timing == "free":
+        names = raw.get("variables")
+        if not (isinstance(names, list) and len(names) == n and all(isinstance(s, str) for s in names)):
+            P.append(("targets.variables", f"free timing needs one design variable name per target ({n})"))
+            return None
+        return Targets(point, xy * L, timing, input_variables=tuple(names))
+    if timing == "uniform":
+        start, step = raw.get("start"), number("targets.step", raw.get("step"))
+        if not isinstance(start, str):
+            P.append(("targets.start", "uniform timing needs the design variable of the first input"))
+            return None
+        if step is None or step == 0:
+            P.append(("targets.step", "uniform timing needs a non-zero step"))
+            return None
+        return Targets(point, xy * L, timing, start=start, step=step * unit)
+    return t
+
+
+__all__ = ["CONSTRAINTS", "FORMAT", "Limit", "Problem", "QUANTITIES", "Targets", "Term", "Variable",
+           "load_problem", "problem_from_dict"]
