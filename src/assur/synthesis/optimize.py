@@ -145,7 +145,7 @@ def _unit_box(problem):
     return lo, hi - lo
 
 
-def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100):
+def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin"):
     from scipy.optimize import differential_evolution
     D = problem.n_vars
     bounds = list(map(tuple, problem.bounds))
@@ -163,7 +163,7 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100):
         return old - new <= tol * max(abs(old), 1e-300)
     differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
                            maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False, init="latinhypercube",
-                           mutation=(0.5, 1.0), recombination=0.9, callback=stalled)
+                           mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
 
 
 def _run_cmaes(tracker, problem, rng, popsize, maxiter, tol):
@@ -249,7 +249,8 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     stopped = "converged"
     try:
         if method == "de":
-            _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
+            _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"],
+                    options["patience"], options["strategy"])
         elif method == "cmaes":
             _run_cmaes(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
         elif method == "local":
@@ -289,7 +290,8 @@ def _progress_bar(total, desc):
 def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None, budget: int | None = None,
                time_limit: float | None = None, starts: int = 1, polish: str = "auto", popsize: int = 15,
                maxiter: int = 1000, tol: float = 1e-12, executor=None, progress: bool = False,
-               x0=None, parallel_starts: bool | None = None) -> SynthesisResult:
+               x0=None, parallel_starts: bool | None = None, patience: int = 100,
+               strategy: str = "best1bin") -> SynthesisResult:
     """Minimise the problem's objective subject to its constraints.
 
     method: 'de' (scipy differential evolution, vectorised), 'cmaes' (cma), or 'local' (polish only,
@@ -297,7 +299,8 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
     seconds over all starts. starts: independent starts with seeds spawned from ``seed``; with a
     parallel executor they run as tasks (``parallel_starts``, default when starts > 1), otherwise in
     turn with the population evaluation on the executor. Ctrl-C, the budget and the time limit end
-    the run early and return the best design so far."""
+    the run early and return the best design so far. A DE start also ends when its best has improved by
+    less than ``tol`` (relative) over ``patience`` generations; ``strategy`` is scipy's DE strategy."""
     if method not in METHODS:
         raise SynthesisError(f"method must be one of {', '.join(METHODS)}: {method!r}")
     if polish not in POLISHES:
@@ -309,7 +312,8 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
             raise SynthesisError(f"{name} must be positive: {v!r}")
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
-    options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish,
+    options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
+               "strategy": strategy,
                "x0": None if x0 is None else problem.to_si(x0)}
     per_budget = None if budget is None else max(1, budget // starts)
     t0 = time.monotonic()
