@@ -274,3 +274,10 @@ def test_cli_synth_bad_input(tmp_path, capsys):
     assert "does not exist" in capsys.readouterr().err
     assert not (tmp_path / "no").exists()
     assert main(["synth", str(P000), "--workers", "2", "--dask", "tcp://x:1"]) == 2
+
+
+def test_progress_bar_reports_evaluations(capsys):
+    """A long run shows a tqdm bar on stderr with the evaluations and the best so far."""
+    synthesize(load_problem(C2), seed=1, budget=1500, polish="none", progress=True)
+    err = capsys.readouterr().err
+    assert "eval" in err and "best" in err and "1500" in err

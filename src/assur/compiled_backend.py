@@ -137,22 +137,14 @@ def kernel(pk: _Packer, with_bodies: bool, order: int = 2):
     """The plan's generated straight-line kernel for a derivative order (compiled once, cached on
     disk by numba)."""
     key = f"_kernel_{'bodies' if with_bodies else 'points'}_{order}"
-    k = pk.__dict__.get(key)
-    if k is None:
-        point_out = [pk.pidx[p] for p in pk.plan.point_names]
-        body_out = list(range(len(pk.plan.body_names))) if with_bodies else []
-        src = pk.K.generate_source(pk.ops, point_out, body_out, order)
-        try:
-            k = pk.K.load_kernel(src, cache_dir())
-        except OSError:
-            import tempfile
-            from pathlib import Path
-            k = pk.K.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
-        pk.__dict__[key] = k
-    return k
+    point_out = [pk.pidx[p] for p in pk.plan.point_names]
+    body_out = list(range(len(pk.plan.body_names))) if with_bodies else []
+    return _load_source(pk, key, lambda: pk.K.generate_source(pk.ops, point_out, body_out, order))
 
 
 def _load_source(pk: _Packer, key: str, make_source):
+    """A generated kernel kept on the packer under ``key``: its source written once to the cache
+    directory (a temporary one if that is not writable) and imported, so numba's disk cache applies."""
     k = pk.__dict__.get(key)
     if k is None:
         src = make_source()
