@@ -281,3 +281,15 @@ def test_progress_bar_reports_evaluations(capsys):
     synthesize(load_problem(C2), seed=1, budget=1500, polish="none", progress=True)
     err = capsys.readouterr().err
     assert "eval" in err and "best" in err and "1500" in err
+
+
+def test_buildability_penalty_is_smooth():
+    """Past the full-rotation limit the 'buildable' violation grows continuously from 0 (it is the
+    groups' mean shortfall past their toggles), so an optimiser is led back, not left on a plateau."""
+    p = load_problem(P000)                    # buildable: the crank–slider must turn fully (l5 < l2)
+    l5 = np.linspace(180, 200, 401)           # rod l2 = 193 mm: the crank turns fully only for l5 ≤ 193
+    X = p.to_si(np.column_stack([np.full_like(l5, 165), np.full_like(l5, 193), l5]))
+    V = Evaluator(p)(X).violations["buildable"]
+    assert np.all(V[l5 <= 193 - 1e-9] == 0) and np.all(V[l5 > 193 + 1e-9] > 0)
+    assert np.all(np.diff(V[l5 >= 193]) >= -1e-12)                    # grows with the overshoot
+    assert np.max(np.abs(np.diff(V))) < 5 * np.median(np.abs(np.diff(V[l5 > 193])))   # no jump

@@ -163,8 +163,9 @@ def path_objective(plan: SolvePlan, params: np.ndarray, target_inputs: np.ndarra
     """Fused reduction of a path-synthesis objective; None if the plan is not covered.
 
     params (D, n_params); target_inputs (D or 1, N) input angles at the targets; target_xy (N, 2);
-    cycle_inputs (M,) or None. Returns (D, 4): Σ squared distance, Σ distance (over the assembled
-    targets), the number of targets and of cycle samples that cannot be assembled.
+    cycle_inputs (M,) or None. Returns (D, 5): Σ squared distance, Σ distance (over the assembled
+    targets), the number of targets and of cycle samples that cannot be assembled, and the sum over
+    the cycle of the groups' shortfalls past their toggles (normalised radicands below −tol).
     """
     pk = packer(plan)
     if pk is None:
@@ -175,7 +176,7 @@ def path_objective(plan: SolvePlan, params: np.ndarray, target_inputs: np.ndarra
     G = _constants(pk, designs)
     q = np.ascontiguousarray(target_inputs, dtype=float)
     cyc = np.zeros(0) if cycle_inputs is None else np.ascontiguousarray(cycle_inputs, dtype=float)
-    out = np.empty((designs.shape[0], 4))
+    out = np.empty((designs.shape[0], 5))
     kern(G, np.cos(q), np.sin(q), np.ascontiguousarray(target_xy, dtype=float), np.cos(cyc), np.sin(cyc), tol, out)
     return out
 

@@ -110,8 +110,9 @@ def _dot(a, b):
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rrr(c1, c2, r1, r2, branch, tol):
-    """circle–circle on jets: (z, ok); branch +1 puts z left of c1 → c2. Branchless (vectorisable):
-    a radicand in [−tol, 0) counts as 0; below that ``ok`` is False (the caller NaNs the sample)."""
+    """circle–circle on jets: (z, ok, margin); branch +1 puts z left of c1 → c2. Branchless
+    (vectorisable): a radicand in [−tol, 0) counts as 0; below that ``ok`` is False (the caller NaNs
+    the sample). ``margin`` = normalised radicand + tol: how far from (< 0: how far past) the toggle."""
     D = _csub(c2, c1)
     d2 = _abs2(D)
     inv2 = _rinv(d2)
@@ -122,12 +123,12 @@ def rrr(c1, c2, r1, r2, branch, tol):
     ok = (d2[0] > 0.0) & (h2[0] >= -tol)
     h = _rsqrt((max(h2[0], 0.0), h2[1], h2[2]))
     f = (a[0], branch * h[0], a[1], branch * h[1], a[2], branch * h[2])
-    return _cadd(c1, _cmul(D, f)), ok
+    return _cadd(c1, _cmul(D, f)), ok, h2[0] + tol
 
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rrp(pa, r, og, eg, gq, gu, gk, goff, branch, tol):
-    """circle–line on jets for an RRP dyad: (z, e_slider, ok). Branchless."""
+    """circle–line on jets for an RRP dyad: (z, e_slider, ok, margin). Branchless."""
     es = _cmulk(eg, gk[0], gk[1])
     qj = _cadd(_cadd(og, _cmulk(eg, gq[0], gq[1])), _cmulk(es, goff[0], goff[1]))
     U = _cmulk(eg, gu[0], gu[1])
@@ -139,12 +140,12 @@ def rrp(pa, r, og, eg, gq, gu, gk, goff, branch, tol):
     ok = rad[0] >= -tol * (r * r + 1e-300)
     sq = _rsqrt((max(rad[0], 0.0), rad[1], rad[2]))
     t = (branch * sq[0] - proj[0], branch * sq[1] - proj[1], branch * sq[2] - proj[2])
-    return _cadd(qj, _cscale(U, t)), es, ok
+    return _cadd(qj, _cscale(U, t)), es, ok, rad[0] / (r * r + 1e-300) + tol
 
 
 @njit(inline="always", cache=True, error_model="numpy")
 def rpr(pg, ps, cpar, cperp, branch, tol):
-    """orientation e·u of an RPR group's guide line on jets: (e_u, ok). Branchless."""
+    """orientation e·u of an RPR group's guide line on jets: (e_u, ok, margin). Branchless."""
     D = _csub(ps, pg)
     DD = _abs2(D)
     rad0 = DD[0] - cperp * cperp
@@ -154,7 +155,7 @@ def rpr(pg, ps, cpar, cperp, branch, tol):
     # e_u = D / (s·branch + i·c_perp) = D·(s·branch − i·c_perp) / (s² + c_perp²)
     den = _rinv((rad[0] + cperp * cperp, rad[1], rad[2]))
     num = _cmul(D, (branch * s[0], -cperp, branch * s[1], 0.0, branch * s[2], 0.0))
-    return _cscale(num, den), ok
+    return _cscale(num, den), ok, rad0 / (DD[0] + 1e-300) + tol
 
 
 @njit(inline="always", cache=True, error_model="numpy")
@@ -167,6 +168,11 @@ def crank(c, s, sense, k):
 
 
 # -- straight-line kernels generated per plan ----------------------------------------------------
+
+#: a group's shortfall past its toggle, summed per sample (NaN margins — a group fed by one that
+#: failed — add nothing); kernels that do not read ``deficit`` have it removed by LLVM
+DEFICIT = "deficit += -margin if margin < 0.0 else 0.0"
+
 
 def _program(ops):
     """The straight-line body of one sample for an op table: (slots {slot: variable}, lines)."""
@@ -195,18 +201,22 @@ def _program(ops):
             body.append(f"E{b} = _cmulk(_csub(P{p2}, P{p1}), {k(sinv)}[0], {k(sinv)}[1])")
             body.append(f"O{b} = _csub(P{p1}, _cmulk(E{b}, {k(sw1)}[0], {k(sw1)}[1]))")
         elif code == RRR:
-            body.append(f"P{o[5]}, good = rrr(P{o[1]}, P{o[3]}, {k(o[2])}[0], {k(o[4])}[0], {float(o[6])!r}, tol)")
+            body.append(f"P{o[5]}, good, margin = rrr(P{o[1]}, P{o[3]}, {k(o[2])}[0], {k(o[4])}[0], "
+                        f"{float(o[6])!r}, tol)")
             body.append("ok = ok & good")
+            body.append(DEFICIT)
         elif code == RRP:
             A, sra, gb, sq_, su, sk, soff, J, branch, sb, swj = o[1:12]
-            body.append(f"P{J}, E{sb}, good = rrp(P{A}, {k(sra)}[0], O{gb}, E{gb}, {k(sq_)}, {k(su)}, {k(sk)}, "
-                        f"{k(soff)}, {float(branch)!r}, tol)")
+            body.append(f"P{J}, E{sb}, good, margin = rrp(P{A}, {k(sra)}[0], O{gb}, E{gb}, {k(sq_)}, {k(su)}, "
+                        f"{k(sk)}, {k(soff)}, {float(branch)!r}, tol)")
             body.append("ok = ok & good")
+            body.append(DEFICIT)
             body.append(f"O{sb} = _csub(P{J}, _cmulk(E{sb}, {k(swj)}[0], {k(swj)}[1]))")
         elif code == RPR:
             gb, gp, sb, sp, swg, sc, sinvu, sinvus, sws, branch = o[1:11]
-            body.append(f"eu, good = rpr(P{gp}, P{sp}, {k(sc)}[0], {k(sc)}[1], {float(branch)!r}, tol)")
+            body.append(f"eu, good, margin = rpr(P{gp}, P{sp}, {k(sc)}[0], {k(sc)}[1], {float(branch)!r}, tol)")
             body.append("ok = ok & good")
+            body.append(DEFICIT)
             body.append(f"E{gb} = _cmulk(eu, {k(sinvu)}[0], {k(sinvu)}[1])")
             body.append(f"O{gb} = _csub(P{gp}, _cmulk(E{gb}, {k(swg)}[0], {k(swg)}[1]))")
             body.append(f"E{sb} = _cmulk(eu, {k(sinvus)}[0], {k(sinvus)}[1])")
@@ -280,6 +290,7 @@ def generate_source(ops, point_out, body_out, order: int = 2) -> str:
             f"{i8}    c = cq[u]",
             f"{i8}    s = sq[u]",
             f"{i8}    ok = True",
+            f"{i8}    deficit = 0.0",
             *[i8 + "    " + ln for ln in body],
             *[i8 + f"    out[{row}, d, u] = {expr}" for row, expr in group],
         ]
@@ -321,7 +332,8 @@ def generate_objective_source(ops, point: int) -> str:
     point ``point`` at the design's target inputs (cosines/sines ``tc, ts`` (D or 1, N)) and sum the
     squared and the plain distances to ``txy (N, 2)``; then count the inputs of ``cq, sq (M,)`` (the
     whole cycle, M may be 0) at which a group cannot be assembled (a point of groups that assemble
-    with finite constants is finite, so only the groups' own tests run there). ``out (D, 4)`` gets
+    with finite constants is finite, so only the groups' own tests run there), and sum the groups'
+    shortfalls past their toggles over the cycle (a smooth measure of how far from buildable). ``out (D, 4)`` gets
     (Σ squared distance, Σ distance, targets not assembled, cycle samples not assembled). Nothing per
     sample is stored, so the cost is the arithmetic alone (LLVM drops the unused derivative parts).
     """
@@ -350,6 +362,7 @@ def generate_objective_source(ops, point: int) -> str:
         f"{i12}c = tc[d * per, u]",
         f"{i12}s = ts[d * per, u]",
         f"{i12}ok = True",
+        f"{i12}deficit = 0.0",
         *[i12 + ln for ln in body],
         f"{i12}dx = {P}[0] - txy[u, 0]",
         f"{i12}dy = {P}[1] - txy[u, 1]",
@@ -359,16 +372,20 @@ def generate_objective_source(ops, point: int) -> str:
         f"{i12}esum += math.sqrt(e2) if ok else 0.0",
         f"{i12}bad += 0.0 if ok else 1.0",
         f"{i8}cbad = 0",
+        f"{i8}shortfall = 0.0",
         f"{i8}for u in range(cq.shape[0]):",
         f"{i12}c = cq[u]",
         f"{i12}s = sq[u]",
         f"{i12}ok = True",
+        f"{i12}deficit = 0.0",
         *[i12 + ln for ln in body],
         f"{i12}cbad += 0 if ok else 1",
+        f"{i12}shortfall += deficit",
         f"{i8}out[d, 0] = e2sum",
         f"{i8}out[d, 1] = esum",
         f"{i8}out[d, 2] = bad",
         f"{i8}out[d, 3] = cbad",
+        f"{i8}out[d, 4] = shortfall",
         "",
     ]
     return "\n".join(lines)

@@ -169,7 +169,7 @@ class Evaluator:
                 f = f + prob.deviation_weight * Q["deviation"]
             if prob.needs_cycle():
                 Q["unbuildable"] = fused[:, 3] / prob.cycle_samples
-                V["buildable"] = Q["unbuildable"]
+                V["buildable"] = _buildable_violation(Q["unbuildable"], fused[:, 4] / prob.cycle_samples)
         elif t is not None and t.timing != "path":
             q = self.target_inputs(X)
             st = solve(plan, params[:, None, :], q[..., None], order=self._order, backend=self.backend)
@@ -225,7 +225,13 @@ class Evaluator:
         share = np.count_nonzero(~valid, axis=1) / M
         Q["unbuildable"] = share
         if "buildable" in prob.constraints:
-            V["buildable"] = share
+            shortfall = None
+            if self.backend == "numba" and share.any():
+                from ..compiled_backend import path_objective
+                r = path_objective(plan, params, np.zeros((1, 0)), np.zeros((0, 2)), plan.point_names[0], q,
+                                   DEFAULT.radicand)
+                shortfall = None if r is None else r[:, 4] / M
+            V["buildable"] = share if shortfall is None else _buildable_violation(share, shortfall)
         ls = prob.length_scale
         if prob.targets is not None and prob.targets.timing == "path":
             path = st.pos[:, :, plan.point_index(prob.targets.point), :]        # (n, M, 2)
@@ -287,6 +293,14 @@ class Evaluator:
             with np.errstate(all="ignore"):
                 return np.broadcast_to(np.asarray(expression(env), dtype=float), (len(X),)), env
         return Q[name], env
+
+
+def _buildable_violation(share, shortfall):
+    """The whole-cycle buildability measure: the mean shortfall of the groups past their toggles
+    (smooth: it grows continuously as a design moves away from buildable), or where no radicand
+    explains the failure (coincident pivots, say) the unbuildable share of the cycle. 0 exactly
+    when every sample assembles."""
+    return np.where(shortfall > 0, shortfall, share)
 
 
 def _polyline_distance(path, targets):
