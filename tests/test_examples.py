@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,8 @@ import pytest
 import assur
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
-EXAMPLES = sorted(EXAMPLES_DIR.glob("*.toml"))
+EXAMPLES = sorted(f for f in EXAMPLES_DIR.glob("*.toml")       # mechanism files (not gear or mover designs)
+                  if tomllib.loads(f.read_text(encoding="utf-8")).get("format") == "assur/1")
 N_ANGLES = 721
 TURN = np.linspace(0.0, 2.0 * math.pi, N_ANGLES)
 
@@ -46,7 +48,12 @@ def _turn_inputs(plan, angles=TURN, others=None):
     """Inputs (n_angles, n_inputs): the crank over ``angles``, the other inputs at the sketch (or ``others``)."""
     base = np.array(plan.sketch_inputs if others is None else others, dtype=float)
     inp = np.broadcast_to(base, (len(angles), plan.n_inputs)).copy()
-    inp[:, _crank_index(plan)] = angles
+    k = _crank_index(plan)
+    if plan.input_kinds[k] == "linear":   # a linear driver runs its working stroke (its `range`) instead
+        a, b = plan.mechanism.drivers[k].range
+        inp[:, k] = a + (b - a) * np.asarray(angles) / (2.0 * math.pi)
+        return inp
+    inp[:, k] = angles
     return inp
 
 
@@ -120,7 +127,7 @@ def test_frame_points_fixed(example):
     st = _solve_turn(plan)
     for p in m.frame.points:
         xy = st.pos[:, plan.point_index(p), :]
-        expected = np.array([plan.defaults[plan.param_index(f"{p}.x")], plan.defaults[plan.param_index(f"{p}.y")]])
+        expected = np.array([plan.defaults[plan.param_index(f"{p}.{c}")] for c in "xyz"[:m.dimension]])
         np.testing.assert_allclose(xy, np.broadcast_to(expected, xy.shape), rtol=0, atol=1e-12)
         np.testing.assert_allclose(expected, m.sketch(p), rtol=0, atol=1e-15)
 
@@ -146,6 +153,10 @@ def test_drivers_reproduce_their_inputs(example):
         if d.kind != "rotary":
             continue
         v = st.pos[:, plan.point_index(d.arm), :] - st.pos[:, plan.point_index(d.pivot), :]
+        if m.dimension == 3:   # the angle in the pivot's axis frame (e_X2, e_Y2) = T_Y(γ1)·T_X(γ2) (paper 003 (8))
+            from assur.kernels.spatial import axis_frame
+            E = axis_frame(*(plan.defaults[plan.param_index(f"{d.pivot}.axis.gamma{i}")] for i in (1, 2)))
+            v = v @ E[:, :2]
         theta = np.arctan2(v[:, 1], v[:, 0])
         want = d.zero + d.sense * st.inputs[:, k]
         np.testing.assert_allclose(np.exp(1j * theta), np.exp(1j * want), rtol=0, atol=1e-12)

@@ -159,9 +159,9 @@ def geometry(plan: SolvePlan, params: np.ndarray):
 
 def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - the public verb
     """Compile a mechanism into a solve plan. Raises StructureError / SpecError."""
-    if m.dimension != 2:
-        raise StructureError("solving spatial (dimension = 3) mechanisms is not supported by the planar engine; "
-                             "'assur info' reports their mobility")
+    if m.dimension == 3:   # the vector method of paper 003
+        from .spatial_plan import compile_spatial
+        return compile_spatial(m, tolerances=tolerances)
     s = analyse(m)
     n_drivers = len(m.drivers)
     if s.mobility != n_drivers:

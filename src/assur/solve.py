@@ -254,6 +254,10 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     does not cover fall back to numpy) or 'auto' (numba for batches of at least
     ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed). Both give the same numbers.
     """
+    if getattr(plan, "dimension", 2) == 3:   # a spatial plan (assur.spatial_plan)
+        from .spatial_plan import solve_spatial
+        return solve_spatial(plan, params, inputs, speeds=speeds, accels=accels, order=order,
+                             on_unbuildable=on_unbuildable, method=method, tolerances=tolerances)
     if on_unbuildable not in ON_UNBUILDABLE:
         raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
     if method not in ("closed", "newton"):

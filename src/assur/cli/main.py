@@ -21,7 +21,7 @@ from ..analysis.summary import format_number, gait_rows
 from ..io.output import atomic_file as atomic_path
 from ..io.units import ANGLE, LENGTH
 
-PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
+PLOT_EXTENSIONS = (".png", ".svg", ".pdf", ".html")   # .html: interactive 3D view (spatial files)
 ANIMATION_EXTENSIONS = (".gif", ".mp4", ".html")
 
 
@@ -170,15 +170,20 @@ def json_ready(x):
 # -- commands ---------------------------------------------------------------------------------------
 def cmd_validate(args) -> int:
     m = _load(args.file)
-    if m.dimension == 3:
+    from ..compile import compile as compile_
+    if m.dimension == 3 and not any(j.axis for j in m.joints):
         from ..structure.assur import analyse
         s = analyse(m)
-        print(f"{args.file}: ok (spatial, W = {s.mobility} by {s.formula_name}; the planar engine does not "
-              f"solve spatial files)")
+        print(f"{args.file}: ok (spatial, W = {s.mobility} by {s.formula_name}; a structural description: "
+              f"without revolute axes it is not solved)")
         return 0
-    from ..compile import compile as compile_
     plan = compile_(m)
     s = plan.structure
+    if m.dimension == 3:
+        idle = f", {s.idle} idle" if s.idle else ""
+        print(f"{args.file}: ok (spatial, W = {s.mobility}{idle} by {s.formula_name}; "
+              f"{', '.join('R–S–S → ' + st.key_point for st in plan.rss_steps())})")
+        return 0
     print(f"{args.file}: ok (W = {s.mobility}, {s.structural_formula})")
     return 0
 
@@ -202,6 +207,11 @@ def cmd_info(args) -> int:
         w = max(len(n) for n in m.point_names)
         for name, xyz in m.points:
             print(f"  {name:<{w}} = [{', '.join(_fmt(c / LENGTH[u.length]) for c in xyz)}] {u.length}")
+        from ..compile import compile as compile_
+        from . import spatial
+        if any(j.axis for j in m.joints):
+            spatial.info(compile_(m), driver_lines)
+            return 0
         joints = {j.point: j.kind for j in m.joints}
         if joints:
             print("joints: " + ", ".join(f"{p} {k}" for p, k in joints.items()))
@@ -209,7 +219,7 @@ def cmd_info(args) -> int:
             print("drivers:")
             for line in driver_lines(m):
                 print("  " + line)
-        print("note: spatial descriptions are analysed structurally only; the planar engine does not solve them")
+        print("note: a structural description (no revolute axes): its mobility is computed, it is not solved")
         return 0
     if s["groups"]:
         print("Assur groups:")
@@ -301,6 +311,9 @@ def cmd_solve(args) -> int:
     from ..plot.figures import sweep_inputs, tracked_point
     from ..solve import solve
     m, plan = _compile(args.file)
+    if getattr(plan, "dimension", 2) == 3:
+        from . import spatial
+        return spatial.solve(args, plan, _cell)
     ranges = _ranges(plan, args)
     q, moving, cyclic = sweep_inputs(plan, args.steps, ranges)
     state = solve(plan, None, q)
@@ -350,6 +363,19 @@ def analysis_lines(summary: dict, units) -> list[str]:
         out.append(f"structural formula: {s['structural_formula']}   ({s['structural_formula_numbered']})")
     if s.get("note"):
         out.append(f"note: {s['note']}")
+    act = s.get("actuators")
+    if act:   # a linear driver's working stroke
+        from ..analysis.summary import actuator_rows
+        rows = actuator_rows(act, 1.0 / kL, Lu)
+        out += rows["stroke"]
+        if rows["lever"]:
+            out.append("lever manipulator (paper 002 parametrisation):")
+            out += [f"  {a}: {b} {u}".rstrip() for a, b, u in rows["lever"]]
+        out.append("stroke envelope (extremes along the stroke; interior ones by a root of the derivative):")
+        out += [f"  {rod}, {q} [{u}]: min {mn}; max {mx}; interior: {inner}"
+                for rod, q, mn, mx, inner, u in rows["extremes"]]
+        out += [f"  {a}: {b}" + (f" ({c})" if c else "") for a, b, c in rows["pairs"]]
+        return out
     if s.get("unbuildable") is None:
         return out
     steps = s.get("steps")
@@ -392,6 +418,9 @@ def analysis_lines(summary: dict, units) -> list[str]:
 def cmd_analyze(args) -> int:
     from ..analysis.summary import analyze
     m, plan = _compile(args.file)
+    if getattr(plan, "dimension", 2) == 3:
+        from . import spatial
+        return spatial.analyze(args, plan, analysis_lines)
     summary = analyze(plan, steps=args.steps)
     if args.json:
         summary = {"file": str(args.file), **summary}
@@ -406,6 +435,11 @@ def cmd_analyze(args) -> int:
 def cmd_plot(args) -> int:
     from ..plot.figures import close, mechanism_figure
     m, plan = _compile(args.file)
+    if getattr(plan, "dimension", 2) == 3:
+        from . import spatial
+        return spatial.plot(args, plan)
+    if args.output.suffix.lower() == ".html":
+        raise SpecError([("--output", "an .html view is for spatial mechanisms; use .png, .svg or .pdf")])
     fig = mechanism_figure(plan, args.steps, ranges=_ranges(plan, args), positions=args.positions, dpi=args.dpi)
     try:
         with atomic_path(args.output) as tmp:
@@ -419,6 +453,9 @@ def cmd_plot(args) -> int:
 def cmd_animate(args) -> int:
     from ..plot.figures import animation, close, save_animation
     m, plan = _compile(args.file)
+    if getattr(plan, "dimension", 2) == 3:
+        from . import spatial
+        return spatial.animate(args, plan)
     fig, anim = animation(plan, args.frames, args.fps, ranges=_ranges(plan, args))
     def show(i, n):
         print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
@@ -479,7 +516,7 @@ def build_parser() -> argparse.ArgumentParser:
     sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     sp = add("plot", cmd_plot, "a figure: paths, kinematic diagram, velocity and acceleration curves")
     sp.add_argument("-o", "--output", type=_output(PLOT_EXTENSIONS), required=True, metavar="OUT",
-                    help="output image (.png, .svg or .pdf)")
+                    help="output image (.png, .svg or .pdf; .html for an interactive 3D view of a spatial file)")
     sp.add_argument("--steps", type=_positive(16), default=360, metavar="N", help="samples per turn (default 360)")
     sp.add_argument("--dpi", type=_positive(10), default=100, help="resolution of a PNG (default 100)")
     sp.add_argument("--positions", type=_positive(1), default=6, metavar="K",

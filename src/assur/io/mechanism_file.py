@@ -335,14 +335,15 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             drivers.append(RotaryDriver(str(name), link, pivot, arm, float(zero) * A,
                                         -1 if sense == "cw" else 1, speed))
         elif kind == "linear":
-            allowed = {"name", "kind", "actuator", "speed"}
+            allowed = {"name", "kind", "actuator", "speed", "range", "law"}
             for k in spec:
                 if k not in allowed:
                     P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
             act = spec.get("actuator")
             if act not in actuator_names:
                 P.add(f"{path}.actuator", f"unknown actuator {act!r} {_known(actuator_names)}")
-            drivers.append(LinearDriver(str(name), act, speed))
+            drivers.append(LinearDriver(str(name), act, speed, _stroke_range(spec.get("range"), L, f"{path}.range", P),
+                                        _time_table(spec.get("law"), L, f"{path}.law", P)))
         else:
             P.add(f"{path}.kind", f"must be 'rotary' or 'linear': {kind!r}")
 
@@ -374,12 +375,19 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("joints", "must be a table of point = kind")
         jdata = {}
     for pn, kind in jdata.items():
+        axis = None
+        if isinstance(kind, dict):   # {kind = "revolute", axis = [x, y, z] | {gamma1, gamma2}}
+            spec, kind = kind, kind.get("kind")
+            for k in spec:
+                if k not in ("kind", "axis"):
+                    P.add(f"joints.{pn}.{k}", "unknown key (allowed: axis, kind)")
+            axis = _joint_axis(spec.get("axis"), A, f"joints.{pn}.axis", P)
         if pn not in point_names:
             P.add(f"joints.{pn}", f"unknown point {pn!r} {_known(point_names)}")
         elif kind not in _JOINT_KINDS:
             P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}: {kind!r}")
         else:
-            joints.append(Joint(pn, kind))
+            joints.append(Joint(pn, kind, axis))
     if joints and dimension == 2 and any(j.kind != "revolute" for j in joints):
         P.add("joints", "spherical, cylindrical and universal joints need dimension = 3")
 
@@ -448,6 +456,72 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                      joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
 
 
+def _joint_axis(v, angle_factor, path, P):
+    """A joint axis: a non-zero vector [x, y, z], or {gamma1, gamma2} (file angle units), the axis
+    e_Z2 = (sin γ1 cos γ2, −sin γ2, cos γ1 cos γ2) of paper 003 eq. (8); a unit tuple or None."""
+    if v is None:
+        return None
+    if isinstance(v, dict):
+        bad = [k for k in v if k not in ("gamma1", "gamma2")]
+        if bad or not all(_num(v.get(k, 0.0)) for k in ("gamma1", "gamma2")):
+            P.add(path, f"must be [x, y, z] or {{gamma1, gamma2}} (angles): {v!r}")
+            return None
+        g1, g2 = (float(v.get(k, 0.0)) * angle_factor for k in ("gamma1", "gamma2"))
+        return (math.sin(g1) * math.cos(g2), -math.sin(g2), math.cos(g1) * math.cos(g2))
+    if not isinstance(v, list) or len(v) != 3 or not all(_num(c) for c in v) or math.hypot(*v) == 0:
+        P.add(path, f"must be a non-zero vector [x, y, z] or {{gamma1, gamma2}}: {v!r}")
+        return None
+    n = math.hypot(*v)
+    if abs(n - 1.0) < 1e-14:
+        n = 1.0
+    return tuple(float(c) / n for c in v)
+
+
+def _stroke_range(v, length_factor, path, P):
+    """A linear driver's ``range = [START, STOP]`` (file length unit, both positive, different) in m."""
+    if v is None:
+        return None
+    if not (isinstance(v, list) and len(v) == 2 and all(_num(c) and c > 0 for c in v) and v[0] != v[1]):
+        P.add(path, f"must be [START, STOP], two different positive actuator lengths: {v!r}")
+        return None
+    return (float(v[0]) * length_factor, float(v[1]) * length_factor)
+
+
+def _time_table(v, length_factor, path, P):
+    """A linear driver's ``law = {time = [...], length = [...], interpolation = "cubic" | "pchip"}``."""
+    if v is None:
+        return None
+    from ..model.mechanism import TimeTable
+    if not isinstance(v, dict):
+        P.add(path, f"must be a table {{time = [...], length = [...]}}: {v!r}")
+        return None
+    bad = [k for k in v if k not in ("time", "length", "interpolation")]
+    if bad:
+        P.add(f"{path}.{bad[0]}", "unknown key (allowed: interpolation, length, time)")
+    t, q = v.get("time"), v.get("length")
+    ok = True
+    if not (isinstance(t, list) and len(t) >= 2 and all(_num(c) for c in t)):
+        P.add(f"{path}.time", f"must be a list of at least 2 times (s): {t!r}")
+        ok = False
+    elif any(b <= a for a, b in zip(t, t[1:])):
+        i = next(i for i, (a, b) in enumerate(zip(t, t[1:])) if b <= a)
+        P.add(f"{path}.time[{i + 1}]", f"times must increase strictly: {t[i]!r} then {t[i + 1]!r}")
+        ok = False
+    if not (isinstance(q, list) and all(_num(c) and c > 0 for c in q)):
+        P.add(f"{path}.length", f"must be a list of positive actuator lengths: {q!r}")
+        ok = False
+    elif isinstance(t, list) and len(q) != len(t):
+        P.add(f"{path}.length", f"needs one length per time: {len(q)} lengths for {len(t)} times")
+        ok = False
+    kind = v.get("interpolation", "cubic")
+    if kind not in ("cubic", "pchip"):
+        P.add(f"{path}.interpolation", f"must be 'cubic' or 'pchip': {kind!r}")
+        ok = False
+    if not ok:
+        return None
+    return TimeTable(tuple(float(c) for c in t), tuple(float(c) * length_factor for c in q), kind)
+
+
 def ldata_points(ldata, link):
     spec = ldata.get(link)
     return spec if isinstance(spec, list) else (spec or {}).get("points", [])
@@ -509,13 +583,21 @@ def to_dict(m: Mechanism) -> dict:
                             "zero": _out(dr.zero, A), "sense": "cw" if dr.sense < 0 else "ccw",
                             "speed": U.format_speed(dr.speed, "rotary", m.units)})
             else:
-                out.append({"name": dr.name, "kind": "linear", "actuator": dr.actuator,
-                            "speed": U.format_speed(dr.speed, "linear", m.units)})
+                t = {"name": dr.name, "kind": "linear", "actuator": dr.actuator,
+                     "speed": U.format_speed(dr.speed, "linear", m.units)}
+                if dr.range is not None:
+                    t["range"] = [_out(v, L) for v in dr.range]
+                if dr.law is not None:
+                    t["law"] = {"time": [_out(v) for v in dr.law.times], "length": [_out(v, L) for v in dr.law.values],
+                                "interpolation": dr.law.interpolation}
+                out.append(t)
         d["drivers"] = out
     if m.branches:
         d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
     if m.joints:
-        d["joints"] = {j.point: j.kind for j in m.joints}
+        with_axes = any(j.axis is not None for j in m.joints)   # then all as tables: the writer keeps their order
+        d["joints"] = {j.point: ({"kind": j.kind} | ({} if j.axis is None else {"axis": [_out(c) for c in j.axis]})
+                                 if with_axes else j.kind) for j in m.joints}
     if m.gait is not None:
         g = {"foot": m.gait.foot, "ground": [_out(c) for c in m.gait.ground]}
         if m.gait.up is not None:

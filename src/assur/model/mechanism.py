@@ -101,11 +101,27 @@ class RotaryDriver:
 
 @dataclass(frozen=True, slots=True)
 class LinearDriver:
-    """A driven actuator: the input q is its length (m); ``speed`` is dq/dt (m/s)."""
+    """A driven actuator: the input q is its length (m); ``speed`` is dq/dt (m/s).
+
+    ``range`` (m, optional): the actuator length from start to stop of a working stroke, the run
+    that analyses, plots and reports use by default. ``law`` (optional): a programmed motion.
+    """
     name: str
     actuator: str
     speed: float = 0.0
+    range: tuple[float, float] | None = None
+    law: "TimeTable | None" = None
     kind: str = field(default="linear", init=False)
+
+
+@dataclass(frozen=True, slots=True)
+class TimeTable:
+    """A driver's input as a table of times (s, strictly increasing) and values (m), interpolated
+    by ``interpolation``: 'cubic' (a C² cubic spline: continuous acceleration) or 'pchip' (monotone
+    between the table values, C¹)."""
+    times: tuple[float, ...]
+    values: tuple[float, ...]
+    interpolation: str = "cubic"
 
 
 @dataclass(frozen=True, slots=True)
@@ -119,10 +135,12 @@ class BranchHint:
 
 @dataclass(frozen=True, slots=True)
 class Joint:
-    """A non-revolute joint at a point of a spatial description (kind: spherical, cylindrical,
-    universal, revolute)."""
+    """A joint at a point of a spatial description (kind: spherical, cylindrical, universal,
+    revolute). ``axis`` (a unit vector, sketch position) is the axis of a revolute, or the
+    crank-side (pin) axis of a universal joint."""
     point: str
     kind: str
+    axis: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)

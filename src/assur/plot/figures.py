@@ -58,7 +58,8 @@ def sweep_inputs(plan, steps: int, ranges=None):
     """Input samples ``(steps, n_inputs)`` (SI) for a plan, the index of the input on the x axis and
     whether the run is one full turn.
 
-    Without ``ranges``: one turn of the crank (q from 0 to 2π, endpoint excluded); with several
+    Without ``ranges``: one turn of the crank (q from 0 to 2π, endpoint excluded), or a linear driver's
+    working stroke (its ``range``, else the span of its table ``law``; endpoints included); with several
     inputs, the one crank whose speed is not zero turns and the inputs of speed 0 (settings) are
     held at their sketch values. ``ranges``: one ``(start, stop)`` pair per input (SI: rad or m);
     each input runs linearly from start to stop (endpoints included). Raises SpecError when the
@@ -78,6 +79,10 @@ def sweep_inputs(plan, steps: int, ranges=None):
         moving = next((k for k, (a, b) in enumerate(ranges) if a != b), 0)
         return q, moving, False
     if n == 1:
+        d0 = plan.mechanism.drivers[0]
+        stroke = getattr(d0, "range", None) or (getattr(d0, "law", None) and (min(d0.law.values), max(d0.law.values)))
+        if plan.input_kinds[0] != "rotary" and stroke is not None:   # the driver's working stroke
+            return np.linspace(stroke[0], stroke[1], steps)[:, None], 0, False
         if plan.input_kinds[0] != "rotary":
             raise SpecError([("--range", f"the linear input '{plan.input_names[0]}' has no natural cycle and its "
                                          f"stroke is not known: give --range START STOP "
@@ -243,12 +248,16 @@ def frame_guides(ax, plan, pos_all, *, params=None, size=None):
     k = _scale(plan)
     size = size if size is not None else _default_size(plan)
     cv = _Canvas()
+    finite = np.all(np.isfinite(pos_all.reshape(len(pos_all), -1)), axis=-1)
+    if not finite.any():   # no position can be assembled: no guide to draw
+        return cv.flush(ax)
+    row = pos_all[int(np.argmax(finite))]   # the first position that assembles
     for pr in plan.mechanism.prismatic:
         if pr.guide != "frame":
             continue
-        d = _line_direction(plan, pr, pos_all[0], params)
+        d = _line_direction(plan, pr, row, params)
         u = np.array([math.cos(d), math.sin(d)])
-        q0 = _line_point(plan, pr, pos_all[0], params, d) * k
+        q0 = _line_point(plan, pr, row, params, d) * k
         ref = pr.point if pr.point is not None else plan.mechanism.link(pr.link).points[0]
         pts = pos_all[:, plan.point_index(ref)] * k
         pts = pts[np.all(np.isfinite(pts), axis=-1)]

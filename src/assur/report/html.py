@@ -136,6 +136,32 @@ def analysis_html(summary: dict, plan) -> str:
     parts = []
     if s.get("note"):
         parts.append(f'<p class="note">{_e(s["note"])}</p>')
+    act = s.get("actuators")
+    if act:   # a linear driver's working stroke
+        from ..analysis.summary import actuator_rows
+        rows = actuator_rows(act, 1.0 / kL, Lu)
+        parts += [f"<p>{_e(line)}</p>" for line in rows["stroke"]]
+        if rows["lever"]:
+            parts.append("<h3>Lever manipulator (paper 002 parametrisation)</h3>")
+            parts.append(_table(["quantity", "value", "unit"], rows["lever"], num_cols=(1,)))
+        parts.append("<h3>Stroke envelope</h3>")
+        parts.append('<p class="note">Extremes along the stroke; interior ones located by a root of the '
+                     "derivative.</p>")
+        parts.append('<div class="scroll">' + _table(["rod", "quantity", "min (where)", "max (where)",
+                                                      "interior extrema", "unit"], rows["extremes"]) + "</div>")
+        if rows["pairs"]:
+            parts.append("<h3>Rods hinged at one joint</h3>")
+            parts.append(_table(["quantity", "value", "note"], rows["pairs"], num_cols=(1,)))
+        try:
+            from ..plot.actuators import actuator_figure
+            from ..plot.figures import close, figure_png
+            fig = actuator_figure(plan)
+            parts.append(_png_tag(figure_png(fig, dpi=80), "angular velocities and accelerations of the rods, "
+                                                           "K_ω and length changes along the stroke"))
+            close(fig)
+        except SpecError as exc:
+            parts.append(f'<p class="note">no actuator figure: {_e(exc)}</p>')
+        return "\n".join(parts)
     if s.get("unbuildable") is None:
         return "\n".join(parts)
     steps = s.get("steps")
@@ -229,6 +255,9 @@ def figures_html(plan, steps: int, frames: int, ranges=None) -> tuple[str, str]:
 
 def build_report(plan, *, steps: int = 360, frames: int = 36, ranges=None, source: str | None = None) -> str:
     """The report page as one HTML string."""
+    if getattr(plan, "dimension", 2) == 3:   # a spatial plan: 3D views (report/spatial.py)
+        from .spatial import build_spatial_report
+        return build_spatial_report(plan, steps=steps, frames=frames, ranges=ranges, source=source)
     from .. import __version__
     from ..analysis.summary import analyze
     m = plan.mechanism
