@@ -1,0 +1,15 @@
+"""Non-circular gear pairs: transmission laws, pitch curves, the paper-001 sector method, design files.
+
+Public names: :func:`pitch_pair`, :class:`PitchCurve`, :class:`GearPair` (pitch.py); the laws
+:class:`WheelStepLaw`, :func:`law_from_callable`, :func:`law_from_table`, :func:`law_from_ratio` (law.py);
+:class:`GearError` (errors.py). Sector model, Tables 1–3 and the paper's tooth outlines: :mod:`assur.gears.sectors`; design files:
+:mod:`assur.gears.design`.
+"""
+from .errors import GearError
+from .law import (TransmissionLaw, WheelStepLaw, law_from_callable, law_from_ratio, law_from_table)
+from .pitch import (ClosureReport, Corner, CurvatureReport, GearPair, PitchCurve, check_module, closure_report,
+                    curvature_report, find_corners, pitch_pair, speed_law)
+
+__all__ = ["GearError", "TransmissionLaw", "WheelStepLaw", "law_from_callable", "law_from_ratio", "law_from_table",
+           "ClosureReport", "Corner", "CurvatureReport", "GearPair", "PitchCurve", "check_module", "closure_report",
+           "curvature_report", "find_corners", "pitch_pair", "speed_law"]

@@ -1,0 +1,179 @@
+"""CAD and table outputs: closed outlines as DXF (ezdxf) and SVG, in millimetres; tables as CSV and JSON.
+
+Outlines are (M, 2) closed polygons in metres (the first point not repeated); files carry them in mm. Each DXF holds
+one closed LWPOLYLINE per outline on its own layer, a centre mark (cross and small circle) per outline, optional
+reference curves (pitch curves, as open or closed polylines on the layer ``PITCH``), ``$INSUNITS`` = 4 (mm) and the
+parameters as header custom properties. Each SVG is plain XML with a ``viewBox`` in mm, one ``<path>`` per outline
+(``fill-rule="evenodd"``), centre marks, and the parameters in ``<metadata>`` (JSON). ezdxf is imported lazily.
+All files are written through :func:`assur.io.output.atomic_file`.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .output import atomic_file
+
+MM = 1e3
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One outline to export: name (layer), closed polygon xy (M, 2) in m, its centre (2,) in m, and optional
+    reference curves (each (K, 2), m, closed)."""
+
+    name: str
+    xy: np.ndarray
+    centre: tuple = (0.0, 0.0)
+    references: tuple = field(default=())
+
+
+def _check(shape: Shape) -> np.ndarray:
+    xy = np.asarray(shape.xy, dtype=float)
+    if xy.ndim != 2 or xy.shape[1] != 2 or xy.shape[0] < 3 or not np.all(np.isfinite(xy)):
+        raise ValueError(f"outline {shape.name!r} must be a finite (M ≥ 3, 2) polygon: shape {xy.shape}")
+    return xy
+
+
+def _layer(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "_-" else "_" for c in name.upper()) or "OUTLINE"
+
+
+def write_dxf(path, shapes, *, metadata: dict | None = None, mark: float = 2.0) -> Path:
+    """Write shapes to a DXF (R2010, mm): closed LWPOLYLINE per outline, centre marks of ``mark`` mm."""
+    try:
+        import ezdxf
+    except ImportError as exc:  # pragma: no cover - ezdxf is an extra
+        raise ImportError("DXF output needs ezdxf: pip install 'assur[cad]' (or pip install ezdxf)") from exc
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    doc.header["$INSUNITS"] = 4
+    msp = doc.modelspace()
+    doc.layers.add("CENTRE", color=1)
+    doc.layers.add("PITCH", color=8)
+    for i, s in enumerate(shapes):
+        xy = _check(s) * MM
+        layer = _layer(s.name)
+        if layer not in doc.layers:
+            doc.layers.add(layer, color=(5 + 2 * i) % 255 or 7)
+        msp.add_lwpolyline([tuple(p) for p in xy], format="xy", close=True, dxfattribs={"layer": layer})
+        cx, cy = (float(c) * MM for c in s.centre)
+        msp.add_line((cx - mark, cy), (cx + mark, cy), dxfattribs={"layer": "CENTRE"})
+        msp.add_line((cx, cy - mark), (cx, cy + mark), dxfattribs={"layer": "CENTRE"})
+        msp.add_circle((cx, cy), mark / 4, dxfattribs={"layer": "CENTRE"})
+        for ref in s.references:
+            r = np.asarray(ref, dtype=float) * MM
+            msp.add_lwpolyline([tuple(p) for p in r], format="xy", close=True, dxfattribs={"layer": "PITCH"})
+    for k, v in (metadata or {}).items():
+        doc.header.custom_vars.append(str(k), str(v))
+    path = Path(path)
+    with atomic_file(path) as tmp:
+        doc.saveas(tmp)
+    return path
+
+
+def svg_text(shapes, *, metadata: dict | None = None, margin: float = 5.0, mark: float = 2.0) -> str:
+    """The SVG document (mm; y up in the drawing, i.e. flipped into SVG's y-down frame) as a string."""
+    from xml.sax.saxutils import escape
+    pts = [_check(s) * MM for s in shapes]
+    allp = np.concatenate(pts + [np.asarray([s.centre], dtype=float) * MM for s in shapes])
+    lo = allp.min(axis=0) - margin
+    hi = allp.max(axis=0) + margin
+    w, h = hi - lo
+
+    def tr(p):      # drawing (x, y up) → SVG (x, y down)
+        return p[:, 0] - lo[0], hi[1] - p[:, 1]
+
+    out = ['<?xml version="1.0" encoding="UTF-8"?>',
+           f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.4f}mm" height="{h:.4f}mm" '
+           f'viewBox="0 0 {w:.6f} {h:.6f}">']
+    out.append(f"<metadata>{escape(json.dumps(metadata or {}, ensure_ascii=False))}</metadata>")
+    for s, p in zip(shapes, pts):
+        x, y = tr(p)
+        d = "M " + " L ".join(f"{a:.6f},{b:.6f}" for a, b in zip(x, y)) + " Z"
+        out.append(f'<path id="{escape(_layer(s.name).lower())}" d="{d}" fill="none" stroke="black" '
+                   f'stroke-width="0.1" fill-rule="evenodd"/>')
+        for j, ref in enumerate(s.references):
+            rx, ry = tr(np.asarray(ref, dtype=float) * MM)
+            d = "M " + " L ".join(f"{a:.6f},{b:.6f}" for a, b in zip(rx, ry)) + " Z"
+            out.append(f'<path class="pitch" d="{d}" fill="none" stroke="gray" stroke-width="0.05" '
+                       f'stroke-dasharray="1,1"/>')
+        cx, cy = tr(np.asarray([s.centre], dtype=float) * MM)
+        cx, cy = float(cx[0]), float(cy[0])
+        out.append(f'<g class="centre" stroke="red" stroke-width="0.05"><line x1="{cx - mark:.4f}" y1="{cy:.4f}" '
+                   f'x2="{cx + mark:.4f}" y2="{cy:.4f}"/><line x1="{cx:.4f}" y1="{cy - mark:.4f}" x2="{cx:.4f}" '
+                   f'y2="{cy + mark:.4f}"/></g>')
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def write_svg(path, shapes, *, metadata: dict | None = None) -> Path:
+    path = Path(path)
+    text = svg_text(shapes, metadata=metadata)
+    with atomic_file(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return path
+
+
+def write_csv(path, header, rows) -> Path:
+    """A table (header: names with units, rows: sequences of numbers/strings) as CSV."""
+    path = Path(path)
+    with atomic_file(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(list(header))
+            for r in rows:
+                w.writerow([_cell(v) for v in r])
+    return path
+
+
+def _cell(v):
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        return "nan" if not math.isfinite(v) else repr(v)
+    if isinstance(v, (np.integer,)):
+        return int(v)
+    return v
+
+
+def json_ready(x):
+    """Non-finite floats → None; numpy scalars/arrays → Python numbers/lists."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return json_ready(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def write_json(path, data) -> Path:
+    path = Path(path)
+    with atomic_file(path) as tmp:
+        tmp.write_text(json.dumps(json_ready(data), ensure_ascii=False, indent=2, allow_nan=False) + "\n",
+                       encoding="utf-8")
+    return path
+
+
+def write_table(base, header, rows, *, meta: dict | None = None) -> tuple[Path, Path]:
+    """A table as ``base.csv`` and ``base.json`` (``{"columns": [...], "rows": [[...]], **meta}``)."""
+    base = Path(base)
+    a = write_csv(base.with_suffix(".csv"), header, rows)
+    b = write_json(base.with_suffix(".json"), {**(meta or {}), "columns": list(header),
+                                                "rows": [list(r) for r in rows]})
+    return a, b
+
+
+__all__ = ["Shape", "json_ready", "svg_text", "write_csv", "write_dxf", "write_json", "write_svg", "write_table"]
