@@ -167,8 +167,7 @@ def later_sections() -> list[str]:
     out = []
     for n in ("001", "002", "003"):
         path = ROOT / "docs" / f"reproduction_{n}.py"
-        if path.exists():
-            out += [runpy.run_path(str(path))["section"]().rstrip("\n"), ""]
+        out += [runpy.run_path(str(path))["section"]().rstrip("\n"), ""]
     return out
 
 
