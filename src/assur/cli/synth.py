@@ -30,6 +30,10 @@ def register(sub) -> None:
     sp.add_argument("--popsize", type=_positive(2), default=15, metavar="P",
                     help="population per variable (default 15)")
     sp.add_argument("--maxiter", type=_positive(1), default=1000, metavar="G", help="generations per start")
+    sp.add_argument("--target", type=float, default=None, metavar="F",
+                    help="stop at the first feasible design with objective ≤ F (later starts are skipped)")
+    sp.add_argument("--strategy", default="best1bin", metavar="NAME",
+                    help="scipy differential-evolution strategy (default best1bin; e.g. rand1bin, currenttobest1bin)")
     grp = sp.add_mutually_exclusive_group()
     grp.add_argument("--workers", type=_positive(1), default=None, metavar="N", help="local worker processes")
     grp.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
@@ -56,7 +60,7 @@ def cmd_synth(args) -> int:
     try:
         result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=args.time,
                             starts=args.starts, polish=args.polish, popsize=args.popsize, maxiter=args.maxiter,
-                            executor=executor, progress=progress)
+                            executor=executor, progress=progress, target=args.target, strategy=args.strategy)
     finally:
         executor.close()
     written = None

@@ -66,9 +66,12 @@ def default_backend() -> str:
 class Evaluator:
     """Pure vectorised objective of a :class:`Problem`. Picklable (for worker processes)."""
 
-    def __init__(self, problem: Problem, *, chunk: int = 512, backend: str | None = None):
+    #: designs per chunk: the general route holds (chunk, cycle samples, points) arrays, the fused
+    #: compiled reduction only a few numbers per design
+    CHUNK, FUSED_CHUNK = 512, 8192
+
+    def __init__(self, problem: Problem, *, chunk: int | None = None, backend: str | None = None):
         self.problem = problem
-        self.chunk = int(chunk)
         self.backend = backend or default_backend()
         p = problem
         self._periodic = np.array([v.periodic for v in p.variables], dtype=bool)
@@ -83,12 +86,10 @@ class Evaluator:
         self._fusable = (self.backend == "numba" and t is not None and t.timing != "path"
                          and quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
                          and packer(p.plan) is not None)
+        self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if self._fusable else self.CHUNK)
 
     def __reduce__(self):
-        return (Evaluator, (self.problem,), {"chunk": self.chunk, "backend": self.backend})
-
-    def __setstate__(self, state):
-        self.chunk, self.backend = state["chunk"], state["backend"]
+        return (_rebuild_evaluator, (self.problem, self.chunk, self.backend))
 
     # -- public --------------------------------------------------------------------------------------
     def __call__(self, X, detail: bool = False) -> Evaluation:
@@ -98,7 +99,8 @@ class Evaluator:
         X = np.atleast_2d(np.asarray(X, dtype=float))
         if X.shape[-1] != self.problem.n_vars:
             raise ValueError(f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")
-        parts = [self._chunk(X[i:i + self.chunk], detail) for i in range(0, len(X), self.chunk)] or [self._chunk(X, detail)]
+        size = self.CHUNK if detail else self.chunk          # the detailed route keeps per-target arrays
+        parts = [self._chunk(X[i:i + size], detail) for i in range(0, len(X), size)] or [self._chunk(X, detail)]
         return Evaluation.concatenate(parts)
 
     def wrap(self, X) -> np.ndarray:
@@ -295,6 +297,10 @@ class Evaluator:
         return Q[name], env
 
 
+def _rebuild_evaluator(problem, chunk, backend):
+    return Evaluator(problem, chunk=chunk, backend=backend)
+
+
 def _buildable_violation(share, shortfall):
     """The whole-cycle buildability measure: the mean shortfall of the groups past their toggles
     (smooth: it grows continuously as a design moves away from buildable), or where no radicand
@@ -324,8 +330,8 @@ def _sampled_gait(plan, st, ls):
     P = st.pos[:, :, plan.point_index(foot), :]
     x, v = P @ g * ls, P @ u * ls
     n, M = x.shape
-    with np.errstate(all="ignore"):
-        ia, ib = np.nanargmin(np.where(np.isfinite(x), x, np.inf), axis=1), np.nanargmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
+    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
+    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
     k = np.arange(M)
     arc1 = np.mod(k[None, :] - ia[:, None], M) <= np.mod(ib - ia, M)[:, None]
     arc2 = np.mod(k[None, :] - ib[:, None], M) <= np.mod(ia - ib, M)[:, None]
@@ -334,7 +340,7 @@ def _sampled_gait(plan, st, ls):
         m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
     contact = np.where((m1 <= m2)[:, None], arc1, arc2)
     out = {"gait.step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
-           "gait.lift": np.nanmax(v, axis=1) - np.nanmin(v, axis=1) if np.isfinite(v).any() else np.full(n, np.nan),
+           "gait.lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed (then infeasible)
            "gait.sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
            "gait.duty": np.count_nonzero(contact, axis=1) / M}
     if st.dpos_dq is not None:

@@ -24,6 +24,8 @@ from .executors import InProcess
 from .problem import Problem
 
 METHODS = ("de", "cmaes", "local")
+DE_STRATEGIES = ("best1bin", "best1exp", "rand1bin", "rand1exp", "rand2bin", "rand2exp", "randtobest1bin",
+                 "randtobest1exp", "currenttobest1bin", "currenttobest1exp", "best2exp", "best2bin")
 POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
 
 
@@ -49,9 +51,9 @@ class Tracker:
     convergence history and stops the run on a budget, a deadline or Ctrl-C."""
 
     def __init__(self, evaluator: Evaluator, executor=None, *, budget=None, deadline=None, progress=None,
-                 evaluations: int = 0):
+                 evaluations: int = 0, target=None):
         self.evaluator, self.executor = evaluator, executor or InProcess()
-        self.budget, self.deadline, self.progress = budget, deadline, progress
+        self.budget, self.deadline, self.progress, self.target = budget, deadline, progress, target
         self.evaluations = evaluations
         self.best_x, self.best_F = None, math.inf
         self.history: list[tuple[int, float, float]] = []
@@ -71,6 +73,8 @@ class Tracker:
         self.history.append((self.evaluations, time.monotonic() - self.t0, self.best_F))
         if self.progress is not None:
             self.progress(self.evaluations, self.best_F)
+        if self.target is not None and self.best_F <= self.target:
+            raise _Stop("target")
         return ev
 
     def F(self, X) -> np.ndarray:
@@ -88,7 +92,7 @@ class SynthesisResult:
     details: dict                      # Evaluation.row of the best design
     evaluations: int
     seconds: float
-    stopped: str                       # 'converged' | 'budget' | 'time' | 'interrupted'
+    stopped: str                       # 'converged' | 'target' | 'budget' | 'time' | 'interrupted'
     method: str
     seed: int | None
     starts: list = field(default_factory=list)       # per start: seed, F, evaluations, seconds, stopped
@@ -145,6 +149,20 @@ def _unit_box(problem):
     return lo, hi - lo
 
 
+def initial_population(problem, size, rng) -> np.ndarray:
+    """A Latin-hypercube population (size, n_vars) in the bounds. With free timing in cyclic order
+    each member's crank angles are sorted, so it passes the targets in order (as the HCDJ code does;
+    only 1/N! of unsorted angle sets are in order)."""
+    from scipy.stats import qmc
+    lo, hi = problem.bounds.T
+    X = lo + qmc.LatinHypercube(d=problem.n_vars, rng=rng).random(size) * (hi - lo)
+    t = problem.targets
+    if t is not None and t.timing == "free" and {"cyclic_order", "cyclic_order_any", "ascending"} & set(problem.constraints):
+        cols = [problem.names.index(n) for n in t.input_variables]
+        X[:, cols] = np.sort(X[:, cols], axis=1)
+    return X
+
+
 def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin"):
     from scipy.optimize import differential_evolution
     D = problem.n_vars
@@ -162,7 +180,8 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
         old, new = history[-patience - 1], history[-1]
         return old - new <= tol * max(abs(old), 1e-300)
     differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
-                           maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False, init="latinhypercube",
+                           maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False,
+                           init=initial_population(problem, pop, rng),
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
 
 
@@ -219,12 +238,14 @@ def _polish(tracker, problem, x0, kind):
             R = res(X)
             D = len(x)
             return ((R[:D] - R[D:]) / (2 * h[:, None])).T
-        for _ in range(3):
+        best = math.inf
+        while True:   # restart trf until a round no longer improves (the tracker's budget/deadline still stop it)
             out = least_squares(lambda x: res(x[None, :])[0], x0, jac=jac, bounds=(lo, hi), method="trf",
-                                x_scale=scale, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
-            if np.allclose(out.x, x0, rtol=0, atol=1e-15):
+                                x_scale=scale, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500)
+            cost = float(out.cost)
+            if not cost < best * (1 - 1e-6) or cost == 0.0:
                 break
-            x0 = np.clip(out.x, lo, hi)
+            best, x0 = cost, np.clip(out.x, lo, hi)
     elif kind == "nelder-mead":
         simplex = np.vstack([x0, x0 + np.diag(0.02 * scale)])
         minimize(lambda x: tracker.F(x[None, :])[0], x0, method="Nelder-Mead",
@@ -244,7 +265,8 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     """One independent start: a global search then a polish. Returns a StartResult (picklable)."""
     evaluator = evaluator or Evaluator(problem)
     deadline = None if time_limit is None else time.monotonic() + time_limit
-    tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress)
+    tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress,
+                      target=options.get("target"))
     rng = np.random.default_rng(seed)
     stopped = "converged"
     try:
@@ -291,7 +313,7 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
                time_limit: float | None = None, starts: int = 1, polish: str = "auto", popsize: int = 15,
                maxiter: int = 1000, tol: float = 1e-12, executor=None, progress: bool = False,
                x0=None, parallel_starts: bool | None = None, patience: int = 100,
-               strategy: str = "best1bin") -> SynthesisResult:
+               strategy: str = "best1bin", target: float | None = None) -> SynthesisResult:
     """Minimise the problem's objective subject to its constraints.
 
     method: 'de' (scipy differential evolution, vectorised), 'cmaes' (cma), or 'local' (polish only,
@@ -300,20 +322,24 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
     parallel executor they run as tasks (``parallel_starts``, default when starts > 1), otherwise in
     turn with the population evaluation on the executor. Ctrl-C, the budget and the time limit end
     the run early and return the best design so far. A DE start also ends when its best has improved by
-    less than ``tol`` (relative) over ``patience`` generations; ``strategy`` is scipy's DE strategy."""
+    less than ``tol`` (relative) over ``patience`` generations; ``strategy`` is scipy's DE strategy.
+    ``target``: stop as soon as a feasible design with objective ≤ target is found (later starts are
+    skipped)."""
     if method not in METHODS:
         raise SynthesisError(f"method must be one of {', '.join(METHODS)}: {method!r}")
     if polish not in POLISHES:
         raise SynthesisError(f"polish must be one of {', '.join(POLISHES)}: {polish!r}")
     if starts < 1:
         raise SynthesisError(f"starts must be at least 1: {starts}")
+    if strategy not in DE_STRATEGIES:
+        raise SynthesisError(f"strategy must be one of {', '.join(DE_STRATEGIES)}: {strategy!r}")
     for name, v in (("budget", budget), ("time_limit", time_limit)):
         if v is not None and not v > 0:
             raise SynthesisError(f"{name} must be positive: {v!r}")
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
-               "strategy": strategy,
+               "strategy": strategy, "target": target,
                "x0": None if x0 is None else problem.to_si(x0)}
     per_budget = None if budget is None else max(1, budget // starts)
     t0 = time.monotonic()
@@ -338,8 +364,8 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
                 r = run_start(problem, method, s, per_budget, remaining, options, evaluator, executor, prog)
                 results.append(r)
                 done += r.evaluations
-                if r.stopped == "interrupted":
-                    stopped = "interrupted"
+                if r.stopped in ("interrupted", "target"):
+                    stopped = r.stopped
                     break
     except KeyboardInterrupt:
         stopped = "interrupted"
@@ -351,7 +377,7 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
     best = min(results, key=lambda r: r.penalised)
     if stopped == "converged":
         reasons = {r.stopped for r in results}
-        stopped = next((s for s in ("interrupted", "time", "budget") if s in reasons), "converged")
+        stopped = next((s for s in ("target", "interrupted", "time", "budget") if s in reasons), "converged")
     ev = evaluator(best.x[None, :], detail=True)
     row = ev.row(0)
     history, offset_e, offset_t = [], 0, 0.0
