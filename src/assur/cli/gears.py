@@ -30,22 +30,9 @@ MM = 1e3
 DEG = 180.0 / math.pi
 
 
-def _positive(minimum=1):
-    import argparse
-
-    def parse(text):
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"must be an integer: {text!r}") from None
-        if v < minimum:
-            raise argparse.ArgumentTypeError(f"must be at least {minimum}: {v}")
-        return v
-    return parse
-
-
 def register(sub) -> None:
     """Add this module's sub-commands to the argparse sub-parsers `sub`."""
+    from .main import _positive
     for name, func, help_ in (("gears", cmd_gears, "non-circular gear pair: pitch curves, teeth (DXF/SVG), "
                                                    "mesh check, tables and plots"),
                               ("wheelstep", cmd_wheelstep, "wheel-step mover: shoe profile, displacement budget, "
