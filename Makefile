@@ -32,8 +32,9 @@ test: $(VENV)/.installed-test
 bench:
 	test -x .bench-venv/bin/python || $(PYTHON) -m venv .bench-venv
 	.bench-venv/bin/python -m pip install --quiet --upgrade pip
-	.bench-venv/bin/python -m pip install --quiet -e . -r benchmarks/requirements.txt
+	.bench-venv/bin/python -m pip install --quiet -e '.[all]' -r benchmarks/requirements.txt
 	.bench-venv/bin/python benchmarks/run.py
+	.bench-venv/bin/python benchmarks/synthesis.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache
