@@ -33,8 +33,52 @@ class Step:
     data: tuple = ()                       # kind-specific (see solve.py)
 
 
+class PlanLookups:
+    """Counts and name look-ups shared by the planar :class:`SolvePlan` and the spatial plan
+    (both hold ``param_names``, ``input_names``, ``point_names``, ``defaults`` and ``steps``)."""
+    __slots__ = ()
+
+    @property
+    def n_params(self) -> int:
+        return len(self.param_names)
+
+    @property
+    def n_inputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def n_points(self) -> int:
+        return len(self.point_names)
+
+    @property
+    def branch_signs(self) -> np.ndarray:
+        a = np.array([s.branch for s in self.steps], dtype=np.int8)
+        a.setflags(write=False)
+        return a
+
+    def param_index(self, name: str) -> int:
+        try:
+            return self.param_names.index(name)
+        except ValueError:
+            raise KeyError(f"unknown parameter {name!r} (known: {', '.join(self.param_names)})") from None
+
+    def point_index(self, name: str) -> int:
+        try:
+            return self.point_names.index(name)
+        except ValueError:
+            raise KeyError(f"unknown point {name!r} (known: {', '.join(self.point_names)})") from None
+
+    def params_with(self, **changes) -> np.ndarray:
+        """A copy of the defaults with named parameters changed (SI), e.g. ``crank.length=0.2``;
+        dots in names are written as double underscores: ``params_with(crank__length=0.2)``."""
+        p = self.defaults.copy()
+        for k, v in changes.items():
+            p[self.param_index(k.replace("__", "."))] = v
+        return p
+
+
 @dataclass(frozen=True)
-class SolvePlan:
+class SolvePlan(PlanLookups):
     mechanism: Mechanism
     structure: Structure
     steps: tuple[Step, ...]
@@ -63,46 +107,9 @@ class SolvePlan:
         self.__dict__.update(state)
 
     @property
-    def n_params(self) -> int:
-        return len(self.param_names)
-
-    @property
-    def n_inputs(self) -> int:
-        return len(self.input_names)
-
-    @property
-    def n_points(self) -> int:
-        return len(self.point_names)
-
-    @property
     def step_kind(self) -> np.ndarray:
         """(n_steps,) integer codes into STEP_KINDS (read-only)."""
         a = np.array([STEP_KINDS.index(s.kind) for s in self.steps], dtype=np.int8)
         a.setflags(write=False)
         return a
 
-    @property
-    def branch_signs(self) -> np.ndarray:
-        a = np.array([s.branch for s in self.steps], dtype=np.int8)
-        a.setflags(write=False)
-        return a
-
-    def param_index(self, name: str) -> int:
-        try:
-            return self.param_names.index(name)
-        except ValueError:
-            raise KeyError(f"unknown parameter {name!r} (known: {', '.join(self.param_names)})") from None
-
-    def point_index(self, name: str) -> int:
-        try:
-            return self.point_names.index(name)
-        except ValueError:
-            raise KeyError(f"unknown point {name!r} (known: {', '.join(self.point_names)})") from None
-
-    def params_with(self, **changes) -> np.ndarray:
-        """A copy of the defaults with named parameters changed (SI), e.g. ``crank.length=0.2``;
-        dots in names are written as double underscores: ``params_with(crank__length=0.2)``."""
-        p = self.defaults.copy()
-        for k, v in changes.items():
-            p[self.param_index(k.replace("__", "."))] = v
-        return p

@@ -35,6 +35,7 @@ from .errors import SpecError, StructureError, UnbuildableError, UnbuildableWarn
 from .kernels import spatial as V
 from .kernels.jet import Jet
 from .model.mechanism import Mechanism
+from .plan import PlanLookups
 from .structure.assur import Structure, analyse
 from .tolerances import DEFAULT
 
@@ -49,7 +50,7 @@ class SpatialStep:
 
 
 @dataclass(frozen=True)
-class SpatialPlan:
+class SpatialPlan(PlanLookups):
     """The compiled plan of a spatial mechanism (the attributes a planar :class:`SolvePlan` has,
     with ``dimension = 3``)."""
     mechanism: Mechanism
@@ -69,34 +70,6 @@ class SpatialPlan:
     #: ('idle', A, B): how its frame is defined
     body_frames: tuple = field(repr=False, default=())
     dimension: int = 3
-
-    n_params = property(lambda self: len(self.param_names))
-    n_inputs = property(lambda self: len(self.input_names))
-    n_points = property(lambda self: len(self.point_names))
-
-    @property
-    def branch_signs(self) -> np.ndarray:
-        a = np.array([s.branch for s in self.steps], dtype=np.int8)
-        a.setflags(write=False)
-        return a
-
-    def param_index(self, name: str) -> int:
-        try:
-            return self.param_names.index(name)
-        except ValueError:
-            raise KeyError(f"unknown parameter {name!r} (known: {', '.join(self.param_names)})") from None
-
-    def point_index(self, name: str) -> int:
-        try:
-            return self.point_names.index(name)
-        except ValueError:
-            raise KeyError(f"unknown point {name!r} (known: {', '.join(self.point_names)})") from None
-
-    def params_with(self, **changes) -> np.ndarray:
-        p = self.defaults.copy()
-        for k, v in changes.items():
-            p[self.param_index(k.replace("__", "."))] = v
-        return p
 
     def rss_steps(self) -> list[SpatialStep]:
         return [s for s in self.steps if s.kind == "RSS"]
