@@ -313,7 +313,7 @@ def cmd_solve(args) -> int:
     m, plan = _compile(args.file)
     if getattr(plan, "dimension", 2) == 3:
         from . import spatial
-        return spatial.solve(args, plan, _cell)
+        return spatial.solve(args, plan)
     ranges = _ranges(plan, args)
     q, moving, cyclic = sweep_inputs(plan, args.steps, ranges)
     state = solve(plan, None, q)
@@ -329,25 +329,33 @@ def cmd_solve(args) -> int:
     iu = [("°" if args.file_units else "rad") if k == "rotary" else L for k in plan.input_kinds]
     heads = ([f"{n} [{v}]" for n, v in zip(plan.input_names, iu)]
              + ["valid", f"{foot}.x [{L}]", f"{foot}.y [{L}]", f"|v| [{L}/s]", f"|a| [{L}/s²]"])
-    rows_at = range(len(q)) if len(q) <= 10 else np.unique(np.linspace(0, len(q) - 1, 8).round().astype(int))
-    width = [max(11, len(h) + 1) for h in heads]
-    print("".join(f"{h:>{w}}" for h, w in zip(heads, width)))
-    for r in rows_at:
+    def row(r):
         vals = list(table[r, :plan.n_inputs]) + [int(state.valid[r])]
         P = state.pos[r, fi] * kL
         V = state.vel[r, fi] * kL
         A = state.acc[r, fi] * kL
-        vals += [P[0], P[1], float(np.hypot(*V)), float(np.hypot(*A))]
-        cells = [str(v) if isinstance(v, int) else ("nan" if not np.isfinite(v) else f"{v:.5g}") for v in vals]
+        return vals + [P[0], P[1], float(np.hypot(*V)), float(np.hypot(*A))]
+    return print_rows_and_csv(args, heads, row, len(q), cols, table)
+
+
+def print_rows_and_csv(args, heads, row, n_rows, cols, table) -> int:
+    """The ``solve`` output shared by planar and spatial files: a table of the tracked point (every row
+    up to 10, else 8 spread over the sweep; ``row(r)`` gives a row's values) and, with ``--csv``, every
+    column of ``table`` written atomically."""
+    width = [max(11, len(h) + 1) for h in heads]
+    print("".join(f"{h:>{w}}" for h, w in zip(heads, width)))
+    rows_at = range(n_rows) if n_rows <= 10 else np.unique(np.linspace(0, n_rows - 1, 8).round().astype(int))
+    for r in rows_at:
+        cells = [str(v) if isinstance(v, int) else ("nan" if not np.isfinite(v) else f"{v:.5g}") for v in row(r)]
         print("".join(f"{c:>{w}}" for c, w in zip(cells, width)))
-    if len(q) > 10:
-        print(f"({len(rows_at)} of {len(q)} rows shown" + (", all points in --csv)" if not args.csv else ")"))
+    if n_rows > 10:
+        print(f"({len(rows_at)} of {n_rows} rows shown" + (", all points in --csv)" if not args.csv else ")"))
     if args.csv:
         with atomic_path(args.csv) as tmp:
             with open(tmp, "w", encoding="utf-8", newline="") as fh:
                 fh.write(",".join(cols) + "\n")
-                for row in table:
-                    fh.write(",".join(_cell(v) for v in row) + "\n")
+                for line in table:
+                    fh.write(",".join(_cell(v) for v in line) + "\n")
         print(f"wrote {args.csv} ({len(table)} rows × {len(cols)} columns, "
               f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})")
     return 0

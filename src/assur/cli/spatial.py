@@ -88,7 +88,7 @@ def solve_table(plan, q, state, file_units: bool) -> np.ndarray:
     return out
 
 
-def solve(args, plan, cell) -> int:
+def solve(args, plan) -> int:
     from ..plot.figures import sweep_inputs, tracked_point
     from ..solve import solve as solve_
     from .main import _ranges
@@ -110,25 +110,12 @@ def solve(args, plan, cell) -> int:
     A = "°" if args.file_units else "rad"
     heads = [f"{plan.input_names[0]} [{A}]", "valid"] + [f"{foot}.{c} [{L}]" for c in "xyz"] + \
         [f"|v| [{L}/s]", f"|a| [{L}/s²]"]
-    width = [max(11, len(h) + 1) for h in heads]
-    print("".join(f"{h:>{w}}" for h, w in zip(heads, width)))
-    rows_at = range(len(q)) if len(q) <= 10 else np.unique(np.linspace(0, len(q) - 1, 8).round().astype(int))
-    for r in rows_at:
-        vals = [table[r, 0], int(state.valid[r])] + list(state.pos[r, fi] * kL) + \
+    from .main import print_rows_and_csv
+
+    def row(r):
+        return [table[r, 0], int(state.valid[r])] + list(state.pos[r, fi] * kL) + \
             [float(np.linalg.norm(state.vel[r, fi])) * kL, float(np.linalg.norm(state.acc[r, fi])) * kL]
-        cells = [str(v) if isinstance(v, int) else ("nan" if not np.isfinite(v) else f"{v:.5g}") for v in vals]
-        print("".join(f"{c:>{w}}" for c, w in zip(cells, width)))
-    if len(q) > 10:
-        print(f"({len(rows_at)} of {len(q)} rows shown" + (", all points in --csv)" if not args.csv else ")"))
-    if args.csv:
-        with atomic_file(args.csv) as tmp:
-            with open(tmp, "w", encoding="utf-8", newline="") as fh:
-                fh.write(",".join(cols) + "\n")
-                for row in table:
-                    fh.write(",".join(cell(v) for v in row) + "\n")
-        print(f"wrote {args.csv} ({len(table)} rows × {len(cols)} columns, "
-              f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})")
-    return 0
+    return print_rows_and_csv(args, heads, row, len(q), cols, table)
 
 
 def dyad_lines(summary: dict, units) -> list[str]:
