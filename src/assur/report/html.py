@@ -226,7 +226,8 @@ def positions_html(plan, n: int = 12, ranges=None) -> str:
         return f'<p class="note">{_e(exc)}</p>'
     u = plan.mechanism.units
     kL = 1.0 / LENGTH[u.length]
-    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{u.length}]" for p in plan.point_names for c in "xy"]
+    axes = "xyz"[:getattr(plan, "dimension", 2)]          # planar or spatial plans
+    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{u.length}]" for p in plan.point_names for c in axes]
     rows = []
     for i in range(sw.n):
         r = [f"{sw.axis[i]:.4g}", "yes" if sw.state.valid[i] else "no"]

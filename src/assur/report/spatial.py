@@ -60,24 +60,6 @@ def dyads_html(summary: dict) -> str:
     return "\n".join(parts)
 
 
-def positions_html(plan, n: int = 12, ranges=None) -> str:
-    from ..plot.figures import sample
-    from .html import _e, _num, _table
-    try:
-        sw = sample(plan, n, ranges=ranges)
-    except SpecError as exc:
-        return f'<p class="note">{_e(exc)}</p>'
-    kL = 1.0 / LENGTH[plan.mechanism.units.length]
-    unit = plan.mechanism.units.length
-    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{unit}]" for p in plan.point_names for c in "xyz"]
-    rows = []
-    for i in range(sw.n):
-        r = [f"{sw.axis[i]:.4g}", "yes" if sw.state.valid[i] else "no"]
-        r += [_num(v * kL, 6) for v in sw.state.pos[i].reshape(-1)]
-        rows.append(r)
-    return '<div class="scroll">' + _table(head, rows, num_cols=tuple(range(2, len(head))) + (0,)) + "</div>"
-
-
 def figures_html(plan, steps: int, frames: int, ranges=None) -> tuple[str, str]:
     """(static figure as PNG, interactive 3D view with its animation) as HTML."""
     from ..plot import spatial as view
@@ -97,7 +79,7 @@ def figures_html(plan, steps: int, frames: int, ranges=None) -> tuple[str, str]:
 def build_spatial_report(plan, *, steps: int = 360, frames: int = 36, ranges=None, source: str | None = None) -> str:
     from .. import __version__
     from ..analysis.spatial import analyze_spatial
-    from .html import _CSS, _e, _section, analysis_html, drivers_html, structure_html
+    from .html import _CSS, _e, _section, analysis_html, drivers_html, positions_html, structure_html
     m = plan.mechanism
     summary = analyze_spatial(plan, steps=steps)
     title = m.name or (Path(source).stem if source else "mechanism")
