@@ -5,27 +5,20 @@ layers, the path colours on screen) with no JavaScript error and nothing fetched
 Chromium comes from Debian (``.ci/run`` installs it); outside CI the test is skipped when it is
 missing, in CI its absence is a failure.
 """
-import os
 import re
-import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import browser
 from assur.cli.main import main
+from browser import needs_browser
 
 ROOT = Path(__file__).resolve().parents[1]
-BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic",
-         "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--enable-logging=stderr", "--v=0"]
 JS_ERROR = re.compile(r"CONSOLE.*(Uncaught|TypeError|ReferenceError|SyntaxError|WebGL is not supported)")
 
-if BROWSER is None and os.environ.get("CI"):
-    raise RuntimeError("CI needs Debian's chromium for the browser test (.ci/run installs it)")
-pytestmark = pytest.mark.skipif(BROWSER is None, reason="headless Chromium not installed")
+pytestmark = needs_browser
 
 
 @pytest.fixture(scope="module")
@@ -40,8 +33,7 @@ def pages(tmp_path_factory):
 
 
 def run_browser(tmp_path, *args):
-    return subprocess.run([BROWSER, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", *args],
-                          capture_output=True, text=True, timeout=180, cwd=tmp_path)
+    return browser.run_browser(tmp_path, *args, webgl=True, timeout=180)
 
 
 def test_spatial_report_dom_has_a_drawn_3d_scene_and_no_js_error(pages, tmp_path):
