@@ -192,7 +192,7 @@ def test_summary_json_is_strict_and_complete():
     from assur.analysis.summary import structure_summary
     assert s["pairs"] == structure_summary(plan.mechanism)["pairs"]     # the kinematic pair counts stay untouched
     assert set(act["rods"]) == {"drive_rod", "driven_rod"} and act["rods"]["drive_rod"]["driven"]
-    from assur.cli.main import json_ready
+    from assur.io.output import json_ready
     json.dumps(json_ready(s), allow_nan=False)
     assert act["lever"]["area_ratio"] == pytest.approx(1.0, rel=1e-12)
 

@@ -20,7 +20,6 @@ drive in ``DIR/gears/``.
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 from pathlib import Path
 
@@ -311,7 +310,7 @@ def _run(args, expected, runner):
     from ..errors import SpecError
     from ..gears.design import load_design
     from ..io.output import atomic_directory
-    from .main import json_ready
+    from ..io.output import json_text
     design = load_design(args.file)
     kind = type(design).__name__
     if kind != expected:
@@ -322,7 +321,7 @@ def _run(args, expected, runner):
     with atomic_directory(args.output) as tmp:
         summary = runner(design, Path(tmp), mesh_steps=args.mesh_steps, log=log, frames=args.frames)
     if args.json:
-        print(json.dumps(json_ready(_public(summary)), ensure_ascii=False, indent=2, allow_nan=False))
+        print(json_text(_public(summary)))
     else:
         print(f"wrote {args.output}/")
     return 0

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import math
 import os
 import sys
@@ -19,6 +18,7 @@ import numpy as np
 from ..errors import AssurError, SpecError
 from ..analysis.summary import format_number, gait_rows
 from ..io.output import atomic_file as atomic_path
+from ..io.output import json_text
 from ..io.units import ANGLE, LENGTH
 
 PLOT_EXTENSIONS = (".png", ".svg", ".pdf", ".html")   # .html: interactive 3D view (spatial files)
@@ -149,22 +149,6 @@ def group_text(g) -> str:
     kind_text = f"{kind} ({num}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(num, 'th') } kind)" if num else kind
     return (f"class {_roman(g['class'])}, order {g['order']}, {kind_text}: bodies {', '.join(g['bodies'])}; "
             f"attached to {', '.join(g['attaches_to'])}")
-
-
-def json_ready(x):
-    """Replace non-finite floats by None (strict JSON) and numpy scalars by Python numbers."""
-    if isinstance(x, dict):
-        return {str(k): json_ready(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [json_ready(v) for v in x]
-    if isinstance(x, (np.floating, float)):
-        x = float(x)
-        return x if math.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
 
 
 # -- commands ---------------------------------------------------------------------------------------
@@ -432,7 +416,7 @@ def cmd_analyze(args) -> int:
     summary = analyze(plan, steps=args.steps)
     if args.json:
         summary = {"file": str(args.file), **summary}
-        print(json.dumps(json_ready(summary), ensure_ascii=False, indent=2, allow_nan=False))
+        print(json_text(summary))
         return 0
     print(f"{m.name or Path(args.file).stem}  [{args.file}]")
     for line in analysis_lines(summary, m.units):

@@ -5,7 +5,6 @@ conventions (``error: ...`` with exit status 1 for bad input).
 """
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
@@ -142,12 +141,12 @@ def dyad_lines(summary: dict, units) -> list[str]:
 
 def analyze(args, plan, analysis_lines) -> int:
     from ..analysis.spatial import analyze_spatial
-    from .main import json_ready
+    from ..io.output import json_text
     m = plan.mechanism
     summary = analyze_spatial(plan, steps=args.steps)
     if args.json:
         summary = {"file": str(args.file), **summary}
-        print(json.dumps(json_ready(summary), ensure_ascii=False, indent=2, allow_nan=False))
+        print(json_text(summary))
         return 0
     print(f"{m.name or Path(args.file).stem}  [{args.file}] (spatial)")
     for line in analysis_lines(summary, m.units):

@@ -6,7 +6,6 @@ object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best 
 """
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -51,7 +50,7 @@ def cmd_synth(args) -> int:
     from ..io.mechanism_file import dumps
     from ..io.output import atomic_file, check_writable
     from ..synthesis import load_problem, make_executor, synthesize
-    from .main import json_ready
+    from ..io.output import json_text
     problem = load_problem(args.file)
     if args.output is not None:
         check_writable(args.output)   # fail on an unusable output before the run, not after it
@@ -72,7 +71,7 @@ def cmd_synth(args) -> int:
     if args.json:
         d = result.as_dict()
         d["written"] = written
-        print(json.dumps(json_ready(d), ensure_ascii=False, indent=2, allow_nan=False))
+        print(json_text(d))
         return 0 if result.feasible else 3
     u = problem.length_unit
     unit = {"distance": f" {u}", "squared": f" {u}²"}.get(problem.deviation, "")

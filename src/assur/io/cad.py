@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .output import atomic_file
+from .output import atomic_file, json_text
 
 MM = 1e3
 
@@ -141,28 +141,10 @@ def _cell(v):
     return v
 
 
-def json_ready(x):
-    """Non-finite floats → None; numpy scalars/arrays → Python numbers/lists."""
-    if isinstance(x, dict):
-        return {str(k): json_ready(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [json_ready(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return json_ready(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        x = float(x)
-        return x if math.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
-
-
 def write_json(path, data) -> Path:
     path = Path(path)
     with atomic_file(path) as tmp:
-        tmp.write_text(json.dumps(json_ready(data), ensure_ascii=False, indent=2, allow_nan=False) + "\n",
+        tmp.write_text(json_text(data) + "\n",
                        encoding="utf-8")
     return path
 
@@ -176,4 +158,4 @@ def write_table(base, header, rows, *, meta: dict | None = None) -> tuple[Path, 
     return a, b
 
 
-__all__ = ["Shape", "json_ready", "svg_text", "write_csv", "write_dxf", "write_json", "write_svg", "write_table"]
+__all__ = ["Shape", "svg_text", "write_csv", "write_dxf", "write_json", "write_svg", "write_table"]

@@ -8,6 +8,8 @@ including Ctrl-C, the temporaries are removed and directories created for the ou
 from __future__ import annotations
 
 import contextlib
+import json
+import math
 import os
 import shutil
 import tempfile
@@ -92,4 +94,28 @@ def atomic_directory(out_dir):
         raise
 
 
-__all__ = ["OutputError", "atomic_directory", "atomic_file", "check_writable"]
+def json_ready(x):
+    """Strict-JSON data: non-finite floats → None; numpy scalars and arrays → Python numbers and lists."""
+    import numpy as np
+    if isinstance(x, dict):
+        return {str(k): json_ready(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return json_ready(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def json_text(data) -> str:
+    """``data`` as indented strict JSON (UTF-8 text, no NaN)."""
+    return json.dumps(json_ready(data), ensure_ascii=False, indent=2, allow_nan=False)
+
+
+__all__ = ["OutputError", "atomic_directory", "atomic_file", "check_writable", "json_ready", "json_text"]
