@@ -20,6 +20,7 @@ from ..analysis.summary import format_number, gait_rows
 from ..io.output import atomic_file as atomic_path
 from ..io.output import json_text
 from ..io.units import ANGLE, LENGTH
+from ..io.units import param_unit as _param_unit
 
 PLOT_EXTENSIONS = (".png", ".svg", ".pdf", ".html")   # .html: interactive 3D view (spatial files)
 ANIMATION_EXTENSIONS = (".gif", ".mp4", ".html")
@@ -101,15 +102,6 @@ def _angle_text(u):
     return "°" if u == "deg" else "rad"
 
 
-def _param_unit(name: str, units):
-    """(factor SI → file unit, unit label) of a parameter, by its name."""
-    if name.endswith((".x", ".y", ".length", ".distance", ".offset")):
-        return 1.0 / LENGTH[units.length], units.length
-    if name.endswith((".angle", ".zero")):
-        return 1.0 / ANGLE[units.angle], _angle_text(units.angle)
-    return 1.0, ""
-
-
 _fmt = format_number
 
 
@@ -149,6 +141,19 @@ def group_text(g) -> str:
     kind_text = f"{kind} ({num}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(num, 'th') } kind)" if num else kind
     return (f"class {_roman(g['class'])}, order {g['order']}, {kind_text}: bodies {', '.join(g['bodies'])}; "
             f"attached to {', '.join(g['attaches_to'])}")
+
+
+def print_parameters_and_drivers(plan) -> None:
+    """``info``'s parameter table (in the file's units) and driver lines, planar or spatial."""
+    u = plan.mechanism.units
+    print(f"parameters ({len(plan.param_names)}, in the file's units):")
+    w = max(len(n) for n in plan.param_names)
+    for name, v in zip(plan.param_names, plan.defaults):
+        f, unit = _param_unit(name, u)
+        print(f"  {name:<{w}} = {_fmt(v * f, 8)}" + (f" {unit}" if unit else ""))
+    print("drivers:")
+    for line in driver_lines(plan.mechanism):
+        print("  " + line)
 
 
 # -- commands ---------------------------------------------------------------------------------------
@@ -194,7 +199,7 @@ def cmd_info(args) -> int:
         from ..compile import compile as compile_
         from . import spatial
         if any(j.axis for j in m.joints):
-            spatial.info(compile_(m), driver_lines)
+            spatial.info(compile_(m))
             return 0
         joints = {j.point: j.kind for j in m.joints}
         if joints:
@@ -218,14 +223,7 @@ def cmd_info(args) -> int:
         print(f"not determined by the drivers: {', '.join(undetermined)}")
     from ..compile import compile as compile_
     plan = compile_(m)
-    print(f"parameters ({len(plan.param_names)}, in the file's units):")
-    w = max(len(n) for n in plan.param_names)
-    for name, v in zip(plan.param_names, plan.defaults):
-        f, unit = _param_unit(name, u)
-        print(f"  {name:<{w}} = {_fmt(v * f, 8)}" + (f" {unit}" if unit else ""))
-    print("drivers:")
-    for line in driver_lines(m):
-        print("  " + line)
+    print_parameters_and_drivers(plan)
     if m.gait is not None:
         g = m.gait
         print(f"gait: foot {g.foot}, ground [{', '.join(_fmt(c) for c in g.ground)}], up "

@@ -13,19 +13,11 @@ import numpy as np
 
 from ..analysis.summary import format_number as _fmt
 from ..io.output import atomic_file
-from ..io.units import ANGLE, LENGTH
+from ..io.units import LENGTH
 
 
 def is_spatial(plan) -> bool:
     return getattr(plan, "dimension", 2) == 3
-
-
-def _param_unit(name: str, units):
-    if name.endswith((".x", ".y", ".z", ".length", ".axial", ".u", ".v", ".w")):
-        return 1.0 / LENGTH[units.length], units.length
-    if name.endswith((".gamma1", ".gamma2", ".zero")):
-        return 1.0 / ANGLE[units.angle], "°" if units.angle == "deg" else "rad"
-    return 1.0, ""
 
 
 def branch_lines(plan) -> list[str]:
@@ -38,10 +30,9 @@ def branch_lines(plan) -> list[str]:
     return out
 
 
-def info(plan, driver_lines) -> None:
+def info(plan) -> None:
     """The spatial part of ``assur info``: parameters, axes, dyads and their branches."""
     m = plan.mechanism
-    u = m.units
     joints = {j.point: j for j in m.joints}
     if joints:
         parts = []
@@ -52,14 +43,8 @@ def info(plan, driver_lines) -> None:
     print("solve plan: crank, then " + (", ".join(f"R–S–S dyad → {s.key_point}" for s in plan.rss_steps()) or "—"))
     for line in branch_lines(plan):
         print("  " + line)
-    print(f"parameters ({len(plan.param_names)}, in the file's units):")
-    w = max(len(n) for n in plan.param_names)
-    for name, v in zip(plan.param_names, plan.defaults):
-        f, unit = _param_unit(name, u)
-        print(f"  {name:<{w}} = {_fmt(v * f, 8)}" + (f" {unit}" if unit else ""))
-    print("drivers:")
-    for line in driver_lines(m):
-        print("  " + line)
+    from .main import print_parameters_and_drivers
+    print_parameters_and_drivers(plan)
 
 
 def solve_columns(plan, file_units: bool):

@@ -16,6 +16,7 @@ from pathlib import Path
 from ..analysis.summary import format_number, gait_rows
 from ..errors import SpecError, UnbuildableError
 from ..io.units import ANGLE, LENGTH
+from ..io.units import param_unit as _param_unit
 
 _CSS = """
 body { font-family: system-ui, -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; margin: 0 auto;
@@ -65,14 +66,6 @@ def _png_tag(png: bytes, alt: str) -> str:
 
 def _section(title, body) -> str:
     return f"<h2>{_e(title)}</h2>\n{body}\n"
-
-
-def _param_unit(name, units):
-    if name.endswith((".x", ".y", ".length", ".distance", ".offset")):
-        return 1.0 / LENGTH[units.length], units.length
-    if name.endswith((".angle", ".zero")):
-        return 1.0 / ANGLE[units.angle], "°" if units.angle == "deg" else "rad"
-    return 1.0, ""
 
 
 # -- sections ---------------------------------------------------------------------------------------

@@ -8,26 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import SpecError
-from ..io.units import ANGLE, LENGTH
-
-
-def _param_unit(name, units):
-    if name.endswith((".x", ".y", ".z", ".length", ".axial", ".u", ".v", ".w")):
-        return 1.0 / LENGTH[units.length], units.length
-    if name.endswith((".gamma1", ".gamma2", ".zero")):
-        return 1.0 / ANGLE[units.angle], "°" if units.angle == "deg" else "rad"
-    return 1.0, ""
-
-
-def parameters_html(plan) -> str:
-    from .html import _num, _table
-    u = plan.mechanism.units
-    rows = []
-    for name, v in zip(plan.param_names, plan.defaults):
-        f, unit = _param_unit(name, u)
-        si = "m" if unit == u.length else ("rad" if unit else "")
-        rows.append((name, _num(v * f, 8), unit, _num(v, 8), si))
-    return _table(["parameter", "value", "unit", "SI value", "SI unit"], rows, num_cols=(1, 3))
+from ..io.units import LENGTH
 
 
 def joints_html(plan) -> str:
@@ -79,7 +60,7 @@ def figures_html(plan, steps: int, frames: int, ranges=None) -> tuple[str, str]:
 def build_spatial_report(plan, *, steps: int = 360, frames: int = 36, ranges=None, source: str | None = None) -> str:
     from .. import __version__
     from ..analysis.spatial import analyze_spatial
-    from .html import _CSS, _e, _section, analysis_html, drivers_html, positions_html, structure_html
+    from .html import _CSS, _e, _section, analysis_html, drivers_html, parameters_html, positions_html, structure_html
     m = plan.mechanism
     summary = analyze_spatial(plan, steps=steps)
     title = m.name or (Path(source).stem if source else "mechanism")

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SpecError
-from ..io.units import ANGLE, LENGTH
+from ..io.units import ANGLE, LENGTH, param_kind
 from .expressions import Expression, ExpressionError
 
 FORMAT = "assur-synth/1"
@@ -187,11 +187,6 @@ _TOP = {"format", "name", "description", "mechanism", "variables", "parameters",
         "constraints", "options"}
 
 
-def _param_kind(name: str) -> str:
-    tail = name.rsplit(".", 1)[-1]
-    return "angle" if tail in ("angle", "zero") else "length"
-
-
 def load_problem(path) -> Problem:
     """Read a problem file. Raises SpecError listing every problem with its location."""
     from ..io.mechanism_file import read_toml
@@ -254,7 +249,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         raw_vars = {}
     for name, spec in raw_vars.items():
         where = f"variables.{name}"
-        kind = _param_kind(name) if name in params else "length"
+        kind = param_kind(name) if name in params else "length"
         periodic = None
         if isinstance(spec, dict):
             for k in spec:
