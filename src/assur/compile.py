@@ -255,9 +255,9 @@ def _group_step(m, s, B, grp, actuator_input) -> Step:
         line = B.line_of[inner.name]
         guide = B.lines[line][2]
         if guide in (sa.body,) or (sa.actuator and guide in sa.actuator[:2]):
-            g_side, g_pt, s_side, s_pt = sa, pair_a.point, sb, pair_b.point
+            g_pt, s_pt = pair_a.point, pair_b.point
         else:
-            g_side, g_pt, s_side, s_pt = sb, pair_b.point, sa, pair_a.point
+            g_pt, s_pt = pair_b.point, pair_a.point
         slider = B.lines[line][3]
         return Step("RPR", grp.bodies, key_point=s_pt, data=(B.lines[line][2], g_pt, slider, s_pt, line))
     if kind == GroupKind.PRP:

@@ -132,7 +132,6 @@ def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, ext
 def _extreme_location(F: _Foot, key: str, dkey: str, q, vals, which: str) -> tuple[float, float]:
     """(q, value) of the global min or max of F[key] over a full cyclic grid, refined by a root of F[dkey]."""
     i = int(np.argmin(vals[key]) if which == "min" else np.argmax(vals[key]))
-    n = len(q)
     step = q[1] - q[0]
     f = F.scalar(dkey)
     best = (float(q[i]), float(vals[key][i]))

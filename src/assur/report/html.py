@@ -15,7 +15,7 @@ from pathlib import Path
 
 from ..analysis.summary import format_number, gait_rows
 from ..errors import SpecError, UnbuildableError
-from ..io.units import ANGLE, LENGTH
+from ..io.units import LENGTH
 from ..io.units import param_unit as _param_unit
 
 _CSS = """

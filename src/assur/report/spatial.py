@@ -8,7 +8,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import SpecError
-from ..io.units import LENGTH
 
 
 def joints_html(plan) -> str:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 from ..errors import StructureError
-from ..model.mechanism import FRAME, Mechanism
+from ..model.mechanism import Mechanism
 from .graph import StructureGraph, build_graph
 
 
