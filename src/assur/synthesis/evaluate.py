@@ -87,6 +87,8 @@ class Evaluator:
                          and quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
                          and packer(p.plan) is not None)
         self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if self._fusable else self.CHUNK)
+        self._needs_cycle = p.needs_cycle()
+        self._cycle_q = np.linspace(0.0, TWO_PI, p.cycle_samples, endpoint=False)   # (M,) whole-cycle inputs
 
     def __reduce__(self):
         return (_rebuild_evaluator, (self.problem, self.chunk, self.backend))
@@ -111,7 +113,14 @@ class Evaluator:
 
     def params(self, X) -> np.ndarray:
         """Mechanism parameters (n, n_params) of design vectors X (n, n_vars), SI."""
-        X = self.wrap(np.atleast_2d(X))
+        return self._params(self.wrap(np.atleast_2d(X)))
+
+    def target_inputs(self, X) -> np.ndarray:
+        """(n, N) input values at the targets (rad or m)."""
+        return self._target_inputs(self.wrap(np.atleast_2d(X)))
+
+    def _params(self, X) -> np.ndarray:
+        """params() of already wrapped design vectors."""
         plan = self.problem.plan
         p = np.tile(plan.defaults, (len(X), 1))
         env = {name: p[:, i] for i, name in enumerate(plan.param_names)}
@@ -124,10 +133,9 @@ class Evaluator:
                     env[name] = p[:, idx]
         return p
 
-    def target_inputs(self, X) -> np.ndarray:
-        """(n, N) input values at the targets (rad or m)."""
+    def _target_inputs(self, X) -> np.ndarray:
+        """target_inputs() of already wrapped design vectors."""
         t = self.problem.targets
-        X = self.wrap(np.atleast_2d(X))
         if t.timing == "prescribed":
             return np.broadcast_to(t.inputs, (len(X), t.n))
         if t.timing == "free":
@@ -135,16 +143,15 @@ class Evaluator:
         return X[:, [self._index[t.start]]] + t.step * np.arange(t.n)
 
     # -- one chunk -----------------------------------------------------------------------------------
-    def _fused(self, X, params):
-        """The compiled reduction (D, 4) of ``compiled_backend.path_objective`` where it covers the
-        problem (timed targets, deviation and buildability only), else None."""
+    def _fused(self, theta, params):
+        """The compiled reduction (D, 5) of ``compiled_backend.path_objective`` where it covers the
+        problem (timed targets, deviation and buildability only), else None. theta: (n, N) target inputs."""
         if not self._fusable:
             return None
         from ..compiled_backend import path_objective
         prob = self.problem
-        cycle = np.linspace(0.0, TWO_PI, prob.cycle_samples, endpoint=False) if prob.needs_cycle() else None
-        q = self.target_inputs(X)
-        q = q[:1] if prob.targets.timing == "prescribed" else q
+        cycle = self._cycle_q if self._needs_cycle else None
+        q = theta[:1] if prob.targets.timing == "prescribed" else theta
         return path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
                               DEFAULT.radicand)
 
@@ -155,7 +162,7 @@ class Evaluator:
         Xw = self.wrap(X)
         lo, hi = prob.bounds.T
         out_of_box = np.where(self._periodic, 0.0, np.maximum(0.0, lo - Xw) + np.maximum(0.0, Xw - hi)).sum(axis=1)
-        params = self.params(X)
+        params = self._params(Xw)
         finite = np.all(np.isfinite(params), axis=1)
         params = np.where(finite[:, None], params, plan.defaults)   # NaN parameters: infeasible, not solved
         V = {"bounds": out_of_box, "parameters": np.where(finite, 0.0, 1.0)}
@@ -163,18 +170,18 @@ class Evaluator:
         ls = prob.length_scale
         f = np.zeros(n)
         t = prob.targets
-        fused = None if detail else self._fused(X, params)
+        theta = self._target_inputs(Xw) if t is not None and t.timing != "path" else None   # (n, N)
+        fused = None if detail else self._fused(theta, params)
         if fused is not None:
             V["assembly"] = fused[:, 2] / t.n
             Q["deviation"] = fused[:, 0 if prob.deviation == "squared" else 1] * (ls * ls if prob.deviation == "squared" else ls)
             if prob.deviation != "none":
                 f = f + prob.deviation_weight * Q["deviation"]
-            if prob.needs_cycle():
+            if self._needs_cycle:
                 Q["unbuildable"] = fused[:, 3] / prob.cycle_samples
                 V["buildable"] = _buildable_violation(Q["unbuildable"], fused[:, 4] / prob.cycle_samples)
-        elif t is not None and t.timing != "path":
-            q = self.target_inputs(X)
-            st = solve(plan, params[:, None, :], q[..., None], order=self._order, backend=self.backend)
+        elif theta is not None:
+            st = solve(plan, params[:, None, :], theta[..., None], order=self._order, backend=self.backend)
             pt = st.pos[:, :, plan.point_index(t.point), :]                        # (n, N, 2)
             valid = st.valid & finite[:, None]
             V["assembly"] = np.count_nonzero(~valid, axis=1) / t.n
@@ -182,7 +189,7 @@ class Evaluator:
             Q["distances"] = np.linalg.norm(Q["offsets"], axis=-1)                 # (n, N)
             if self._order == 2:
                 Q["acceleration"] = np.sum((st.d2pos_dq2[:, :, plan.point_index(t.point), 0, 0, 0] * ls) ** 2, axis=1)
-        if prob.needs_cycle() and fused is None:
+        if self._needs_cycle and fused is None:
             self._cycle(params, finite, V, Q)
         if t is not None and t.timing == "path":
             Q["distances"] = Q.pop("_path_distances")
@@ -191,17 +198,18 @@ class Evaluator:
             Q["deviation"] = (d * d).sum(axis=1) if prob.deviation == "squared" else d.sum(axis=1)
             if prob.deviation != "none":
                 f = f + prob.deviation_weight * Q["deviation"]
+        env = {name: params[:, i] for i, name in enumerate(plan.param_names)}   # for the expressions
+        env.update({v.name: Xw[:, j] for j, v in enumerate(prob.variables)})
         if prob.fourbar:
-            self._fourbar(X, params, V)
+            self._fourbar(env, theta, n, V)
         for c in ("cyclic_order", "cyclic_order_any", "ascending"):
             if c in prob.constraints:
-                V[c] = getattr(fb, c)(self.target_inputs(X))
-        env = None
+                V[c] = getattr(fb, c)(theta)
         for term in prob.terms:
-            v, env = self._quantity(term.quantity, term.expression, X, params, Q, env)
+            v = self._quantity(term.quantity, term.expression, n, Q, env)
             f = f + term.weight * (v if term.target is None else np.abs(v - term.target))
         for i, lim in enumerate(prob.limits):
-            v, env = self._quantity(lim.quantity, lim.expression, X, params, Q, env)
+            v = self._quantity(lim.quantity, lim.expression, n, Q, env)
             viol = np.zeros(n)
             if lim.low is not None:
                 viol = viol + np.maximum(0.0, lim.low - v)
@@ -220,8 +228,7 @@ class Evaluator:
         """Whole-cycle samples: buildability, gait quantities, transmission, path distances."""
         from ..solve import solve
         prob, plan = self.problem, self.problem.plan
-        M = prob.cycle_samples
-        q = np.linspace(0.0, TWO_PI, M, endpoint=False)
+        M, q = prob.cycle_samples, self._cycle_q
         st = solve(plan, params[:, None, :], q[:, None], order=self._cycle_order, backend=self.backend)
         valid = st.valid & finite[:, None]
         share = np.count_nonzero(~valid, axis=1) / M
@@ -253,11 +260,11 @@ class Evaluator:
             else:
                 Q["transmission.min"] = np.full(len(params), np.nan)
 
-    def _fourbar(self, X, params, V):
+    def _fourbar(self, env, theta, n, V):
+        """The four-bar constraint measures; env: the expressions' names → (n,), theta (n, N) or None."""
         prob = self.problem
-        env = self._env(X, params)
         with np.errstate(all="ignore"):
-            L = np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),)) for _, e in prob.fourbar], axis=1)
+            L = np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (n,)) for _, e in prob.fourbar], axis=1)
         L = np.where(np.isfinite(L), L, 0.0)
         safe = np.where(L > 0, L, 1e-300)
         for c, measure in (("grashof", fb.grashof), ("nondegenerate", fb.nondegenerate),
@@ -265,8 +272,7 @@ class Evaluator:
             if c in prob.constraints:
                 V[c] = measure(L)
         t = prob.targets
-        if t is not None and t.timing != "path":
-            theta = self.target_inputs(X)
+        if theta is not None:
             with np.errstate(all="ignore"):
                 V["assembly"] = V.get("assembly", 0.0) + fb.assembly(safe, theta)
             if "continuous_motion" in prob.constraints:
@@ -274,7 +280,7 @@ class Evaluator:
                     start, width = theta[:, 0], fb.gaps(theta).sum(axis=1)
                 elif t.timing == "uniform":
                     start = theta[:, 0]
-                    width = np.full(len(X), abs(t.step) * (t.n if abs(t.step) * t.n >= TWO_PI - 1e-12 else t.n - 1))
+                    width = np.full(n, abs(t.step) * (t.n if abs(t.step) * t.n >= TWO_PI - 1e-12 else t.n - 1))
                     if t.step < 0:
                         start = theta[:, -1]
                 else:
@@ -282,19 +288,12 @@ class Evaluator:
                 with np.errstate(all="ignore"):
                     V["continuous_motion"] = fb.continuous_motion(safe, start, width)
 
-    def _env(self, X, params):
-        plan = self.problem.plan
-        env = {name: params[:, i] for i, name in enumerate(plan.param_names)}
-        Xw = self.wrap(X)
-        env.update({v.name: Xw[:, j] for j, v in enumerate(self.problem.variables)})
-        return env
-
-    def _quantity(self, name, expression, X, params, Q, env):
+    @staticmethod
+    def _quantity(name, expression, n, Q, env):
         if expression is not None:
-            env = env or self._env(X, params)
             with np.errstate(all="ignore"):
-                return np.broadcast_to(np.asarray(expression(env), dtype=float), (len(X),)), env
-        return Q[name], env
+                return np.broadcast_to(np.asarray(expression(env), dtype=float), (n,))
+        return Q[name]
 
 
 def _rebuild_evaluator(problem, chunk, backend):

@@ -227,7 +227,7 @@ def _polish(tracker, problem, x0, kind):
     lo, hi = problem.bounds.T
     lo = np.where(periodic, -np.inf, lo)
     hi = np.where(periodic, np.inf, hi)
-    x0 = np.clip(x0, np.where(periodic, -np.inf, lo), np.where(periodic, np.inf, hi))
+    x0 = np.clip(x0, lo, hi)                      # periodic angles: unbounded
     scale = np.where(np.isfinite(hi - lo), hi - lo, 2 * np.pi)
     if kind == "least_squares":
         res = _residuals(tracker, problem)

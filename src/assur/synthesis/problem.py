@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -143,7 +143,6 @@ class Problem:
     mechanism_source: str | None = None
     length_unit: str = "m"
     angle_unit: str = "rad"
-    _meta: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def n_vars(self) -> int:
