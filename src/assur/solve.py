@@ -240,6 +240,16 @@ def _prepare(plan: SolvePlan, params, inputs):
 AUTO_COMPILED_MIN_SAMPLES = 20_000
 
 
+def check_options(on_unbuildable: str, method: str, order: int) -> None:
+    """SpecError unless the options of a solve (planar or spatial) are known values."""
+    if on_unbuildable not in ON_UNBUILDABLE:
+        raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
+    if method not in ("closed", "newton"):
+        raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
+    if order not in (0, 1, 2):
+        raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
+
+
 def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None, order: int = 2,
           on_unbuildable: str = "nan", method: str = "closed", backend: str = "auto",
           tolerances=DEFAULT) -> State:
@@ -254,16 +264,11 @@ def solve(plan: SolvePlan, params=None, inputs=None, *, speeds=None, accels=None
     does not cover fall back to numpy) or 'auto' (numba for batches of at least
     ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed). Both give the same numbers.
     """
+    check_options(on_unbuildable, method, order)
     if getattr(plan, "dimension", 2) == 3:   # a spatial plan (assur.spatial_plan)
         from .spatial_plan import solve_spatial
         return solve_spatial(plan, params, inputs, speeds=speeds, accels=accels, order=order,
                              on_unbuildable=on_unbuildable, method=method, tolerances=tolerances)
-    if on_unbuildable not in ON_UNBUILDABLE:
-        raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
-    if method not in ("closed", "newton"):
-        raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
-    if order not in (0, 1, 2):
-        raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
     if backend not in ("auto", "numpy", "numba"):
         raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
     params, inputs = _prepare(plan, params, inputs)

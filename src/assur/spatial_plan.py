@@ -685,12 +685,8 @@ def solve_spatial(plan: SpatialPlan, params=None, inputs=None, *, speeds=None, a
                   on_unbuildable: str = "nan", method: str = "closed", tolerances=DEFAULT) -> SpatialState:
     """Solve a spatial plan: see :func:`assur.solve` (same arguments; ``method='newton'`` is the
     loop-closure oracle). Unassemblable samples are NaN with ``valid`` False."""
-    if on_unbuildable not in ("nan", "warn", "raise"):
-        raise SpecError([("on_unbuildable", f"must be one of nan, warn, raise: {on_unbuildable!r}")])
-    if method not in ("closed", "newton"):
-        raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
-    if order not in (0, 1, 2):
-        raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
+    from .solve import check_options
+    check_options(on_unbuildable, method, order)
     params, inputs = _prepare(plan, params, inputs)
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     n = plan.n_inputs
