@@ -79,6 +79,8 @@ class PlanLookups:
 
 @dataclass(frozen=True)
 class SolvePlan(PlanLookups):
+    #: 2 for a planar plan (the spatial plan has 3)
+    dimension = 2
     mechanism: Mechanism
     structure: Structure
     steps: tuple[Step, ...]
