@@ -9,19 +9,20 @@ The data flow is description → compiled plan → batched state::
 """
 from __future__ import annotations
 
-from .compile import compile  # noqa: A004 - the public verb
+from .engine import PlanarPlan, SolvePlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
 from .errors import AssurError, SpecError, StructureError, SynthesisError, UnbuildableError, UnbuildableWarning
 from .io.mechanism_file import dump, dumps, load, loads
 from .model.mechanism import Mechanism
-from .plan import SolvePlan
-from .solve import solve
-from .state import State
 from .structure.assur import AssurGroup, GroupKind, Structure, analyse
+
+#: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
+analyse_structure = analyse
 
 __version__ = "0.1.0"
 
 _LAZY = {
-    "analyze": ("assur.analysis.summary", "analyze"),
+    "summarize": ("assur.analysis.summary", "analyze"),
+    "analyze": ("assur.analysis.summary", "analyze"),     # the former name of summarize
     "gait_metrics": ("assur.analysis.gait", "gait_metrics"),
     "gait_curves": ("assur.analysis.gait", "gait_curves"),
     "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
@@ -37,6 +38,7 @@ def __getattr__(name):
         return getattr(importlib.import_module(module), attr)
     raise AttributeError(f"module 'assur' has no attribute {name!r}")
 
-__all__ = ["AssurError", "AssurGroup", "GroupKind", "Mechanism", "SolvePlan", "SpecError", "State", "Structure",
-           "StructureError", "SynthesisError", "UnbuildableError", "UnbuildableWarning", "analyse", "compile", "dump",
+__all__ = ["AssurError", "AssurGroup", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
+           "SpatialState", "State", "Structure", "StructureError", "SynthesisError", "UnbuildableError",
+           "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
            "dumps", "load", "loads", "solve", "__version__", *_LAZY]

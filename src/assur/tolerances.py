@@ -30,6 +30,45 @@ class Tolerances:
     #: Branch choice at compile time is ambiguous when the two candidate assemblies are closer than
     #: this, relative to the length scale.
     branch_separation: float = 1e-6
+    #: A ``[branches]`` hint on a point that lies on its reference line in the sketch is decided this
+    #: far off the sketch input (rad of crank; relative to the length scale for a stroke).
+    branch_nudge: float = 1e-3
+    #: A point is on a line (neither side) when the cross product, relative to the squared length
+    #: scale, is below this.
+    collinear: float = 1e-12
+    #: A spatial arm (or a universal joint's pin) within this fraction of its length of its axis (of
+    #: the coupler) is parallel to it.
+    axis_offset: float = 1e-9
+    #: A direction vector in a file whose norm is 1 within this is taken as written (not divided by its norm).
+    unit_norm: float = 1e-14
+    #: Two directions in a file (gait.ground, gait.up) are perpendicular when their unit vectors' dot product
+    #: is below this.
+    perpendicular: float = 1e-9
+    #: A length given twice in a design file (a shoe's c and r_min; the shoe and its gear law's a, b, c)
+    #: must agree within this, relative to the length (or to 1 m, 1 mm as the file's check says).
+    design_agreement: float = 1e-9
+    #: A file length unit is an exact fraction 1/k of a metre (mm, cm: divided by k, not multiplied) when
+    #: 1/factor is within this of an integer.
+    unit_reciprocal: float = 1e-9
+    #: A transmission law closes when θ after its whole cycle is the wanted angle within this (rad).
+    law_closure: float = 1e-6
+    #: A speed ratio k(φ) is 2π-periodic when k(2π) equals k(0) within this, relative to max(1, |k(0)|).
+    ratio_periodic: float = 1e-9
+    #: A pitch perimeter carries z teeth of module m when it equals z·π·m within this fraction.
+    tooth_perimeter: float = 1e-3
+    #: The sector partition of a gear pair is symmetric, and its sectors tile a turn, within this (rad;
+    #: relative to the centre distance for radii).
+    sector_symmetry: float = 1e-9
+    #: Consecutive points of a tooth outline closer than this (m) are one point.
+    outline_point: float = 1e-12
+    #: A ray within this fraction of the ray spacing beyond a polyline segment's end still crosses the
+    #: segment (a ray through a shared end belongs to both neighbours).
+    ray_end: float = 1e-7
+    #: Targets with uniform timing cover a whole input turn when they span 2π less at most this (rad).
+    full_turn: float = 1e-12
+    #: Four-bar constraints: Grashof's s + l ≤ p + q holds with a slack of this fraction of the longest link,
+    #: and a link is degenerate when shorter than this fraction of the mean length.
+    fourbar_slack: float = 1e-9
 
 
 DEFAULT = Tolerances()

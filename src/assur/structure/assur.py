@@ -15,6 +15,7 @@ from enum import Enum
 from ..errors import StructureError
 from ..model.mechanism import Mechanism
 from .graph import StructureGraph, build_graph
+from .spatial import spatial_dyads
 
 
 class GroupKind(str, Enum):
@@ -25,10 +26,24 @@ class GroupKind(str, Enum):
     PPR = "PPR"   # 5th kind (R outer, P inner, P outer)
     TRIAD = "triad"
     GENERAL = "general"
+    RSS = "RSS"   # spatial: rocker hinged on the frame (R), coupler with spherical ends (S, S)
 
     @property
     def dyad_kind_number(self) -> int | None:
         return {"RRR": 1, "RRP": 2, "RPR": 3, "PRP": 4, "PPR": 5}.get(self.value)
+
+
+class PairCounts(dict):
+    """Kinematic pairs by class (``'p5'``, ``'p4'`` …): a read-only dict."""
+    __slots__ = ()
+
+    def _read_only(self, *args, **kwargs):
+        raise TypeError("pair counts are read-only")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _read_only
+
+    def __reduce__(self):
+        return PairCounts, (dict(self),)
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,7 +75,8 @@ class Driven:
 class Structure:
     graph: StructureGraph
     n_moving: int
-    pair_counts: dict
+    #: pairs by class ('p5', 'p4', …), read-only
+    pair_counts: "PairCounts"
     mobility: int
     formula_name: str      # 'Chebyshev' | 'Somov–Malyshev'
     drivers: tuple[Driven, ...]
@@ -148,11 +164,23 @@ def analyse(m: Mechanism) -> Structure:
         kinds = {j.point: j.kind for j in m.joints}
         idle = sum(1 for b in g.bodies[1:] if b.kind == "link" and len(b.points) == 2
                    and all(kinds.get(p) == "spherical" for p in b.points))
-        return Structure(g, n, counts, W, "Somov–Malyshev", (), (), idle=idle)
+        drivers = tuple(Driven(d.name, (g.index(d.link),), "rotary") for d in m.drivers if d.kind == "rotary")
+        dyads, left = spatial_dyads(m, g)
+        groups = tuple(_spatial_group(g, dy) for dy in dyads)
+        return Structure(g, n, PairCounts(counts), W, "Somov–Malyshev", drivers, groups,
+                         tuple(g.bodies[i].source for i in left), idle=idle)
     counts = {"p5": len(g.pairs), "p4": 0}
     W = mobility_chebyshev(n, counts["p5"], 0)
     drivers, groups, undetermined = _decompose(m, g)
-    return Structure(g, n, counts, W, "Chebyshev", drivers, groups, undetermined)
+    return Structure(g, n, PairCounts(counts), W, "Chebyshev", drivers, groups, undetermined)
+
+
+def _spatial_group(g: StructureGraph, dy) -> AssurGroup:
+    """The Assur group record of a spatial R–S–S dyad (class II, order 2)."""
+    at_a = next(b for b in g.bodies_at(dy.start) if b != dy.coupler)
+    outer = ((dy.rocker, _pair_at(g, dy.pivot, dy.rocker, 0)), (dy.coupler, _pair_at(g, dy.start, dy.coupler, at_a)))
+    inner = (_pair_at(g, dy.joint, dy.rocker, dy.coupler),)
+    return AssurGroup((dy.rocker, dy.coupler), 2, 2, GroupKind.RSS, outer, inner, tuple(sorted({0, at_a})))
 
 
 def _decompose(m: Mechanism, g: StructureGraph):

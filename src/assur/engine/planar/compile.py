@@ -1,4 +1,4 @@
-"""Compile a mechanism description into a :class:`~assur.plan.SolvePlan`.
+"""Compile a planar mechanism description into a :class:`~assur.engine.plan.PlanarPlan`.
 
 Compilation validates the structure (mobility equals the number of drivers, every body is
 determined by an Assur group), builds the parameter map (names and sketch defaults) and fixes
@@ -11,11 +11,16 @@ import math
 
 import numpy as np
 
-from .errors import SpecError, StructureError
-from .model.mechanism import FRAME, Mechanism
-from .plan import Side, SolvePlan, Step
-from .structure.assur import GroupKind, Structure, analyse
-from .tolerances import DEFAULT
+from dataclasses import replace
+
+from ...errors import SpecError, StructureError
+from ...model.mechanism import FRAME, Mechanism
+from ...structure.assur import GroupKind, Structure, analyse
+from ...tolerances import DEFAULT
+from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, NewtonStep, PlanarPlan, PPRStep, PRPStep,
+                    RPRStep, RRPStep, RRRStep, Side)
+from .optable import build_op_table
+from .steps import run_steps
 
 
 def _c(xy) -> complex:
@@ -31,14 +36,16 @@ class _Builder:
         self.m, self.s, self.g = m, s, s.graph
         self.names: list[str] = []
         self.values: list[float] = []
+        self.kinds: list[int] = []
         self.recipes: list[tuple] = []
         self.lines: list[tuple] = []
         self.line_of: dict[str, int] = {}
         self.problems: list[tuple[str, str]] = []
 
-    def param(self, name: str, value: float) -> int:
+    def param(self, name: str, value: float, kind: str = "length") -> int:
         self.names.append(name)
         self.values.append(float(value))
+        self.kinds.append(PARAM_KINDS.index(kind))
         return len(self.names) - 1
 
     def sketch(self, p) -> complex:
@@ -93,14 +100,14 @@ class _Builder:
                     else:
                         org, tow, dist, ang = pl.origin, pl.toward, pl.distance, pl.angle
                     placed.append((p, org, tow, self.param(f"{lk.name}.{p}.distance", dist),
-                                   self.param(f"{lk.name}.{p}.angle", ang)))
+                                   self.param(f"{lk.name}.{p}.angle", ang, "angle")))
                 self.recipes.append(("link", pts[0], pts[1], il, tuple(placed)))
             else:  # block, cylinder, rod: the body's own point at its origin
                 self.recipes.append(("point", b.points[0]))
         for pr in m.prismatic:
             gb = self.g.index(pr.guide)
             slider = self.g.index(f"{pr.name}.block") if pr.point is not None else self.g.index(pr.link)
-            ia = self.param(f"{pr.name}.angle", pr.angle)
+            ia = self.param(f"{pr.name}.angle", pr.angle, "angle")
             io = self.param(f"{pr.name}.offset", pr.offset)
             if pr.point is not None:
                 ref, u_slider = pr.point, 1 + 0j
@@ -116,52 +123,11 @@ class _Builder:
             self.lines.append(("actuator", ac.name, cyl, rod, ac.between[0], None, None, ac.between[1], 1 + 0j))
         for d in m.drivers:
             if d.kind == "rotary":
-                self.param(f"{d.name}.zero", d.zero)
+                self.param(f"{d.name}.zero", d.zero, "angle")
 
 
-def geometry(plan: SolvePlan, params: np.ndarray):
-    """Local coordinates of every body's points and every slide line, from ``params (..., n_params)``.
-
-    Returns ``(w, lines)``: ``w[(body, point)]`` complex arrays of shape ``params.shape[:-1]`` and
-    ``lines[i] = (q, u, ref, u_slider)``: the line point and unit direction in the guide's frame,
-    the slider's reference point and the line direction in the slider's frame.
-    """
-    p = params
-    shape = p.shape[:-1]
-    zero = np.zeros(shape, dtype=complex)
-    w: dict[tuple[int, str], np.ndarray] = {}
-    for bi, rec in enumerate(plan.geometry_program):
-        if rec[0] == "frame":
-            for name, ix, iy in rec[1]:
-                w[(bi, name)] = p[..., ix] + 1j * p[..., iy]
-        elif rec[0] == "point":
-            w[(bi, rec[1])] = zero
-        else:
-            _, p0, p1, il, placed = rec
-            w[(bi, p0)] = zero
-            w[(bi, p1)] = p[..., il] + 0j
-            for name, org, tow, idist, iang in placed:
-                a, b = w[(bi, org)], w[(bi, tow)]
-                d = b - a
-                n = np.abs(d)
-                w[(bi, name)] = a + p[..., idist] * np.exp(1j * p[..., iang]) * (d / np.where(n > 0, n, 1.0))
-    lines = []
-    for rec in plan.lines:
-        kind, name, gb, slider, through, ia, io, ref, u_slider = rec
-        if kind == "actuator":
-            lines.append((zero, 1 + 0j, zero, 1 + 0j))
-            continue
-        u = np.exp(1j * p[..., ia])
-        q = w[(gb, through)] + 1j * u * p[..., io]
-        lines.append((q, u, w[(slider, ref)], u_slider))
-    return w, lines
-
-
-def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - the public verb
-    """Compile a mechanism into a solve plan. Raises StructureError / SpecError."""
-    if m.dimension == 3:   # the vector method of paper 003
-        from .spatial_plan import compile_spatial
-        return compile_spatial(m, tolerances=tolerances)
+def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
+    """Compile a planar mechanism into a solve plan. Raises StructureError / SpecError."""
     s = analyse(m)
     n_drivers = len(m.drivers)
     if s.mobility != n_drivers:
@@ -175,7 +141,7 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
     B = _Builder(m, s)
     B.build_geometry()
     g = s.graph
-    steps: list[Step] = [Step("frame", (0,))]
+    steps: list = [FrameStep()]
     input_names, input_kinds, sketch_inputs, speeds = [], [], [], []
     actuator_input: dict[str, int] = {}
     for k, d in enumerate(m.drivers):
@@ -187,8 +153,7 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
             theta = cmath.phase(arm - pivot)
             q = (d.sense * (theta - d.zero)) % (2 * math.pi)
             sketch_inputs.append(q)
-            steps.append(Step("crank", (g.index(d.link),), data=(d.pivot, d.arm, k, B.names.index(f"{d.name}.zero"),
-                                                                 d.sense)))
+            steps.append(CrankStep((g.index(d.link),), d.pivot, d.arm, k, B.names.index(f"{d.name}.zero"), d.sense))
         else:
             ac = next(a for a in m.actuators if a.name == d.actuator)
             sketch_inputs.append(abs(B.sketch(ac.between[1]) - B.sketch(ac.between[0])))
@@ -202,19 +167,22 @@ def compile(m: Mechanism, *, tolerances=DEFAULT) -> SolvePlan:  # noqa: A001 - t
         at = g.bodies_at(p)
         first = min(at, key=lambda b: solved_order.index(b) if b in solved_order else 10**9)
         point_body.append(first)
-    plan = SolvePlan(
+    plan = PlanarPlan(
         mechanism=m, structure=s, steps=tuple(steps), param_names=tuple(B.names),
         defaults=np.array(B.values, dtype=float), point_names=m.point_names,
         body_names=tuple(b.name for b in g.bodies), input_names=tuple(input_names),
         input_kinds=tuple(input_kinds), sketch_inputs=np.array(sketch_inputs, dtype=float),
-        speeds=np.array(speeds, dtype=float), point_body=tuple(point_body),
+        speeds=np.array(speeds, dtype=float), point_body=tuple(point_body), param_kind=np.array(B.kinds),
         geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale,
         sketch_poses=_sketch_frames(B, g))
     if B.problems:
         raise SpecError(B.problems)
-    plan.defaults.setflags(write=False)
     sketch_e = [cmath.exp(1j * th) for _, _, th in plan.sketch_poses]
-    return _fix_branches(plan, tolerances, sketch_e)
+    plan = _fix_branches(plan, tolerances, sketch_e)
+    table = build_op_table(plan)
+    if table is None:
+        return plan
+    return replace(plan, ops=table[0], slots=table[1])
 
 
 def _sketch_frames(B: _Builder, g) -> tuple:
@@ -235,11 +203,12 @@ def _side(g, body, actuator_input):
     return Side(body)
 
 
-def _group_step(m, s, B, grp, actuator_input) -> Step:
+def _group_step(m, s, B, grp, actuator_input):
+    """The step record that solves one Assur group."""
     g = s.graph
     kind = grp.kind
     if kind in (GroupKind.TRIAD, GroupKind.GENERAL):
-        return Step("newton", grp.bodies, data=(grp,))
+        return NewtonStep(grp.bodies, grp)
     # sides: the two units of the dyad, each with its outer pair
     (ba, pa), (bb, pb) = grp.outer
     sa, sb = _side(g, ba, actuator_input), _side(g, bb, actuator_input)
@@ -247,10 +216,10 @@ def _group_step(m, s, B, grp, actuator_input) -> Step:
     inner = g.pairs[grp.inner[0]] if grp.inner else None
     if kind == GroupKind.RRR:
         J = _inner_point(g, grp, sa, sb)
-        return Step("RRR", grp.bodies, key_point=J, data=(sa, pair_a.point, sb, pair_b.point, J))
+        return RRRStep(grp.bodies, sa, pair_a.point, sb, pair_b.point, J)
     if kind == GroupKind.RRP:
         J = _inner_point(g, grp, sa, sb)
-        return Step("RRP", grp.bodies, key_point=J, data=(sa, pair_a.point, sb.body, B.line_of[pair_b.name], J))
+        return RRPStep(grp.bodies, sa, pair_a.point, sb.body, B.line_of[pair_b.name], J)
     if kind == GroupKind.RPR:
         line = B.line_of[inner.name]
         guide = B.lines[line][2]
@@ -259,15 +228,13 @@ def _group_step(m, s, B, grp, actuator_input) -> Step:
         else:
             g_pt, s_pt = pair_b.point, pair_a.point
         slider = B.lines[line][3]
-        return Step("RPR", grp.bodies, key_point=s_pt, data=(B.lines[line][2], g_pt, slider, s_pt, line))
+        return RPRStep(grp.bodies, B.lines[line][2], g_pt, slider, s_pt, line)
     if kind == GroupKind.PRP:
         J = _inner_point(g, grp, sa, sb)
-        return Step("PRP", grp.bodies, key_point=J, data=(sa.body, B.line_of[pair_a.name], sb.body,
-                                                           B.line_of[pair_b.name], J))
+        return PRPStep(grp.bodies, sa.body, B.line_of[pair_a.name], sb.body, B.line_of[pair_b.name], J)
     if kind == GroupKind.PPR:
         # sa: revolute outer, sb: prismatic outer (classified so)
-        return Step("PPR", grp.bodies, key_point=pair_a.point, data=(sa.body, pair_a.point, sb.body,
-                                                                     B.line_of[pair_b.name], B.line_of[inner.name]))
+        return PPRStep(grp.bodies, sa.body, pair_a.point, sb.body, B.line_of[pair_b.name], B.line_of[inner.name])
     raise StructureError(f"group of kind {kind} is not supported")
 
 
@@ -284,10 +251,7 @@ def _inner_point(g, grp, sa, sb) -> str:
     raise StructureError("dyad without an inner revolute")
 
 
-BRANCHED = ("RRR", "RRP", "RPR")
-
-
-def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
+def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
     """Choose each branched step's sign once, at compile time, at the sketch input.
 
     With a ``[branches]`` hint: the assembly that puts the point on the stated side (decided a little
@@ -295,20 +259,19 @@ def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
     sketch — the group's points and its bodies' orientations (a cylinder's direction, say).
     ``sketch_e`` (n_bodies,) complex: each body's orientation in the sketch.
     """
-    from .solve import run_steps  # L2 sibling
     m = plan.mechanism
     hints = {h.point: h for h in m.branches}
     steps = list(plan.steps)
     params = plan.defaults
     q0 = plan.sketch_inputs
     scale = plan.length_scale
-    nudge = np.array([1e-3 if k == "rotary" else 1e-3 * scale for k in plan.input_kinds])
+    nudge = np.array([tol.branch_nudge if k == "rotary" else tol.branch_nudge * scale for k in plan.input_kinds])
     used_hints = set()
 
     def candidates(i, st, inputs):
         out = []
         for sign in (1, -1):
-            trial = steps[: i] + [Step(st.kind, st.bodies, st.key_point, sign, st.data)]
+            trial = steps[: i] + [st.with_branch(sign)]
             pos, poses, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1)
             out.append((sign, pos, poses, bool(np.all(valid))))
         return out
@@ -330,7 +293,7 @@ def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
             def side(pos):
                 a, b, z = pos[hint.of[0]], pos[hint.of[1]], pos[st.key_point]
                 c = np.imag(np.conj(b - a) * (z - a))
-                return 0 if abs(c) <= 1e-12 * scale * scale else int(np.sign(c))
+                return 0 if abs(c) <= tol.collinear * scale * scale else int(np.sign(c))
 
             matches = [c for c in allowed if side(c[1]) == want]
             if not matches or len({side(c[1]) for c in allowed}) == 1:
@@ -356,14 +319,13 @@ def _fix_branches(plan: SolvePlan, tol, sketch_e) -> SolvePlan:
                                   f"the sketch does not tell the assembly branch of '{st.key_point}' (both branches "
                                   f"coincide); move it off the line or set [branches.{st.key_point}]")])
             chosen = allowed[int(np.argmin(dev))][0]
-        steps[i] = Step(st.kind, st.bodies, st.key_point, chosen, st.data)
+        steps[i] = st.with_branch(chosen)
     unused = set(hints) - used_hints
     if unused:
         p = sorted(unused)[0]
         raise SpecError([(f"branches.{p}", f"'{p}' is not the point a branched group solves "
                           f"(branched points: {', '.join(s.key_point for s in steps if s.kind in BRANCHED)})")])
-    from dataclasses import replace
-    fixed = replace(plan, steps=tuple(steps))
+    fixed = plan.with_steps(steps)
     # the assembled sketch pose of every body: the seed of the Newton solver (honours the branches)
     pos, poses, valid = run_steps(fixed, fixed.steps, params, q0, order=0, origins=True)
     seeds = []

@@ -1,5 +1,9 @@
 """The solved state of a batch: positions, analogues, velocities and accelerations.
 
+:class:`State` (planar) and :class:`SpatialState` share one :class:`PointView`. A state never
+imports a solver: where a backend returned points only, the solver hands the state a callable
+that completes it (body orientations) on first use.
+
 Shapes (leading batch axes ``...`` as broadcast from params and inputs):
 ``pos``, ``vel``, ``acc`` (..., n_points, 2); ``dpos_dq`` (..., n_points, 2, n_inputs);
 ``d2pos_dq2`` (..., n_points, 2, n_inputs, n_inputs); ``valid`` (...);
@@ -10,8 +14,22 @@ Shapes (leading batch axes ``...`` as broadcast from params and inputs):
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
+
+
+class _Once:
+    """A value computed by ``make()`` on first use and kept (a mutable holder outside the frozen state)."""
+    __slots__ = ("make", "value")
+
+    def __init__(self, make: Callable):
+        self.make, self.value = make, None
+
+    def get(self):
+        if self.value is None:
+            self.value = self.make()
+        return self.value
 
 
 def _xy(z):
@@ -34,20 +52,23 @@ def _move_xy(a, n_extra):
 
 @dataclass(frozen=True)
 class State:
+    """The solved state of a planar batch (shapes in the module docstring)."""
+    dimension = 2
     plan: object
     inputs: np.ndarray
     valid: np.ndarray
     n_unbuildable: int
     qdot: np.ndarray
     qddot: np.ndarray
+    #: (..., n_params) the design parameters solved (SI), as given (broadcast against the inputs)
+    params: np.ndarray
     #: (..., n_points + n_bodies) complex: point positions x + iy, then body orientations exp(iθ)
     _z: np.ndarray = field(repr=False)
     _dz: np.ndarray | None = field(repr=False, default=None)       # (..., m, n_inputs)
     _d2z: np.ndarray | None = field(repr=False, default=None)      # (..., m, n_inputs, n_inputs)
-    #: the design parameters solved (for the lazy body orientations of the compiled backend)
-    _params: np.ndarray | None = field(repr=False, default=None)
-    #: False when the backend returned points only; body orientations are then solved on first use
-    _has_bodies: bool = field(repr=False, default=True)
+    #: None when the state has its body orientations; else the backend's completion: a callable
+    #: returning the full (numpy-backend) state, called once on first use of a body orientation
+    _complete: _Once | None = field(repr=False, default=None)
     #: the compiled backend's float views (pos, first, second), each (..., n_points, 2): with
     #: ``_xyz_time`` velocity and acceleration at qdot/qddot, else the analogues d/dq, d²/dq²
     _xyz: tuple | None = field(repr=False, default=None)
@@ -129,17 +150,8 @@ class State:
 
     # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
     def _theta_jets(self):
-        if not self._has_bodies:
-            full = self.__dict__.get("_full")
-            if full is None:
-                import importlib   # solve imports state: resolve it at call time
-                first, second = self._xyz[1:] if self._xyz is not None else (self._dz, self._d2z)
-                order = 0 if first is None else (1 if second is None else 2)
-                full = importlib.import_module("assur.solve").solve(
-                    self.plan, self._params, self.inputs, speeds=self.qdot, accels=self.qddot, order=order,
-                    backend="numpy")
-                self.__dict__["_full"] = full
-            return full._theta_jets()
+        if self._complete is not None:
+            return self._complete.get()._theta_jets()
         e = self._z[..., self._np:]
         th = np.angle(e)
         d1 = d2 = None
@@ -185,8 +197,83 @@ class State:
 
 
 @dataclass(frozen=True)
+class SpatialState:
+    """The solved state of a spatial batch. Shapes: ``pos``, ``vel``, ``acc`` (..., n_points, 3);
+    ``dpos_dq`` (..., n_points, 3, n_inputs); ``d2pos_dq2`` (..., n_points, 3, n_inputs, n_inputs);
+    ``valid`` (...); ``body_frame`` (..., n_bodies, 3, 3) with columns the body's unit axes (NaN for
+    a coupler that spins idly); ``body_omega``, ``body_alpha`` (..., n_bodies, 3) angular velocity
+    and acceleration vectors; ``status`` maps each dyad point to its solver status (...)."""
+    dimension = 3
+    plan: object
+    inputs: np.ndarray
+    valid: np.ndarray
+    n_unbuildable: int
+    qdot: np.ndarray
+    qddot: np.ndarray
+    #: (..., n_params) the design parameters solved (SI), as given (broadcast against the inputs)
+    params: np.ndarray
+    pos: np.ndarray
+    dpos_dq: np.ndarray | None
+    d2pos_dq2: np.ndarray | None
+    body_frame: np.ndarray
+    dframe_dq: np.ndarray | None = field(repr=False, default=None)
+    d2frame_dq2: np.ndarray | None = field(repr=False, default=None)
+    status: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def shape(self):
+        return self.valid.shape
+
+    @property
+    def vel(self):
+        if self.dpos_dq is None:
+            return None
+        return np.einsum("...k,...k->...", self.dpos_dq, self.qdot)
+
+    @property
+    def acc(self):
+        if self.d2pos_dq2 is None:
+            return None
+        return (np.einsum("...k,...k->...", self.dpos_dq, self.qddot)
+                + np.einsum("...kl,...k,...l->...", self.d2pos_dq2, self.qdot, self.qdot))
+
+    def _frame_rate(self, d1, d2=None):
+        R = self.body_frame
+        # ω× = R'Rᵀ; α× = the skew part of R''Rᵀ (R'R'ᵀ is symmetric)
+        W = (d1 if d2 is None else d2) @ np.swapaxes(R, -1, -2)
+        return np.stack([W[..., 2, 1] - W[..., 1, 2], W[..., 0, 2] - W[..., 2, 0], W[..., 1, 0] - W[..., 0, 1]],
+                        axis=-1) * 0.5
+
+    @property
+    def body_omega(self):
+        """(..., n_bodies, 3) angular velocity vectors (rad/s): ω× = R'Rᵀ."""
+        if self.dframe_dq is None:
+            return None
+        d1 = np.einsum("...ijk,...k->...ij", self.dframe_dq, self.qdot)
+        return self._frame_rate(d1)
+
+    @property
+    def body_alpha(self):
+        """(..., n_bodies, 3) angular acceleration vectors (rad/s²): the skew part of R''Rᵀ."""
+        if self.d2frame_dq2 is None:
+            return None
+        d1 = np.einsum("...ijk,...k->...ij", self.dframe_dq, self.qddot)
+        d2 = np.einsum("...ijkl,...k,...l->...ij", self.d2frame_dq2, self.qdot, self.qdot) + d1
+        return self._frame_rate(None, d2)
+
+    def point(self, name: str) -> "PointView":
+        """Everything about one point: ``state.point('P3').vel`` has shape (..., 3)."""
+        return PointView(self, self.plan.point_index(name))
+
+    def body(self, name: str) -> int:
+        return self.plan.body_names.index(name)
+
+
+@dataclass(frozen=True)
 class PointView:
-    state: State
+    """One point of a planar or spatial state: ``pos``, ``vel``, ``acc`` (..., dim),
+    ``dpos_dq`` (..., dim, n_inputs), ``d2pos_dq2`` (..., dim, n_inputs, n_inputs)."""
+    state: object
     index: int
 
     @property
@@ -205,12 +292,16 @@ class PointView:
 
     @property
     def dpos_dq(self):
-        """(..., 2, n_inputs)"""
+        """(..., dim, n_inputs)"""
         d = self.state.dpos_dq
         return None if d is None else d[..., self.index, :, :]
 
     @property
     def d2pos_dq2(self):
-        """(..., 2, n_inputs, n_inputs)"""
+        """(..., dim, n_inputs, n_inputs)"""
         d = self.state.d2pos_dq2
         return None if d is None else d[..., self.index, :, :, :]
+
+
+#: the former name of the spatial point view
+SpatialPointView = PointView

@@ -1,0 +1,13 @@
+"""The engine: a mechanism description compiles into a frozen plan, and a plan solves batches into
+states (layer 2; see docs/architecture.md).
+
+``compile(m)`` → :class:`PlanarPlan` or :class:`SpatialPlan`; ``solve(plan, params, inputs)`` →
+:class:`State` or :class:`SpatialState`.
+"""
+from .api import compile, solve  # noqa: A004 - the public verbs
+from .plan import STEP_KINDS, PARAM_KINDS, PlanarPlan, PlanBase, SolvePlan, SpatialPlan
+from .planar.geometry import geometry
+from .state import PointView, SpatialState, State
+
+__all__ = ["compile", "solve", "geometry", "PlanBase", "PlanarPlan", "SolvePlan", "SpatialPlan", "State",
+           "SpatialState", "PointView", "STEP_KINDS", "PARAM_KINDS"]

@@ -1,0 +1,101 @@
+"""The engine's two verbs: ``compile(mechanism) → plan`` and ``solve(plan, …) → state``, with one
+dispatch on the plan's type and one check of the options for planar and spatial plans alike."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..model.mechanism import Mechanism
+from ..tolerances import DEFAULT
+from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
+from .plan import PlanarPlan, SpatialPlan
+from .planar import numba_backend
+from .planar.compile import compile_planar
+from .planar.numpy_backend import finish, solve_numpy
+from .spatial.compile import compile_spatial
+from .spatial.numpy_backend import solve_spatial
+
+#: the compiler of each dimension
+COMPILERS = {2: compile_planar, 3: compile_spatial}
+
+
+def compile(m: Mechanism, *, tolerances=DEFAULT):  # noqa: A001 - the public verb
+    """Compile a mechanism into a solve plan (:class:`PlanarPlan` or :class:`SpatialPlan`, by its
+    ``dimension``). Raises StructureError / SpecError with the location of every problem."""
+    return COMPILERS[m.dimension](m, tolerances=tolerances)
+
+
+def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: int = 2,
+          on_unbuildable: str = "nan", method: str = "closed", backend: str = "auto", tolerances=DEFAULT):
+    """Solve positions (and, with ``order`` ≥ 1/2, velocities and accelerations) of every point.
+
+    Parameters
+    ----------
+    plan : PlanarPlan or SpatialPlan
+    params : array_like (..., n_params), optional
+        Design parameters (default: the file's).
+    inputs : array_like (..., n_inputs), optional
+        Input values (crank angles in rad, actuator lengths in m); for a single-input plan a scalar
+        or a 1-D array is a batch of values. Leading axes broadcast against those of ``params``.
+    speeds, accels : array_like (..., n_inputs), optional
+        Input rates (default: the drivers' speeds, zero input acceleration).
+    order : {0, 1, 2}
+        Highest time derivative solved.
+    on_unbuildable : {'nan', 'warn', 'raise'}
+        Unassemblable samples are NaN with ``valid`` False; 'warn' also warns with the count,
+        'raise' raises :class:`~assur.errors.UnbuildableError`.
+    method : {'closed', 'newton'}
+        The groups' closed forms, or the batched Newton oracle for every group.
+    backend : {'auto', 'numpy', 'numba'}
+        'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
+        batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
+        for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed. Both
+        give the same numbers.
+
+    Returns
+    -------
+    State or SpatialState
+        ``pos (..., n_points, dim)``, ``vel``, ``acc``, ``dpos_dq``, ``d2pos_dq2``, ``valid (...)`` …
+    """
+    check_options(on_unbuildable, method, order, backend)
+    params, inputs = prepare_batch(plan, params, inputs)
+    shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
+    if isinstance(plan, SpatialPlan):
+        return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
+    if not isinstance(plan, PlanarPlan):
+        raise TypeError(f"solve needs a plan from assur.compile, not {type(plan).__name__}")
+    size = math.prod(shape)
+    if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
+        state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
+                                required=backend == "numba")
+        if state is not None:
+            return state
+    return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
+
+
+def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):
+    """The compiled backend, or None where it does not apply (numba missing and not required,
+    a plan or batch layout it does not cover)."""
+    if not (required or numba_backend.available()):
+        return None
+    n = plan.n_inputs
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+    # one scalar nonzero speed: the kernel writes velocities and accelerations directly
+    time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
+    rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)
+    compiled = numba_backend.solve_compiled(plan, params, inputs, tol.radicand, rates, order=order, shape=shape)
+    if compiled is None:
+        return None
+    buffer, (pos, first, second), valid = compiled   # valid includes "every position is finite"
+    if not valid.all():
+        buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
+    xyz = (pos, first if order >= 1 else None, second if order >= 2 else None)
+
+    def complete():
+        """The numpy backend's full state (body orientations), solved on first use."""
+        return solve(plan, params, inputs, speeds=qdot, accels=qddot, order=order, backend="numpy", tolerances=tol)
+
+    return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
+                  complete=complete, xyz=xyz, xyz_time=time_mode)

@@ -1,0 +1,156 @@
+"""What every solve shares, planar or spatial: option checks, the batch preparation, the
+continuation schedule of the Newton solvers and the unbuildable policy with its message."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import SpecError, UnbuildableError, UnbuildableWarning
+from ..kernels.runs import runs
+
+ON_UNBUILDABLE = ("nan", "warn", "raise")
+METHODS = ("closed", "newton")
+BACKENDS = ("auto", "numpy", "numba")
+#: with backend="auto", batches at least this large use the compiled backend when numba is installed
+AUTO_COMPILED_MIN_SAMPLES = 20_000
+
+
+def check_options(on_unbuildable: str, method: str, order: int, backend: str = "auto") -> None:
+    """SpecError unless the options of a solve (planar or spatial) are known values."""
+    if on_unbuildable not in ON_UNBUILDABLE:
+        raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
+    if method not in METHODS:
+        raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
+    if order not in (0, 1, 2):
+        raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
+    if backend not in BACKENDS:
+        raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
+
+
+def prepare_batch(plan, params, inputs):
+    """``params (..., n_params)`` (default: the plan's) and ``inputs (..., n_inputs)`` (default: the
+    sketch's) as float arrays; for a one-input plan a scalar or a 1-D array is a batch of values.
+
+    Returns
+    -------
+    params : ndarray (..., n_params)
+    inputs : ndarray (..., n_inputs)
+    """
+    params = plan.defaults if params is None else np.asarray(params, dtype=float)
+    if params.ndim == 0 or params.shape[-1] != plan.n_params:
+        raise SpecError([("params", f"must have a trailing axis of {plan.n_params} parameters "
+                                    f"({', '.join(plan.param_names)}): shape {params.shape}")])
+    inputs = plan.sketch_inputs if inputs is None else np.asarray(inputs, dtype=float)
+    if plan.n_inputs == 1 and (inputs.ndim <= 1 or inputs.shape[-1] != 1):
+        inputs = inputs[..., None]   # one input: a scalar or a 1-D array is a batch of input values
+    if inputs.shape[-1] != plan.n_inputs:
+        raise SpecError([("inputs", f"must have a trailing axis of {plan.n_inputs} inputs "
+                                    f"({', '.join(plan.input_names)}): shape {inputs.shape}")])
+    return params, inputs
+
+
+def input_rates(plan, speeds, accels):
+    """The input rates ``qdot`` and accelerations ``qddot``, each (..., n_inputs): the drivers'
+    speeds and zero by default."""
+    n = plan.n_inputs
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+    if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
+        raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
+    return qdot, qddot
+
+
+def continuation(plan, input_values, params, tol):
+    """The continuation schedule of a Newton solve: every sample walks from the sketch inputs to
+    its own in ``m`` stages of at most ``tol.stage_angle`` of crank (``tol.stage_length`` of the
+    length scale of stroke), and in at least ``tol.stages_for_new_design`` stages when the design
+    differs from the file's.
+
+    Parameters
+    ----------
+    input_values : list of ndarray
+        Per input, the requested values (any batch shape).
+    params : ndarray (..., n_params)
+
+    Returns
+    -------
+    m : int
+        The number of stages (the last one is the requested inputs).
+    deltas : list of ndarray
+        Per input, the signed way from the sketch input (rotary inputs the short way round).
+    dp : ndarray or None
+        ``params − defaults`` when the design moved, else None.
+    """
+    q_s = plan.sketch_inputs
+    deltas, stage = [], []
+    for k, v in enumerate(input_values):
+        v = np.asarray(v, dtype=float)
+        if plan.input_kinds[k] == "rotary":
+            d = (v - q_s[k] + np.pi) % (2 * np.pi) - np.pi
+            stage.append(tol.stage_angle)
+        else:
+            d = v - q_s[k]
+            stage.append(tol.stage_length * plan.length_scale)
+        deltas.append(d)
+    finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
+    m = max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
+    dp = params - plan.defaults
+    moved = bool(np.any(dp != 0))
+    if moved:
+        m = max(m, tol.stages_for_new_design)
+    return m, deltas, (dp if moved else None)
+
+
+def format_input(plan, k: int, value: float) -> str:
+    """An input value as text: degrees for a crank, metres for an actuator."""
+    if plan.input_kinds[k] == "rotary":
+        return f"{np.degrees(value):.6g}°"
+    return f"{value:.6g} m"
+
+
+def unbuildable_message(plan, inputs, valid, causes=None) -> str:
+    """'k of n samples cannot be assembled (…); they are NaN with valid=False'.
+
+    Parameters
+    ----------
+    inputs : ndarray (..., n_inputs)
+        The inputs of the batch (broadcast to ``valid.shape``).
+    valid : ndarray (...)
+    causes : dict or None
+        Per solved point, a bool array (...) of the samples its group failed at and the reasons
+        (point → (failed, reasons)). For a 1-D sweep of one input the message then names the input
+        ranges each group fails over; otherwise it names the first failing sample.
+    """
+    n_bad = int(np.count_nonzero(~valid))
+    head = f"{n_bad} of {valid.size} samples cannot be assembled"
+    n = plan.n_inputs
+    if causes and valid.ndim == 1 and n == 1:
+        q = inputs[..., 0]
+        order = np.argsort(q, kind="stable")
+        parts = []
+        for point, (failed, reasons) in causes.items():
+            bad = failed[order]
+            if not bad.any():
+                continue
+            qs = q[order]
+            rng = ", ".join(f"{math.degrees(qs[a]):.4g}°…{math.degrees(qs[b]):.4g}°" for a, b in runs(bad))
+            parts.append(f"the dyad solving {point} ({'; '.join(reasons)}) at {plan.input_names[0]} {rng}")
+        return head + (": " + "; ".join(parts) if parts else "") + "; they are NaN with valid=False"
+    flat = np.broadcast_to(inputs, valid.shape + (n,)).reshape(-1, n)[~valid.reshape(-1)]
+    first = ", ".join(f"{plan.input_names[k]}={format_input(plan, k, flat[0, k])}" for k in range(n))
+    sep = " (first at " if causes is None else ": first at "
+    return head + sep + first + (")" if causes is None else "") + "; they are NaN with valid=False"
+
+
+def report_unbuildable(plan, inputs, valid, on_unbuildable: str, causes=None, stacklevel: int = 4) -> int:
+    """Apply the unbuildable policy: count the invalid samples; with 'warn' warn and with 'raise'
+    raise :class:`~assur.errors.UnbuildableError`, with :func:`unbuildable_message`. Returns the count."""
+    n_bad = int(np.count_nonzero(~valid))
+    if n_bad and on_unbuildable != "nan":
+        msg = unbuildable_message(plan, inputs, valid, causes)
+        if on_unbuildable == "raise":
+            raise UnbuildableError(msg, n_bad, valid.size)
+        warnings.warn(msg, UnbuildableWarning, stacklevel=stacklevel)
+    return n_bad

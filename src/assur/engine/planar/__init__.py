@@ -1,0 +1,1 @@
+"""Planar plans: compile, geometry, step executors, the numpy and numba backends."""

@@ -1,0 +1,128 @@
+"""A planar Assur group without a closed form (a triad or higher), by batched Newton iterations.
+
+Used for groups without a closed form and, with ``method="newton"``, as the test oracle of the
+closed forms. Unknowns are the poses (x, y, θ) of the group's bodies; equations: each revolute
+joins two bodies at one point (2 equations), each prismatic pair keeps the slider aligned with and
+on its guide line (2 equations), a driven actuator's slide also fixes its length (1 more).
+
+The assembly branch is the one connected to the sketch: the solver (:func:`steps.execute`) walks
+each sample's inputs from the sketch inputs to the requested ones in small stages, and each
+stage's Newton iterations start from the previous stage (the first from the sketch poses). Samples
+are independent: no sample borrows another sample's solution, so the result does not depend on the
+batch's order. Velocities and accelerations follow by implicit differentiation:
+F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), evaluated on jets.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import StructureError
+from ...kernels.jet import Jet, expi
+from ...kernels.newton import newton
+
+
+def _residual(c, st, X, derivs: bool):
+    """Residual components (list of real jets) for unknown jets X (3k of them)."""
+    g = c.g
+    group = list(st.bodies)
+    gi = {b: i for i, b in enumerate(group)}
+
+    def const(j):
+        return j if derivs else Jet(j.v, np.zeros_like(j.v) if X[0].d is not None else None,
+                                    np.zeros_like(j.v) if X[0].dd is not None else None)
+
+    pose = {}
+    for b, i in gi.items():
+        pose[b] = (X[3 * i] + X[3 * i + 1] * 1j, expi(X[3 * i + 2]))
+    for b, (o, e) in c.pose.items():
+        pose[b] = (const(o), const(e))
+
+    def world(b, p):
+        o, e = pose[b]
+        return o + e * c.w[(b, p)]
+
+    res = []
+    for point, at in g.joints:
+        gb = [b for b in at if b in gi]
+        if not gb:
+            continue
+        kb = [b for b in at if b in c.pose]
+        if kb:
+            target = const(c.pos[point])
+            for b in gb:
+                z = world(b, point) - target
+                res += [z.real, z.imag]
+        else:
+            for b in gb[1:]:
+                z = world(gb[0], point) - world(b, point)
+                res += [z.real, z.imag]
+    driven = {d.actuator: k for k, d in enumerate(c.plan.mechanism.drivers) if d.kind == "linear"}
+    for idx, rec in enumerate(c.plan.lines):
+        kind, name, guide, slider = rec[:4]
+        if not (guide in gi or slider in gi) or guide not in pose or slider not in pose:
+            continue
+        q, u, ref, us = c.lines[idx]
+        og, eg = pose[guide]
+        os_, es = pose[slider]
+        U = eg * u
+        res.append((U.conj() * (es * us)).imag)
+        d = os_ + es * ref - og - eg * q
+        res.append((U.conj() * d).imag)
+        if kind == "actuator" and name in driven:
+            res.append((U.conj() * d).real - const(c.q[driven[name]]))
+    return res
+
+
+def solve_group(c, st):
+    """Solve one group for every sample of the context by Newton's method, warm-started from
+    ``c.warm[step]`` (the previous continuation stage) or from the plan's sketch poses."""
+    tol = c.tol
+    shape = np.broadcast_shapes(*(np.shape(j.v) for j in c.pos.values()), np.shape(c.valid),
+                                *(np.shape(q.v) for q in c.q))
+    k = len(st.bodies)
+    n = 3 * k
+    key = id(st)
+    x = c.warm.get(key)
+    if x is None or x.shape != shape + (n,):
+        x = np.empty(shape + (n,))
+        for i, (px, py, th) in enumerate(c.plan.sketch_poses[b] for b in st.bodies):
+            x[..., 3 * i], x[..., 3 * i + 1], x[..., 3 * i + 2] = px, py, th
+    else:
+        x = x.copy()
+
+    def F_and_J(x):
+        cols = []
+        F = None
+        for j in range(n):
+            X = [Jet(x[..., i], np.full(shape, 1.0 if i == j else 0.0), None) for i in range(n)]
+            r = _residual(c, st, X, derivs=False)
+            if len(r) != n:
+                raise StructureError(f"group of {k} bodies gave {len(r)} equations, expected {n}")
+            if F is None:
+                F = np.stack([np.broadcast_to(ri.v, shape) for ri in r], axis=-1)
+            cols.append(np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1))
+        return F, np.stack(cols, axis=-1)
+
+    scale = c.plan.length_scale
+    x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations,
+                      accept_tol=1e3 * tol.newton_residual * scale)
+    c.warm[key] = x
+    c.flag(ok)
+    order = c.order
+    with np.errstate(all="ignore"):
+        Jinv = np.linalg.inv(np.where(ok[..., None, None], J, np.eye(n)))
+    X = [Jet(x[..., i], np.zeros(shape) if order >= 1 else None, np.zeros(shape) if order >= 2 else None)
+         for i in range(n)]
+    if order >= 1:
+        r = _residual(c, st, X, derivs=True)
+        r1 = np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1)
+        xd = -np.einsum("...ij,...j->...i", Jinv, r1)
+        X = [Jet(x[..., i], xd[..., i], np.zeros(shape) if order >= 2 else None) for i in range(n)]
+        if order >= 2:
+            r = _residual(c, st, X, derivs=True)
+            r2 = np.stack([np.broadcast_to(ri.dd, shape) for ri in r], axis=-1)
+            xdd = -np.einsum("...ij,...j->...i", Jinv, r2)
+            X = [Jet(x[..., i], xd[..., i], xdd[..., i]) for i in range(n)]
+    for i, b in enumerate(st.bodies):
+        o = X[3 * i] + X[3 * i + 1] * 1j
+        c.place(b, o, expi(X[3 * i + 2]))

@@ -1,0 +1,165 @@
+"""The compiled backend: run a planar plan's op table in one fused numba loop.
+
+The plan carries its op table (``plan.ops``, ``plan.slots``: :mod:`assur.engine.planar.optable`),
+written at compile time; a plan without one (several inputs, PRP/PPR, driven actuators, Newton
+groups) and a batch that is not laid out as designs × inputs return ``None`` here and the numpy
+backend solves them. numba is imported only when this backend runs. The generated kernels and the
+last set of per-design constants are cached per plan outside the (frozen) plan, in weak-keyed
+dictionaries, so they go with the plan.
+"""
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from ...kernels import codegen
+from .optable import slot_constants
+
+#: plan → {kernel key: loaded kernel}
+_KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: plan → (designs bytes, G): the last small set of per-design constants
+_MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: populations up to this many numbers memoise their constants (repeated solves of one design)
+MEMO_MAX_VALUES = 4096
+
+
+def covers(plan) -> bool:
+    """True when the plan has an op table (the compiled backend can solve it)."""
+    return getattr(plan, "ops", None) is not None
+
+
+def available() -> bool:
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def cache_dir():
+    """Where generated kernels live: $ASSUR_CACHE_DIR, else $XDG_CACHE_HOME/assur/kernels, else ~/.cache."""
+    import os
+    from pathlib import Path
+    base = os.environ.get("ASSUR_CACHE_DIR")
+    if base:
+        return Path(base)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "assur" / "kernels"
+
+
+def _load(plan, key: str, make_source):
+    """A generated kernel of the plan under ``key``: its source written once to the cache directory (a
+    temporary one if that is not writable) and imported, so numba's disk cache applies."""
+    kernels = _KERNELS.setdefault(plan, {})
+    k = kernels.get(key)
+    if k is None:
+        src = make_source()
+        try:
+            k = codegen.load_kernel(src, cache_dir())
+        except OSError:
+            import tempfile
+            from pathlib import Path
+            k = codegen.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
+        kernels[key] = k
+    return k
+
+
+def kernel(plan, with_bodies: bool, order: int = 2):
+    """The plan's generated straight-line kernel for a derivative order (compiled once, cached on
+    disk by numba)."""
+    key = f"{'bodies' if with_bodies else 'points'}_{order}"
+    point_out = list(range(len(plan.point_names)))
+    body_out = list(range(len(plan.body_names))) if with_bodies else []
+    return _load(plan, key, lambda: codegen.generate_source(plan.ops, point_out, body_out, order))
+
+
+def _constants(plan, designs: np.ndarray) -> np.ndarray:
+    """The kernel's per-design constants G (n_designs, n_slots, 2); the last small set is memoised."""
+    key = designs.tobytes() if designs.size <= MEMO_MAX_VALUES else None
+    memo = _MEMO.get(plan)
+    if key is not None and memo is not None and memo[0] == key:
+        return memo[1]
+    G = slot_constants(plan, designs)
+    if key is not None:
+        G.setflags(write=False)
+        _MEMO[plan] = (key, G)
+    return G
+
+
+def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray,
+                   point: str, cycle_inputs: np.ndarray | None, tol: float):
+    """Fused reduction of a path-synthesis objective; None if the plan is not covered.
+
+    params (D, n_params); target_inputs (D or 1, N) input angles at the targets; target_xy (N, 2);
+    cycle_inputs (M,) or None. Returns (D, 5): Σ squared distance, Σ distance (over the assembled
+    targets), the number of targets and of cycle samples that cannot be assembled, and the sum over
+    the cycle of the groups' shortfalls past their toggles (normalised radicands below −tol).
+    """
+    if not covers(plan):
+        return None
+    idx = plan.point_index(point)
+    kern = _load(plan, f"objective_{idx}", lambda: codegen.generate_objective_source(plan.ops, idx))
+    designs = np.ascontiguousarray(params, dtype=float)
+    G = _constants(plan, designs)
+    q = np.ascontiguousarray(target_inputs, dtype=float)
+    cyc = np.zeros(0) if cycle_inputs is None else np.ascontiguousarray(cycle_inputs, dtype=float)
+    out = np.empty((designs.shape[0], 5))
+    kern(G, np.cos(q), np.sin(q), np.ascontiguousarray(target_xy, dtype=float), np.cos(cyc), np.sin(cyc), tol, out)
+    return out
+
+
+def separable(pshape: tuple, ishape: tuple, shape: tuple):
+    """Split the batch shape into (design axes, input axes): the params vary only over the leading
+    axes and the inputs only over the trailing ones. Returns k (the split) or None."""
+    n = len(shape)
+    ps = (1,) * (n - len(pshape)) + tuple(pshape)
+    qs = (1,) * (n - len(ishape)) + tuple(ishape)
+    for k in range(n + 1):
+        if all(x == 1 for x in ps[k:]) and all(x == 1 for x in qs[:k]):
+            return k
+    return None
+
+
+def solve_compiled(plan, params: np.ndarray, inputs: np.ndarray, tol: float,
+                   rates=(1.0, 1.0, 0.0), with_bodies: bool = False, order: int = 2, shape=None):
+    """Run the plan's kernel; None if the plan or the batch layout is not covered.
+
+    params (..., n_params), inputs (..., 1); shapes broadcast to ``shape``; the params must vary
+    over leading axes only and the inputs over trailing axes only (designs × inputs). Returns
+    ``(buffer (6·n_out, D, N), (pos, first, second), valid)`` where the three are float views
+    (shape + (n_out, 2)) of the buffer: the position and, with ``rates = (w1, w2, w3)``,
+    ``w1·d/dq`` and ``w2·d²/dq² + w3·d/dq`` (velocity and acceleration for (ω, ω², α)).
+    """
+    if not covers(plan):
+        return None
+    if shape is None:
+        shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
+    k = separable(params.shape[:-1], inputs.shape[:-1], shape)
+    if k is None:
+        return None
+    n, n_params = len(shape), params.shape[-1]
+    lead, trail = shape[:k], shape[k:]
+    if params.ndim == 1:                       # one design (the common single-design call)
+        designs = params.reshape(1, n_params)
+    else:
+        p_pad = params.reshape((1,) * (n - (params.ndim - 1)) + params.shape)
+        designs = np.broadcast_to(p_pad[(slice(None),) * k + (0,) * (n - k)], lead + (n_params,))
+        designs = np.ascontiguousarray(designs.reshape(-1, n_params))
+    if inputs.shape[:-1] == trail:
+        q = np.ascontiguousarray(inputs.reshape(-1), dtype=float)
+    else:
+        q_pad = inputs[..., 0].reshape((1,) * (n - (inputs.ndim - 1)) + inputs.shape[:-1])
+        q = np.ascontiguousarray(np.broadcast_to(q_pad[(0,) * k], trail).reshape(-1), dtype=float)
+    G = _constants(plan, designs)
+    cq, sq = np.cos(q), np.sin(q)
+    n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
+    D, N = designs.shape[0], q.size
+    out = np.empty((6 * n_out, D, N))         # rows of derivatives above ``order`` stay unwritten
+    valid = np.empty((D, N), dtype=np.bool_)
+    w1, w2, w3 = (float(r) for r in rates)
+    kernel(plan, with_bodies, order)(G, cq, sq, tol, w1, w2, w3, out, valid)
+    rows = out.reshape((n_out, 6) + shape)
+    axes = tuple(range(2, 2 + n)) + (0, 1)     # (n_out, 2, *shape) → (*shape, n_out, 2), a view
+    views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))
+    return out, views, valid.reshape(shape)

@@ -1,0 +1,192 @@
+"""The planar step executors: each Assur group by its closed form on second-order jets.
+
+A :class:`Context` holds one pass over a batch: the bodies' local geometry, the input jets and
+the poses and point positions placed so far. Each executor reads its step record's named fields
+and places the bodies it solves. :func:`execute` runs a step table, continuing Newton-solved
+groups from the sketch; :func:`run_steps` is the compile-time entry (branch choice, seeds).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...kernels import planar
+from ...kernels.jet import Jet, expi
+from ...tolerances import DEFAULT
+from ..options import continuation
+from .geometry import geometry
+from .newton_group import solve_group
+
+
+class Context:
+    """One pass over a batch: ``w`` local coordinates, ``lines`` slide lines, ``q`` input jets,
+    ``pose[body] = (origin, e = exp(iθ))`` and ``pos[point]`` complex jets, ``valid`` (...)."""
+
+    def __init__(self, plan, params, q_jets, order, tol):
+        self.plan, self.order, self.tol = plan, order, tol
+        self.w, self.lines = geometry(plan, params)
+        self.params = params
+        self.q = q_jets
+        self.pose: dict[int, tuple[Jet, Jet]] = {}
+        self.pos: dict[str, Jet] = {}
+        self.valid = np.True_
+        self.g = plan.structure.graph
+        self.warm: dict = {}
+
+    def const(self, v):
+        return Jet.const(v, self.order)
+
+    def place(self, body, o, e):
+        self.pose[body] = (o, e)
+        for p in self.g.bodies[body].points:
+            if p not in self.pos:
+                self.pos[p] = o + e * self.w[(body, p)]
+
+    def from_two(self, body, p1, p2):
+        """Pose of a body from the world positions of two of its points."""
+        w1, w2 = self.w[(body, p1)], self.w[(body, p2)]
+        e = (self.pos[p2] - self.pos[p1]) * (1.0 / (w2 - w1))
+        self.place(body, self.pos[p1] - e * w1, e)
+
+    def radius(self, side, a, j):
+        if side.actuator is not None:
+            return self.q[side.actuator[2]]
+        return np.abs(self.w[(side.body, j)] - self.w[(side.body, a)])
+
+    def place_side(self, side, a, j):
+        if side.actuator is None:
+            self.from_two(side.body, a, j)
+            return
+        cyl, rod, k = side.actuator
+        e = (self.pos[j] - self.pos[a]) / self.q[k]
+        self.place(cyl, self.pos[a], e)
+        self.place(rod, self.pos[j], e)
+
+    def world_line(self, idx):
+        """World line of slide idx, and the slider's orientation: (Q, U, e_slider, ref, u_slider)."""
+        rec = self.plan.lines[idx]
+        q, u, ref, us = self.lines[idx]
+        og, eg = self.pose[rec[2]]
+        return og + eg * q, eg * u, eg * (u / us), ref, us
+
+    def flag(self, valid):
+        self.valid = self.valid & valid
+
+
+def _frame(c: Context, st):
+    c.place(0, c.const(0j), c.const(1 + 0j))
+    for p in c.g.bodies[0].points:
+        c.pos[p] = c.const(c.w[(0, p)])
+
+
+def _crank(c: Context, st):
+    body = st.bodies[0]
+    d = c.w[(body, st.arm)] - c.w[(body, st.pivot)]
+    theta = c.q[st.input] * float(st.sense) + c.params[..., st.zero_param]
+    e = expi(theta) * np.conj(d / np.abs(d))
+    c.place(body, c.pos[st.pivot] - e * c.w[(body, st.pivot)], e)
+
+
+def _rrr(c: Context, st):
+    sa, A, sb, B, J = st.side_a, st.point_a, st.side_b, st.point_b, st.joint
+    z, ok = planar.circle_circle(c.pos[A], c.radius(sa, A, J), c.pos[B], c.radius(sb, B, J), st.branch, c.tol.radicand)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place_side(sa, A, J)
+    c.place_side(sb, B, J)
+
+
+def _rrp(c: Context, st):
+    sa, A, slider, J = st.side_a, st.point_a, st.slider, st.joint
+    Q, U, es, ref, _ = c.world_line(st.line)
+    Qj = Q + es * (c.w[(slider, J)] - ref)
+    z, ok = planar.circle_line(c.pos[A], c.radius(sa, A, J), Qj, U, st.branch, c.tol.radicand)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place_side(sa, A, J)
+    c.place(slider, z - es * c.w[(slider, J)], es)
+
+
+def _rpr(c: Context, st):
+    guide, gp, slider, sp = st.guide, st.guide_point, st.slider, st.slider_point
+    q, u, ref, us = c.lines[st.line]
+    cvec = (q - c.w[(guide, gp)]) + (u / us) * (c.w[(slider, sp)] - ref)
+    cc = cvec / u
+    eu, ok = planar.rotation_from_slide(c.pos[sp] - c.pos[gp], np.real(cc), np.imag(cc), st.branch, c.tol.radicand)
+    c.flag(ok)
+    eg = eu * (1.0 / u)
+    c.place(guide, c.pos[gp] - eg * c.w[(guide, gp)], eg)
+    es = eu * (1.0 / us)
+    c.place(slider, c.pos[sp] - es * c.w[(slider, sp)], es)
+
+
+def _prp(c: Context, st):
+    a, b, J = st.body_a, st.body_b, st.joint
+    Qa, Ua, ea, refa, _ = c.world_line(st.line_a)
+    Qb, Ub, eb, refb, _ = c.world_line(st.line_b)
+    z, ok = planar.line_line(Qa + ea * (c.w[(a, J)] - refa), Ua, Qb + eb * (c.w[(b, J)] - refb), Ub, c.tol.parallel)
+    c.flag(ok)
+    c.pos[J] = z
+    c.place(a, z - ea * c.w[(a, J)], ea)
+    c.place(b, z - eb * c.w[(b, J)], eb)
+
+
+def _ppr(c: Context, st):
+    a, A, b, lo, li = st.body_a, st.point_a, st.body_b, st.outer_line, st.inner_line
+    Qo, Uo, eb, refo, _ = c.world_line(lo)
+    rec_i = c.plan.lines[li]
+    qi, ui, refi, usi = c.lines[li]
+    if rec_i[2] == b:        # b guides a: e_a = e_b·u/u_s
+        ea = eb * (ui / usi)
+    else:                    # a guides b: e_b = e_a·u/u_s
+        ea = eb * (usi / ui)
+    oa = c.pos[A] - ea * c.w[(a, A)]
+    c.place(a, oa, ea)
+    if rec_i[2] == b:
+        Q2, U2 = oa + ea * refi - eb * qi, eb * ui
+    else:
+        Q2, U2 = oa + ea * qi - eb * refi, ea * ui
+    ob, ok = planar.line_line(Qo - eb * refo, Uo, Q2, U2, c.tol.parallel)
+    c.flag(ok)
+    c.place(b, ob, eb)
+
+
+EXECUTORS = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "PPR": _ppr,
+             "newton": solve_group}
+CLOSED_FORMS = ("RRR", "RRP", "RPR", "PRP", "PPR")
+
+
+def _run(plan, steps, params, q_jets, order, tol, method, warm):
+    c = Context(plan, params, q_jets, order, tol)
+    c.warm = warm
+    with np.errstate(all="ignore"):
+        for st in steps:
+            kind = st.kind
+            if method == "newton" and kind in CLOSED_FORMS:
+                kind = "newton"
+            EXECUTORS[kind](c, st)
+    return c
+
+
+def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
+    """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)). With Newton groups,
+    continue every sample from the sketch inputs to its own inputs in stages
+    (:func:`assur.engine.options.continuation`), warm-starting each stage."""
+    uses_newton = method == "newton" or any(st.kind == "newton" for st in steps)
+    warm: dict = {}
+    if uses_newton and len(q_jets):
+        q_s = plan.sketch_inputs
+        m, deltas, dp = continuation(plan, [qj.v for qj in q_jets], params, tol)
+        for i in range(1, m):
+            t = i / m
+            q_stage = [Jet.const(q_s[k] + t * deltas[k], 0) for k in range(len(q_jets))]
+            _run(plan, steps, plan.defaults + t * dp if dp is not None else params, q_stage, 0, tol, method, warm)
+    return _run(plan, steps, params, q_jets, order, tol, method, warm)
+
+
+def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False):
+    """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
+    orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
+    q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
+    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, DEFAULT)
+    poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
+    return {p: z.v for p, z in c.pos.items()}, poses, c.valid
