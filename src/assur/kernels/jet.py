@@ -214,3 +214,59 @@ def where_valid(x: Jet, valid) -> Jet:
     nan = np.nan if not np.iscomplexobj(x.v) else complex(np.nan, np.nan)
     return Jet(np.where(valid, x.v, nan), None if x.d is None else np.where(valid, x.d, nan),
                None if x.dd is None else np.where(valid, x.dd, nan))
+
+
+# -- generic rules, for values of any shape (complex planar, (..., 3) spatial vectors) -----------------------------------------------------------------------------------
+def parts(x):
+    """(value, first, second derivative) of a jet; (array, None, None) of a constant."""
+    if isinstance(x, Jet):
+        return x.v, x.d, x.dd
+    return np.asarray(x, dtype=float), None, None
+
+
+def bilinear(f, a, b):
+    """f(a, b) for a function f linear in each argument, on arrays or jets (product rule)."""
+    if not isinstance(a, Jet) and not isinstance(b, Jet):
+        return f(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    av, ad, add = parts(a)
+    bv, bd, bdd = parts(b)
+    v = f(av, bv)
+    has_d = ad is not None or bd is not None
+    has_dd = add is not None or bdd is not None
+    d = dd = None
+    if has_d:
+        d = 0.0
+        if ad is not None:
+            d = d + f(ad, bv)
+        if bd is not None:
+            d = d + f(av, bd)
+    if has_dd:
+        dd = 0.0
+        if add is not None:
+            dd = dd + f(add, bv)
+        if bdd is not None:
+            dd = dd + f(av, bdd)
+        if ad is not None and bd is not None:
+            dd = dd + 2.0 * f(ad, bd)
+    return Jet(v, d, dd)
+
+
+def unary(x, f, f1, f2):
+    """g(x) with g' = f1(x), g'' = f2(x), on arrays or jets (chain rule)."""
+    if not isinstance(x, Jet):
+        return f(np.asarray(x, dtype=float))
+    v = f(x.v)
+    d = dd = None
+    if x.d is not None:
+        g1 = f1(x.v)
+        d = g1 * x.d
+        if x.dd is not None:
+            dd = g1 * x.dd + f2(x.v) * (x.d * x.d)
+    return Jet(v, d, dd)
+
+
+def linear(f, x):
+    """f(x) for a linear f, on arrays or jets."""
+    if not isinstance(x, Jet):
+        return f(np.asarray(x, dtype=float))
+    return Jet(f(x.v), None if x.d is None else f(x.d), None if x.dd is None else f(x.dd))
