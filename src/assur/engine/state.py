@@ -80,17 +80,20 @@ class State:
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """The batch shape (...)."""
         return self.valid.shape
 
     # -- positions and analogues -----------------------------------------------------------------
     @property
     def pos(self) -> np.ndarray:
+        """(..., n_points, 2) positions (m)."""
         if self._xyz is not None:
             return self._xyz[0]
         return _xy(self._z[..., : self._np])
 
     @property
     def dpos_dq(self) -> np.ndarray | None:
+        """(..., n_points, 2, n_inputs) analogues d pos/dq (m/rad or m/m); None with order 0."""
         if self._xyz is not None:
             first = self._xyz[1]
             if first is None:
@@ -100,6 +103,7 @@ class State:
 
     @property
     def d2pos_dq2(self) -> np.ndarray | None:
+        """(..., n_points, 2, n_inputs, n_inputs) second analogues d² pos/dq²; None below order 2."""
         if self._xyz is not None:
             first, second = self._xyz[1], self._xyz[2]
             if second is None:
@@ -127,6 +131,7 @@ class State:
 
     @property
     def vel(self) -> np.ndarray | None:
+        """(..., n_points, 2) velocities (m/s) at the input rates ``qdot``; None with order 0."""
         if self._xyz is not None:
             first = self._xyz[1]
             if first is None or self._xyz_time:
@@ -138,6 +143,7 @@ class State:
 
     @property
     def acc(self) -> np.ndarray | None:
+        """(..., n_points, 2) accelerations (m/s²) at ``qdot`` and ``qddot``; None below order 2."""
         if self._xyz is not None:
             first, second = self._xyz[1], self._xyz[2]
             if second is None or self._xyz_time:
@@ -176,11 +182,13 @@ class State:
 
     @property
     def body_omega(self) -> np.ndarray | None:
+        """(..., n_bodies) angular velocities (rad/s), counter-clockwise positive."""
         d1 = self._theta_jets()[1]
         return None if d1 is None else np.einsum("...bk,...k->...b", d1, self.qdot)
 
     @property
     def body_alpha(self) -> np.ndarray | None:
+        """(..., n_bodies) angular accelerations (rad/s²)."""
         _, d1, d2 = self._theta_jets()
         if d2 is None:
             return None
@@ -193,6 +201,7 @@ class State:
         return PointView(self, self.plan.point_index(name))
 
     def body(self, name: str) -> int:
+        """The index of a body (into the body axis of ``body_angle`` …)."""
         return self.plan.body_names.index(name)
 
 
@@ -222,16 +231,19 @@ class SpatialState:
 
     @property
     def shape(self):
+        """The batch shape (...)."""
         return self.valid.shape
 
     @property
     def vel(self):
+        """(..., n_points, 3) velocities (m/s) at the input rates ``qdot``; None with order 0."""
         if self.dpos_dq is None:
             return None
         return np.einsum("...k,...k->...", self.dpos_dq, self.qdot)
 
     @property
     def acc(self):
+        """(..., n_points, 3) accelerations (m/s²) at ``qdot`` and ``qddot``; None below order 2."""
         if self.d2pos_dq2 is None:
             return None
         return (np.einsum("...k,...k->...", self.dpos_dq, self.qddot)
@@ -266,6 +278,7 @@ class SpatialState:
         return PointView(self, self.plan.point_index(name))
 
     def body(self, name: str) -> int:
+        """The index of a body (into the body axis of ``body_angle`` …)."""
         return self.plan.body_names.index(name)
 
 
