@@ -272,7 +272,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
         out = []
         for sign in (1, -1):
             trial = steps[: i] + [st.with_branch(sign)]
-            pos, poses, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1)
+            pos, poses, valid = run_steps(plan, trial, params, inputs, order=0, upto=i + 1, tol=tol)
             out.append((sign, pos, poses, bool(np.all(valid))))
         return out
 
@@ -327,7 +327,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
                           f"(branched points: {', '.join(s.key_point for s in steps if s.kind in BRANCHED)})")])
     fixed = plan.with_steps(steps)
     # the assembled sketch pose of every body: the seed of the Newton solver (honours the branches)
-    pos, poses, valid = run_steps(fixed, fixed.steps, params, q0, order=0, origins=True)
+    pos, poses, valid = run_steps(fixed, fixed.steps, params, q0, order=0, origins=True, tol=tol)
     seeds = []
     for b in range(len(fixed.body_names)):
         o, e = poses.get(b, (np.nan, np.nan))

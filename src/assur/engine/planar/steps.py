@@ -183,10 +183,10 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
     return _run(plan, steps, params, q_jets, order, tol, method, warm)
 
 
-def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False):
+def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False, tol=DEFAULT):
     """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
     orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
     q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
-    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, DEFAULT)
+    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, tol)
     poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
     return {p: z.v for p, z in c.pos.items()}, poses, c.valid
