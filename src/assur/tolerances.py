@@ -39,6 +39,13 @@ class Tolerances:
     #: A spatial arm (or a universal joint's pin) within this fraction of its length of its axis (of
     #: the coupler) is parallel to it.
     axis_offset: float = 1e-9
+    #: A Newton-solved sample is certified on the seed's branch only where the determinant of its
+    #: row-equilibrated Jacobian has the seed's sign and at least this magnitude (|det| ≤ 1); closer to a
+    #: singular position (a toggle, a change point) it is reported unbuildable, never possibly mirrored.
+    newton_certify: float = 1e-9
+    #: At compile time the drawn sketch must close the loop equations of every Newton-solved group to
+    #: within this fraction of the length scale (the sketch seeds the solver and so fixes its branch).
+    sketch_fit: float = 1e-3
     #: A direction vector in a file whose norm is 1 within this is taken as written (not divided by its norm).
     unit_norm: float = 1e-14
     #: Two directions in a file (gait.ground, gait.up) are perpendicular when their unit vectors' dot product
@@ -69,6 +76,36 @@ class Tolerances:
     #: Four-bar constraints: Grashof's s + l ≤ p + q holds with a slack of this fraction of the longest link,
     #: and a link is degenerate when shorter than this fraction of the mean length.
     fourbar_slack: float = 1e-9
+    #: The ends of a crank's buildable ranges over a turn are refined by bisection to this input angle (rad).
+    toggle_angle: float = 1e-12
+    #: Roots over a turn (a crank's dead centres, the stops of a spatial rocker) are located to this input angle
+    #: (rad).
+    root_angle: float = 1e-13
+    #: The ends of a stroke's buildable ranges are refined by bisection to this fraction of the stroke.
+    stroke_edge: float = 1e-12
+    #: Extrema along a stroke are located by a root of the time derivative to this fraction of the run's
+    #: duration ...
+    stroke_root: float = 1e-12
+    #: ... the derivative taken by central differences over this fraction of the run's duration.
+    stroke_step: float = 1e-5
+    #: Sampled values of a quantity that differ by less than this fraction of its largest magnitude are equal
+    #: (rounding noise): no extremum lies between them, a quantity within it is constant, and a value within
+    #: it of zero is shown as 0.
+    rounding_noise: float = 1e-9
+    #: A value (SI) of magnitude below this is shown as 0.
+    shown_zero: float = 1e-12
+    #: The triangle a rod sweeps from the start is empty (the ratio of two rods' triangles is undefined) below
+    #: this area, relative to the squared length scale.
+    swept_area: float = 1e-14
+    #: A sine or cosine below this is zero: paper 002's start triangle or guide is degenerate (B0 on the line
+    #: O–A: relative to |O A|), its eq. (14) singular.
+    degenerate_sine: float = 1e-12
+    #: Paper 002's printed formulas are reported singular where a square-root (or arcsine) argument is within
+    #: this of zero or below it, relative to the squared rod length.
+    literal_singular: float = 1e-9
+    #: A gear design's installation centre distance is a second one (its mesh checked too) when it differs from
+    #: the design's by more than this (m).
+    distinct_distance: float = 1e-12
 
 
 DEFAULT = Tolerances()

@@ -154,6 +154,18 @@ class State:
             return None
         return _xy(self._rate(self._dz[..., : self._np, :], self._d2z[..., : self._np, :, :])[1])
 
+    @property
+    def singular(self) -> np.ndarray | None:
+        """(...) bool: assembled (``valid``) but at a singular position — a toggle or a change point,
+        where two assemblies meet — so the analogues, velocities and accelerations are not finite
+        there; None with order 0."""
+        d = self.dpos_dq
+        if d is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
+        return self.valid & ~finite
+
     # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
     def _theta_jets(self):
         if self._complete is not None:
@@ -248,6 +260,18 @@ class SpatialState:
             return None
         return (np.einsum("...k,...k->...", self.dpos_dq, self.qddot)
                 + np.einsum("...kl,...k,...l->...", self.d2pos_dq2, self.qdot, self.qdot))
+
+    @property
+    def singular(self) -> np.ndarray | None:
+        """(...) bool: assembled (``valid``) but at a singular position — a toggle or a change point,
+        where two assemblies meet — so the analogues, velocities and accelerations are not finite
+        there; None with order 0."""
+        d = self.dpos_dq
+        if d is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
+        return self.valid & ~finite
 
     def _frame_rate(self, d1, d2=None):
         R = self.body_frame

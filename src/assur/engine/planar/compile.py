@@ -20,7 +20,8 @@ from ...tolerances import DEFAULT
 from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, NewtonStep, PlanarPlan, PPRStep, PRPStep,
                     RPRStep, RRPStep, RRRStep, Side)
 from .optable import build_op_table
-from .steps import run_steps
+from .newton_group import sketch_misfit
+from .steps import context_at, run_steps
 
 
 def _c(xy) -> complex:
@@ -185,6 +186,24 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
     return replace(plan, ops=table[0], slots=table[1])
 
 
+def _check_sketch_closes(plan: PlanarPlan, params, q0, tol) -> None:
+    """SpecError unless the drawn sketch closes the loop equations of every Newton-solved group (it seeds
+    the solver, so a sketch off the dimensions could seed another assembly mode): names the joint or slide
+    that is off and by how much."""
+    for i, st in enumerate(plan.steps):
+        if st.kind != "newton":
+            continue
+        c = context_at(plan, plan.steps[:i], params, q0, tol)
+        off, where = sketch_misfit(c, st, plan.sketch_poses)
+        if not off <= tol.sketch_fit * plan.length_scale:
+            names = ", ".join(plan.body_names[b] for b in st.bodies)
+            path = f"points.{where}" if where in plan.point_names else f"prismatic.{where}"
+            raise SpecError([(path, f"the sketch does not fit the dimensions of the group {names} (solved by Newton "
+                                    f"iterations seeded by the sketch): at {where} it is {off:.4g} m off "
+                                    f"({100 * off / plan.length_scale:.2g} % of the mechanism's size); correct the "
+                                    f"sketch or the lengths")])
+
+
 def _sketch_frames(B: _Builder, g) -> tuple:
     """(x, y, θ) of every body's local frame as drawn in the sketch (the frame at the origin; every
     other body's first point is its local origin)."""
@@ -326,6 +345,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
         raise SpecError([(f"branches.{p}", f"'{p}' is not the point a branched group solves "
                           f"(branched points: {', '.join(s.key_point for s in steps if s.kind in BRANCHED)})")])
     fixed = plan.with_steps(steps)
+    _check_sketch_closes(fixed, params, q0, tol)
     # the assembled sketch pose of every body: the seed of the Newton solver (honours the branches)
     pos, poses, valid = run_steps(fixed, fixed.steps, params, q0, order=0, origins=True, tol=tol)
     seeds = []

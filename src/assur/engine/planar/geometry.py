@@ -15,7 +15,9 @@ def geometry(plan, params: np.ndarray):
 
     Returns ``(w, lines)``: ``w[(body, point)]`` complex arrays of shape ``params.shape[:-1]`` and
     ``lines[i] = (q, u, ref, u_slider)``: the line point and unit direction in the guide's frame,
-    the slider's reference point and the line direction in the slider's frame.
+    the slider's reference point and the line direction in the slider's frame. A non-physical
+    design (a link length ≤ 0, a negative placement distance) gives NaN coordinates, so every sample
+    of it is unbuildable: never a mirrored answer.
     """
     p = params
     shape = p.shape[:-1]
@@ -30,12 +32,15 @@ def geometry(plan, params: np.ndarray):
         else:
             _, p0, p1, il, placed = rec
             w[(bi, p0)] = zero
-            w[(bi, p1)] = p[..., il] + 0j
+            length = p[..., il]
+            w[(bi, p1)] = np.where(length > 0, length, np.nan) + 0j
             for name, org, tow, idist, iang in placed:
                 a, b = w[(bi, org)], w[(bi, tow)]
                 d = b - a
                 n = np.abs(d)
-                w[(bi, name)] = a + p[..., idist] * np.exp(1j * p[..., iang]) * (d / np.where(n > 0, n, 1.0))
+                dist = p[..., idist]
+                dist = np.where(dist >= 0, dist, np.nan)
+                w[(bi, name)] = a + dist * np.exp(1j * p[..., iang]) * (d / np.where(n > 0, n, 1.0))
     lines = []
     for rec in plan.lines:
         kind, name, gb, slider, through, ia, io, ref, u_slider = rec

@@ -14,6 +14,8 @@ F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), evaluated on jets.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ...errors import StructureError
@@ -21,8 +23,9 @@ from ...kernels.jet import Jet, expi
 from ...kernels.newton import newton
 
 
-def _residual(c, st, X, derivs: bool):
-    """Residual components (list of real jets) for unknown jets X (3k of them)."""
+def _residual(c, st, X, derivs: bool, labels: list | None = None):
+    """Residual components (list of real jets) for unknown jets X (3k of them); with ``labels``, the
+    joint point or slide name of each component is appended to it."""
     g = c.g
     group = list(st.bodies)
     gi = {b: i for i, b in enumerate(group)}
@@ -52,10 +55,14 @@ def _residual(c, st, X, derivs: bool):
             for b in gb:
                 z = world(b, point) - target
                 res += [z.real, z.imag]
+                if labels is not None:
+                    labels += [point, point]
         else:
             for b in gb[1:]:
                 z = world(gb[0], point) - world(b, point)
                 res += [z.real, z.imag]
+                if labels is not None:
+                    labels += [point, point]
     driven = {d.actuator: k for k, d in enumerate(c.plan.mechanism.drivers) if d.kind == "linear"}
     for idx, rec in enumerate(c.plan.lines):
         kind, name, guide, slider = rec[:4]
@@ -70,7 +77,33 @@ def _residual(c, st, X, derivs: bool):
         res.append((U.conj() * d).imag)
         if kind == "actuator" and name in driven:
             res.append((U.conj() * d).real - const(c.q[driven[name]]))
+        if labels is not None:
+            labels += [name] * (len(res) - len(labels))
     return res
+
+
+def _equilibrated_det(J):
+    """(...) det of J (..., n, n) with every row scaled to unit length: |det| ≤ 1, free of units."""
+    with np.errstate(all="ignore"):
+        norms = np.linalg.norm(J, axis=-1, keepdims=True)
+        return np.linalg.det(J / np.where(norms > 0, norms, 1.0))
+
+
+def sketch_misfit(c, st, poses):
+    """How far the drawn sketch is from closing the group's loop equations.
+
+    ``c``: a context with the group's known bodies placed (at the file's design and sketch inputs);
+    ``poses``: (x, y, θ) of every body as drawn. Returns (largest residual (m), the joint or slide
+    where it is)."""
+    X = [Jet(np.asarray(v, dtype=float)) for b in st.bodies for v in poses[b]]
+    labels: list = []
+    r = _residual(c, st, X, derivs=False, labels=labels)
+    # a joint's two components (x, y) make one distance
+    off: dict[str, float] = {}
+    for ri, label in zip(r, labels):
+        off[label] = off.get(label, 0.0) + float(np.max(np.abs(ri.v))) ** 2
+    where = max(off, key=off.get)
+    return math.sqrt(off[where]), where
 
 
 def solve_group(c, st):
@@ -104,8 +137,19 @@ def solve_group(c, st):
         return F, np.stack(cols, axis=-1)
 
     scale = c.plan.length_scale
+    sign_key = (key, "det_sign")
+    if sign_key not in c.warm:
+        # the branch invariant: the sign of the equilibrated Jacobian determinant at the seed (the sketch
+        # assembly, on the plan's branches); it changes only through a singular position
+        c.warm[sign_key] = np.sign(_equilibrated_det(F_and_J(x)[1]))
     x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations,
                       accept_tol=1e3 * tol.newton_residual * scale)
+    # a converged sample counts only where its branch is certified: the same determinant sign as the seed,
+    # clear of the singular positions where two assemblies meet
+    det = _equilibrated_det(J)
+    certified = (np.sign(det) == c.warm[sign_key]) & (np.abs(det) > tol.newton_certify)
+    ok = ok & certified
+    x = np.where(ok[..., None], x, np.nan)
     c.warm[key] = x
     c.flag(ok)
     order = c.order

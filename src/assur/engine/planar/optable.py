@@ -165,7 +165,9 @@ def slot_constants(plan, designs: np.ndarray) -> np.ndarray:
     """
     w, lines = geometry(plan, designs)
     G = np.empty((designs.shape[0], len(plan.slots), 2))
-    for i, row in enumerate(plan.slots):
-        v = np.broadcast_to(np.asarray(_slot_value(plan, row, w, lines, designs), dtype=complex), designs.shape[:1])
-        G[:, i, 0], G[:, i, 1] = v.real, v.imag
+    with np.errstate(all="ignore"):          # a non-physical design's NaN constants: its samples are invalid
+        for i, row in enumerate(plan.slots):
+            v = np.broadcast_to(np.asarray(_slot_value(plan, row, w, lines, designs), dtype=complex),
+                                designs.shape[:1])
+            G[:, i, 0], G[:, i, 1] = v.real, v.imag
     return G

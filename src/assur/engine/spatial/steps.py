@@ -9,6 +9,11 @@ from ...kernels.jet import Jet
 from ..options import continuation
 
 
+def _positive(length):
+    """A link length, NaN where it is not positive (a non-physical design is unbuildable, never mirrored)."""
+    return np.where(length > 0, length, np.nan)
+
+
 def _rss_fields(st):
     return (st.pivot, st.start, st.joint, st.coupler, st.rocker_length_param, st.rocker_axial_param,
             st.coupler_length_param, st.rocker_extra, st.coupler_extra)
@@ -62,7 +67,7 @@ def _crank(c: Context, st):
     cs, sn = V.cos(theta), V.sin(theta)
     u_r = V.scale(cs, ex2) + V.scale(sn, ey2)
     u_t = V.scale(-1.0 * sn, ex2) + V.scale(cs, ey2)
-    length, h = c.p(il), c.p(ih)
+    length, h = _positive(c.p(il)), c.p(ih)
     rho = np.sqrt(np.maximum(length * length - h * h, 0.0))
     O = c.pos[pivot]
     c.pos[arm] = O + V.scale(rho, u_r) + V.scale(h, e)
@@ -75,7 +80,7 @@ def _rss(c: Context, st):
     E = c.frame_of(D)
     e = E[..., :, 2]
     Dv, A = c.pos[D], c.pos[Ap]
-    lr, h, lc = c.p(ilr), c.p(ihr), c.p(ilc)
+    lr, h, lc = _positive(c.p(ilr)), c.p(ihr), _positive(c.p(ilc))
     v1 = A - Dv                                             # (7) P4_2 = P2 − P4
     d2 = V.dot(v1, v1)
     d = V.sqrt(d2)
@@ -133,7 +138,7 @@ def _rss_newton(c: Context, st, seeds):
     Dv = np.asarray(c.pos[D])
     Aj = c.pos[Ap]
     A = V.value(Aj)
-    lr, h, lc = c.p(ilr), c.p(ihr), c.p(ilc)
+    lr, h, lc = _positive(c.p(ilr)), c.p(ihr), _positive(c.p(ilc))
     shape = np.broadcast_shapes(A.shape, Dv.shape, e.shape)
     x = np.array(np.broadcast_to(seeds[Bp], shape), dtype=float)
     x, ok = V.newton_rss(A, Dv, e, lr, h, lc, x, tol=c.tol.newton_residual * c.plan.length_scale,
