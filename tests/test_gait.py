@@ -192,3 +192,49 @@ def test_walking_module_of_the_paper004_file():
     mm = module_metrics(g, phases)
     assert mm.mean_feet == pytest.approx(2 * g.duty_factor, abs=2 / 720)
     assert g.duty_factor > 0.5 and mm.min_feet == 1 and mm.airborne_fraction == 0.0
+
+
+def test_a_solved_state_or_a_shared_cycle_gives_the_same_numbers(plan):
+    """gait_metrics/gait_curves of a plan, of a Cycle and of a State solved over the same uniform grid agree
+    to the last bit (the State's grid replaces ``steps``)."""
+    from assur.analysis.gait import gait_metrics_and_curves
+    from assur.analysis.sampling import Cycle
+    q = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    state = assur.solve(plan, None, q[:, None], order=2)
+    a = gait_metrics(plan, steps=360)
+    b, cb = gait_metrics_and_curves(state)
+    c = gait_metrics(Cycle(plan), steps=360)
+    assert a == b == c and b.samples == 360
+    ca = gait_curves(plan, steps=360)
+    for name in ("q", "x", "v", "speed", "contact", "body_x"):
+        assert np.array_equal(getattr(ca, name), getattr(cb, name))
+
+
+def test_a_state_off_the_uniform_grid_is_refused(plan):
+    from assur.errors import SpecError
+    q = np.linspace(0.0, 2 * math.pi, 360)                     # endpoint included: not the uniform grid
+    with pytest.raises(SpecError, match="linspace"):
+        gait_metrics(assur.solve(plan, None, q[:, None], order=2))
+    q = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    with pytest.raises(SpecError, match="order = 2"):
+        gait_metrics(assur.solve(plan, None, q[:, None], order=1))
+
+
+def test_population_gait_samples_the_exact_metrics(plan):
+    """The sampled population form agrees with the exact metrics to the sampling step, design by design,
+    and marks a design with an unbuildable sample NaN."""
+    from assur.analysis.gait import population_gait, resolve_gait
+    foot, ground, up = resolve_gait(plan)
+    i = plan.point_index(foot)
+    p = np.stack([plan.defaults, plan.defaults])
+    p[1, plan.param_index("crank.length")] *= 10.0               # the crank cannot turn
+    q = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    s = assur.solve(plan, p[:, None, :], q[:, None], order=1)
+    out = population_gait(s.pos[:, :, i, :], s.valid, s.dpos_dq[:, :, i, :, 0], ground=ground, up=up,
+                          omega=abs(float(plan.speeds[0])))
+    g = gait_metrics(plan)
+    assert out["step"][0] == pytest.approx(g.step_length, rel=1e-4)
+    assert out["lift"][0] == pytest.approx(g.lift, rel=1e-4)
+    assert out["duty"][0] == pytest.approx(g.duty_factor, abs=2 / 720)
+    assert out["speed_mean"][0] == pytest.approx(g.support_speed.mean, rel=5e-3)   # sample mean vs time mean
+    assert all(np.isnan(v[1]) for v in out.values())

@@ -201,3 +201,26 @@ def test_design_gives_the_paper_scheme_outline():
     o = load_design(EX / "gears_001.toml").sector_outline()
     assert o.teeth == (48, 96) and o.linking == "relieved"
     assert np.hypot(*o.driving.T).max() == pytest.approx(0.0613 + 0.002, abs=1e-4)   # Table 1: r_a1 = 63.30 mm
+
+
+def test_expression_errors_are_located_spec_errors(tmp_path):
+    """A bad ratio expression is an ExpressionError (a SpecError and a ValueError) and is reported at law.ratio;
+    a function called with the wrong number of arguments is refused when the file is read."""
+    from assur.errors import AssurError, ExpressionError
+    with pytest.raises(ExpressionError) as exc:
+        compile_expression("sin(phi, phi)")
+    assert isinstance(exc.value, SpecError) and isinstance(exc.value, ValueError)
+    assert isinstance(exc.value, AssurError) and "sin() takes 1 argument" in str(exc.value)
+    msg = problems(write(tmp_path, ENVELOPE.replace("0.3*cos(phi)", "0.3*cosh(phi)")))["law.ratio"]
+    assert "unknown function 'cosh'" in msg
+
+
+def test_gear_and_wheelstep_names_stay_importable():
+    import assur.errors
+    import assur.gears.errors
+    import assur.gears.wheelstep
+    import assur.wheelstep
+    assert assur.gears.errors.GearError is assur.errors.GearError
+    assert issubclass(assur.errors.GearError, assur.errors.AssurError) and issubclass(assur.errors.GearError,
+                                                                                      ValueError)
+    assert assur.wheelstep.Shoe is assur.gears.wheelstep.Shoe

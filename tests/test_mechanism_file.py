@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import assur
-from mechanisms import rssr
+from conftest import rssr
 
 EXAMPLES = sorted(f for f in glob.glob(os.path.join(os.path.dirname(__file__), "..", "examples", "*.toml"))
                   if tomllib.loads(open(f, encoding="utf-8").read()).get("format") == "assur/1")   # mechanisms only
@@ -323,3 +323,18 @@ pivot = "A"
     with pytest.raises(assur.SpecError) as err:
         assur.loads(text)
     assert err.value.problems == [("links.coupler[2]", "unknown point 'Q' (known: A, B, O1)")]
+
+
+def test_dump_writes_atomically_or_not_at_all(tmp_path):
+    """dump() writes through a temporary file: no leftovers; an unusable location is an OutputError (an
+    OSError) that leaves nothing behind."""
+    from assur.errors import OutputError
+    m = assur.load(EXAMPLES[0])
+    out = tmp_path / "copy.toml"
+    assur.dump(m, out)
+    assert [p.name for p in tmp_path.iterdir()] == ["copy.toml"]
+    with pytest.raises(OutputError):
+        assur.dump(m, tmp_path / "missing" / "copy.toml")
+    with pytest.raises(OSError):
+        assur.dump(m, tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["copy.toml"]

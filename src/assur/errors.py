@@ -48,9 +48,30 @@ class UnbuildableError(AssurError, ArithmeticError):
         return self.args[0]
 
 
+class AssumedUnitsWarning(UserWarning):
+    """A document without a ``[units]`` table: its numbers are read in the stated default units."""
+
+
 class UnbuildableWarning(UserWarning):
     """Some samples cannot be assembled (issued with ``on_unbuildable='warn'``)."""
 
 
 class SynthesisError(AssurError, RuntimeError):
     """A synthesis problem cannot be set up or run."""
+
+
+class ExpressionError(SpecError):
+    """An arithmetic expression that cannot be parsed or uses something not allowed (the message says what).
+
+    Raised with the message alone; a reader that finds it in a file adds the field's path."""
+
+
+class GearError(AssurError, ValueError):
+    """A transmission law, centre distance or tooth layout cannot make a working gear pair.
+
+    The message names the quantity and the offending angle range, e.g.
+    ``pitch radius of the driven gear ≤ 0 for φ ∈ [212.0°, 236.5°]``."""
+
+
+class OutputError(AssurError, OSError):
+    """An output location cannot be used (it is a directory, or its parent does not exist)."""

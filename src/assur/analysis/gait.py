@@ -18,6 +18,11 @@ Extremes and arc ends are refined from a uniform sample by a bounded 1-D minimis
 from the solver's exact derivatives, never from finite differences of the path.
 Alternative support definitions: ``support="band"`` (samples with h ≤ ``band``) and
 ``support="antiphase"`` (two legs 180° apart: a leg supports while lower than the other).
+
+:func:`gait_metrics` and :func:`gait_curves` take a plan, a :class:`~assur.analysis.sampling.Cycle` (a solved
+cycle shared with other analyses) or a State solved over the uniform grid of one turn.
+:func:`population_gait` is the same definition on uniform samples only, vectorised over a population of designs
+(what dimensional synthesis optimises).
 """
 from __future__ import annotations
 
@@ -28,8 +33,10 @@ import numpy as np
 from scipy.integrate import simpson
 from scipy.optimize import brentq
 
+from ..engine import State, solve
 from ..errors import SpecError, UnbuildableError
-from .sampling import TWO_PI, Cycle, intervals
+from ..kernels.runs import cyclic_runs
+from .sampling import TWO_PI, Cycle
 
 
 @dataclass(frozen=True)
@@ -92,15 +99,18 @@ class GaitCurves:
 class _Foot:
     """The foot's stride/vertical coordinates and their exact derivatives at any inputs."""
 
-    def __init__(self, plan, params, foot, ground, up):
-        self.cycle = Cycle(plan, params)
-        self.i = plan.point_index(foot)
+    def __init__(self, cycle, foot, ground, up):
+        self.cycle = cycle
+        self.i = cycle.plan.point_index(foot)
         self.g = np.asarray(ground, dtype=float)
         self.u = np.asarray(up, dtype=float)
-        self.omega = float(plan.speeds[0])
+        self.omega = float(cycle.plan.speeds[0])
 
     def eval(self, q) -> dict:
-        s = self.cycle.state(np.atleast_1d(np.asarray(q, dtype=float)))
+        return self.values(self.cycle.state(np.atleast_1d(np.asarray(q, dtype=float))))
+
+    def values(self, s) -> dict:
+        """The foot's coordinates and derivatives in a State solved with order 2."""
         P = s.pos[..., self.i, :]
         dP = s.dpos_dq[..., self.i, :, 0]
         d2P = s.d2pos_dq2[..., self.i, :, 0, 0]
@@ -146,7 +156,10 @@ def _extreme_location(F: _Foot, key: str, dkey: str, q, vals, which: str) -> tup
     return best
 
 
-def _resolve(plan, foot, ground, up):
+def resolve_gait(plan, foot=None, ground=None, up=None) -> tuple[str, tuple, tuple]:
+    """(foot point name, ground direction (2,), up direction (2,)) of a plan's gait: each given value, else the
+    mechanism's ``[gait]`` table, else the x axis as ground and its left normal as up. SpecError when no foot is
+    named anywhere."""
     g = plan.mechanism.gait
     if foot is None:
         if g is None:
@@ -162,24 +175,54 @@ def _resolve(plan, foot, ground, up):
 def gait_metrics(plan, params=None, *, foot=None, ground=None, up=None, steps: int = 720,
                  support: str = "arc", band: float | None = None) -> GaitMetrics:
     """Gait metrics of one leg (see the module docstring). Raises UnbuildableError if the crank
-    cannot turn fully."""
+    cannot turn fully.
+
+    plan: a plan (solved here at ``params``, default its defaults), a :class:`~assur.analysis.sampling.Cycle`
+    (its plan and parameters; the uniform grid of ``steps`` samples comes from ``cycle.grid(steps)``), or a
+    State of one plan solved with order 2 at the inputs ``linspace(0, 2π, n, endpoint=False)`` (n, 1) and at
+    ``params`` (then n replaces ``steps``). foot, ground, up: as :func:`resolve_gait`."""
     return _gait(plan, params, foot, ground, up, steps, support, band)[0]
 
 
 def gait_curves(plan, params=None, *, foot=None, ground=None, up=None, steps: int = 720,
                 support: str = "arc", band: float | None = None) -> GaitCurves:
+    """Sampled gait curves of one leg over one turn, for plots (arguments as :func:`gait_metrics`)."""
     return _gait(plan, params, foot, ground, up, steps, support, band)[1]
+
+
+def gait_metrics_and_curves(plan, params=None, *, foot=None, ground=None, up=None, steps: int = 720,
+                            support: str = "arc", band: float | None = None) -> tuple[GaitMetrics, GaitCurves]:
+    """:func:`gait_metrics` and :func:`gait_curves` from one computation (arguments as :func:`gait_metrics`)."""
+    return _gait(plan, params, foot, ground, up, steps, support, band)
+
+
+def _grid(source, params, steps):
+    """(cycle, q (n,), state at q) of a plan, a Cycle or a State solved over the uniform grid of one turn."""
+    if isinstance(source, State):
+        q = np.asarray(source.inputs, dtype=float)
+        if q.ndim != 2 or q.shape[1] != 1 or not np.array_equal(
+                q[:, 0], np.linspace(0.0, TWO_PI, len(q), endpoint=False)):
+            raise SpecError([("state", "must be solved at the inputs linspace(0, 2π, n, endpoint=False), "
+                                       f"shape (n, 1): {q.shape}")])
+        if source.d2pos_dq2 is None:
+            raise SpecError([("state", "must be solved with order = 2")])
+        return Cycle(source.plan, params), q[:, 0], source
+    cycle = source if isinstance(source, Cycle) else Cycle(source, params)
+    q, state = cycle.grid(steps)
+    return cycle, q, state
 
 
 def _gait(plan, params, foot, ground, up, steps, support, band):
     if support not in ("arc", "band", "antiphase"):
         raise SpecError([("support", f"must be 'arc', 'band' or 'antiphase': {support!r}")])
+    if isinstance(plan, State):
+        steps = len(plan.inputs)
     if steps < 16:
         raise SpecError([("steps", f"must be at least 16: {steps}")])
-    foot, ground, up = _resolve(plan, foot, ground, up)
-    F = _Foot(plan, params, foot, ground, up)
-    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    vals = F.eval(q)
+    foot, ground, up = resolve_gait(plan.plan if isinstance(plan, (State, Cycle)) else plan, foot, ground, up)
+    cycle, q, state = _grid(plan, params, steps)
+    F = _Foot(cycle, foot, ground, up)
+    vals = F.values(state)
     valid = vals["valid"]
     if not np.all(valid):
         bad = q[~valid]
@@ -232,7 +275,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
             contact = h < shifted
         if not contact.any():
             raise SpecError([("band", "no sample lies in the support band")])
-        runs = intervals(contact)
+        runs = cyclic_runs(contact)
         first, last = max(runs, key=lambda r: (r[1] - r[0]) % steps)
         start = q[first]
         width = ((q[last] - q[first]) % TWO_PI) + (q[1] - q[0])
@@ -253,6 +296,43 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
     curves = GaitCurves(q, x, v, F.omega * dx, F.omega * vals["dv"], w * vals["speed"], contact, body_q,
                         body_x, body_v)
     return metrics, curves
+
+
+def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0, scale: float = 1.0) -> dict:
+    """Gait quantities of n designs from uniform samples of their foot paths over one turn, vectorised.
+
+    The definitions of the module docstring on the samples alone (no refinement): the contact arc is the arc
+    between the samples of smallest and largest x whose sample-mean height is lower.
+    pos: (n, M, 2) foot positions at M uniform inputs over one turn; valid: (n, M) bool; dpos_dq: (n, M, 2) their
+    derivatives by the input, or None; ground, up: (2,) directions; omega: the input speed magnitude (rad/s);
+    scale: a factor on every length (e.g. SI → the file's unit).
+    Returns ``{"step", "lift", "sag", "duty"}`` and, with ``dpos_dq``, ``{"speed_mean", "speed_spread"}``, each
+    (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an invalid sample."""
+    g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
+    x, v = pos @ g * scale, pos @ u * scale
+    n, M = x.shape
+    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
+    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
+    k = np.arange(M)
+    arc1 = np.mod(k[None, :] - ia[:, None], M) <= np.mod(ib - ia, M)[:, None]
+    arc2 = np.mod(k[None, :] - ib[:, None], M) <= np.mod(ia - ib, M)[:, None]
+    with np.errstate(all="ignore"):
+        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
+        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
+    contact = np.where((m1 <= m2)[:, None], arc1, arc2)
+    out = {"step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
+           "lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed
+           "sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
+           "duty": np.count_nonzero(contact, axis=1) / M}
+    if dpos_dq is not None:
+        speed = np.linalg.norm(dpos_dq, axis=-1) * omega * scale
+        smax = np.where(contact, speed, -np.inf).max(axis=1)
+        smin = np.where(contact, speed, np.inf).min(axis=1)
+        smean = np.where(contact, speed, 0).sum(axis=1) / np.count_nonzero(contact, axis=1)
+        out["speed_mean"] = smean
+        out["speed_spread"] = (smax - smin) / smean
+    bad = ~np.all(valid, axis=1)
+    return {key: np.where(bad, np.nan, val) for key, val in out.items()}
 
 
 @dataclass(frozen=True)
@@ -289,7 +369,6 @@ def legs_state(plan, phases, q, params=None, order: int = 2):
     leg k is at crank angle q + phases[k]."""
     q = np.asarray(q, dtype=float)
     ph = np.asarray(phases, dtype=float)
-    from ..solve import solve
     return solve(plan, params, (q[:, None] + ph[None, :])[..., None], order=order)
 
 

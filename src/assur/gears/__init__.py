@@ -2,10 +2,10 @@
 
 Public names: :func:`pitch_pair`, :class:`PitchCurve`, :class:`GearPair` (pitch.py); the laws
 :class:`WheelStepLaw`, :func:`law_from_callable`, :func:`law_from_table`, :func:`law_from_ratio` (law.py);
-:class:`GearError` (errors.py). Sector model, Tables 1–3 and the paper's tooth outlines: :mod:`assur.gears.sectors`; design files:
-:mod:`assur.gears.design`.
+:class:`GearError` (:mod:`assur.errors`). Sector model, Tables 1–3 and the paper's tooth outlines:
+:mod:`assur.gears.sectors`; the wheel-step mover: :mod:`assur.gears.wheelstep`; design files: :mod:`assur.gears.design`.
 """
-from .errors import GearError
+from ..errors import GearError
 from .law import (TransmissionLaw, WheelStepLaw, law_from_callable, law_from_ratio, law_from_table)
 from .pitch import (ClosureReport, Corner, CurvatureReport, GearPair, PitchCurve, check_module, closure_report,
                     curvature_report, find_corners, pitch_pair, speed_law)

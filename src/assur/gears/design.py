@@ -54,90 +54,38 @@ Every problem is reported with its field path (``law.a``, ``teeth.driven_teeth``
 """
 from __future__ import annotations
 
-import ast
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import SpecError
+from ..errors import ExpressionError, GearError, SpecError
 from ..io import units as U
-from ..io.mechanism_file import read_toml
-from ..wheelstep import Shoe
-from .errors import GearError
+from ..io.expressions import function_of
+from ..io.problems import Problems
+from ..io.toml_reader import read_toml
+from ..kernels.runs import runs
+from ..tolerances import DEFAULT as TOL
 from .law import TransmissionLaw, WheelStepLaw, law_from_ratio, law_from_table
 from .pitch import GearPair, pitch_pair
+from .wheelstep import Shoe
 
 GEARS_FORMAT = "assur-gears/1"
 WHEELSTEP_FORMAT = "assur-wheelstep/1"
 #: relative mismatch allowed between the driving pitch perimeter and z·π·m in envelope mode
-PERIMETER_TOLERANCE = 1e-3
+PERIMETER_TOLERANCE = TOL.tooth_perimeter
 
 
-class _Problems:
-    def __init__(self):
-        self.items = []
-
-    def add(self, path, message):
-        self.items.append((path, message))
-
-    def raise_if_any(self, source):
-        if self.items:
-            raise SpecError(self.items, source)
-
-
-# ---- a small safe expression evaluator for ratio laws ---------------------------------------------------------
-
-_FUNCS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log, "sqrt": np.sqrt,
-          "abs": np.abs}
-_CONSTS = {"pi": math.pi, "e": math.e}
-_BINOPS = {ast.Add: np.add, ast.Sub: np.subtract, ast.Mult: np.multiply, ast.Div: np.divide, ast.Pow: np.power}
+#: the functions a ratio law's expression may call
+RATIO_FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sqrt", "abs")
 
 
 def compile_expression(text: str, variable: str = "phi"):
-    """A vectorised function of ``variable`` from an arithmetic expression (numbers, + − * / **, the names of
-    ``_FUNCS`` and ``_CONSTS``). Raises ValueError naming what is not allowed."""
-    try:
-        tree = ast.parse(text, mode="eval")
-    except SyntaxError as exc:
-        raise ValueError(f"not a valid expression: {exc.msg}") from None
-
-    def check(node):
-        if isinstance(node, ast.Expression):
-            return check(node.body)
-        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
-            return
-        if isinstance(node, ast.Name) and (node.id == variable or node.id in _CONSTS):
-            return
-        if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-            check(node.left), check(node.right)
-            return
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            return check(node.operand)
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCS \
-                and len(node.args) == 1 and not node.keywords:
-            return check(node.args[0])
-        raise ValueError(f"not allowed in an expression: {ast.unparse(node)!r} (use {variable}, numbers, + - * / **, "
-                         f"{', '.join(_FUNCS)}, {', '.join(_CONSTS)})")
-
-    check(tree)
-
-    def evaluate(node, x):
-        if isinstance(node, ast.Expression):
-            return evaluate(node.body, x)
-        if isinstance(node, ast.Constant):
-            return np.full(np.shape(x), float(node.value))
-        if isinstance(node, ast.Name):
-            return x if node.id == variable else np.full(np.shape(x), _CONSTS[node.id])
-        if isinstance(node, ast.BinOp):
-            return _BINOPS[type(node.op)](evaluate(node.left, x), evaluate(node.right, x))
-        if isinstance(node, ast.UnaryOp):
-            v = evaluate(node.operand, x)
-            return -v if isinstance(node.op, ast.USub) else v
-        return _FUNCS[node.func.id](evaluate(node.args[0], x))
-
-    return lambda x: evaluate(tree, np.asarray(x, dtype=float))
+    """A vectorised function of ``variable`` from an arithmetic expression (numbers, + − * / **, ``pi``, ``e`` and
+    the functions of ``RATIO_FUNCTIONS``; :func:`assur.io.expressions.function_of`). Raises ExpressionError (a
+    ValueError) naming what is not allowed."""
+    return function_of(text, variable, functions=RATIO_FUNCTIONS)
 
 
 # ---- the design objects ---------------------------------------------------------------------------------------
@@ -216,24 +164,6 @@ class WheelStepDesign:
 
 # ---- reading ----------------------------------------------------------------------------------------------------
 
-def _units(data, P, default_length):
-    u = data.get("units", {})
-    if not isinstance(u, dict):
-        P.add("units", "must be a table with 'length' and 'angle'")
-        return default_length, "deg"
-    for k in u:
-        if k not in ("length", "angle"):
-            P.add(f"units.{k}", "unknown key (allowed: angle, length)")
-    length, angle = u.get("length", default_length), u.get("angle", "deg")
-    if length not in U.LENGTH:
-        P.add("units.length", f"must be one of {', '.join(U.LENGTH)}: {length!r}")
-        length = default_length
-    if angle not in U.ANGLE:
-        P.add("units.angle", f"must be one of {', '.join(U.ANGLE)}: {angle!r}")
-        angle = "deg"
-    return length, angle
-
-
 class _Reader:
     def __init__(self, table, path, P, length, angle):
         self.t, self.path, self.P = table, path, P
@@ -263,8 +193,8 @@ class _Reader:
             return None
         factor = {"length": self.L, "angle": self.A, "ratio": 1.0}[kind]
         inverse = round(1.0 / factor)
-        if factor < 1 and abs(1.0 / factor - inverse) < 1e-9:   # mm, cm: divide, so 143.5 mm → 0.1435 exactly
-            return float(v) / inverse
+        if factor < 1 and abs(1.0 / factor - inverse) < TOL.unit_reciprocal:   # mm, cm: divide, so 143.5 mm
+            return float(v) / inverse                                           # → 0.1435 exactly
         return float(v) * factor
 
     def integer(self, key, *, required=True, default=None, minimum=1):
@@ -288,9 +218,7 @@ class _Reader:
 
     def unknown(self, allowed=None):
         allowed = self.seen if allowed is None else set(allowed) | self.seen
-        for k in self.t:
-            if k not in allowed:
-                self.P.add(f"{self.path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+        self.P.unknown_keys(self.t, sorted(allowed), self.path)
 
 
 def _table(data, key, P, required=True):
@@ -316,7 +244,7 @@ def _shoe(reader: _Reader, P, path):
         if "c" not in reader.t and "r_min" not in reader.t:
             P.add(f"{path}.c", "give the bar length c or the curvature radius r_min (then c = r_min − a + 4b)")
         return None
-    if c is not None and r_min is not None and abs((a - 4 * b + c) - r_min) > 1e-9 * max(abs(c), 1.0):
+    if c is not None and r_min is not None and abs((a - 4 * b + c) - r_min) > TOL.design_agreement * max(abs(c), 1.0):
         P.add(f"{path}.r_min", f"contradicts c: a − 4b + c = {(a - 4 * b + c) / reader.L:.6g}, r_min = "
                                f"{r_min / reader.L:.6g} (file units)")
         return None
@@ -366,7 +294,7 @@ def _law(data, P, length, angle):
         if expr is not None and turns is not None:
             try:
                 fn = compile_expression(expr)
-            except ValueError as exc:
+            except ExpressionError as exc:
                 P.add("law.ratio", str(exc))
             else:
                 try:
@@ -377,10 +305,8 @@ def _law(data, P, length, angle):
 
 
 def _gear_design(data, source, P) -> GearDesign | None:
-    length, angle = _units(data, P, "mm")
-    for k in data:
-        if k not in ("format", "name", "description", "units", "law", "pair", "teeth"):
-            P.add(k, "unknown key (allowed: description, format, law, name, pair, teeth, units)")
+    length, angle = U.parse_units(data, P, "mm")
+    P.unknown_keys(data, ("description", "format", "law", "name", "pair", "teeth", "units"))
     law, law_spec = _law(data, P, length, angle)
     pt = _table(data, "pair", P, required=False) or {}
     tt = _table(data, "teeth", P)
@@ -449,7 +375,7 @@ def _gear_design(data, source, P) -> GearDesign | None:
             check_module(pitch_pair(law, L, samples=1024), m, alpha)
         except GearError as exc:
             P.add("teeth.module", str(exc))
-    elif isinstance(law, WheelStepLaw) and sectors is not None and not P.items:
+    elif isinstance(law, WheelStepLaw) and sectors is not None and not P:
         model = _check_sector_module(law, L, sectors, m, 1.25 if hf is None else hf, P)
     design = GearDesign(
         name=str(data.get("name", "")), law=law, law_spec=law_spec, centre_distance=L,
@@ -470,13 +396,11 @@ def _check_sector_module(law, L, sectors, m, dedendum, P):
     model = paper_sector_model(law, L, sectors=sectors)
     for name, radius, ends in (("driving", model.driving_radius, model.driving_angle),
                                ("driven", model.driven_radius, model.driven_angle)):
-        bad = np.flatnonzero(radius - dedendum * m <= 0)
-        if bad.size:
-            runs = np.split(bad, np.flatnonzero(np.diff(bad) > 1) + 1)
-            where = ", ".join(f"{r[0] + 1}–{r[-1] + 1} (angles [{math.degrees(ends[r[0]]):.2f}°, "
-                              f"{math.degrees(ends[r[-1] + 1]):.2f}°])" if r.size > 1 else
-                              f"{r[0] + 1} (angles [{math.degrees(ends[r[0]]):.2f}°, "
-                              f"{math.degrees(ends[r[0] + 1]):.2f}°])" for r in runs)
+        bad = radius - dedendum * m <= 0
+        if bad.any():
+            where = ", ".join(f"{first + 1}{f'–{last + 1}' if last > first else ''} (angles "
+                              f"[{math.degrees(ends[first]):.2f}°, {math.degrees(ends[last + 1]):.2f}°])"
+                              for first, last in runs(bad))
             P.add("teeth.module", f"module {m * 1e3:.4g} mm is too large for the {name} gear's sectors {where}: "
                                   f"the root radius r − {dedendum:g}·m is ≤ 0 there (smallest "
                                   f"{(radius.min() - dedendum * m) * 1e3:.4g} mm)")
@@ -485,10 +409,8 @@ def _check_sector_module(law, L, sectors, m, dedendum, P):
 
 
 def _wheelstep_design(data, source, P, path) -> WheelStepDesign | None:
-    length, angle = _units(data, P, "m")
-    for k in data:
-        if k not in ("format", "name", "description", "units", "shoe", "drive"):
-            P.add(k, "unknown key (allowed: description, drive, format, name, shoe, units)")
+    length, angle = U.parse_units(data, P, "m")
+    P.unknown_keys(data, ("description", "drive", "format", "name", "shoe", "units"))
     st = _table(data, "shoe", P)
     shoe = None
     if st is not None:
@@ -519,7 +441,7 @@ def _wheelstep_design(data, source, P, path) -> WheelStepDesign | None:
                     else:
                         for name in ("a", "b", "c"):
                             gv, sv = getattr(law.shoe, name), getattr(shoe, name)
-                            if abs(gv - sv) > 1e-9 * max(abs(sv), 1e-3):
+                            if abs(gv - sv) > TOL.design_agreement * max(abs(sv), 1e-3):
                                 P.add("drive.gears", f"{gpath.name}: law.{name} = {gv:.6g} m differs from "
                                                      f"shoe.{name} = {sv:.6g} m")
     if shoe is None:
@@ -537,7 +459,9 @@ def load_design(path) -> GearDesign | WheelStepDesign:
 
 
 def from_dict(data: dict, source: str | None = None, path=None) -> GearDesign | WheelStepDesign:
-    P = _Problems()
+    """A design from a parsed document (``path``: the file, to find a wheel-step file's gear file). Raises
+    SpecError listing every problem with its field path."""
+    P = Problems()
     fmt = data.get("format")
     if fmt == GEARS_FORMAT:
         design = _gear_design(data, source, P)

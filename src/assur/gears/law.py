@@ -17,12 +17,14 @@ from typing import Callable
 
 import numpy as np
 
-from ..wheelstep import STEP_HALF_ANGLE, Shoe
-from .errors import GearError, angle_ranges
+from ..errors import GearError
+from .errors import angle_ranges
+from ..tolerances import DEFAULT as TOL
+from .wheelstep import STEP_HALF_ANGLE, Shoe
 
 TWO_PI = 2.0 * math.pi
 #: closure tolerance of a law, rad (θ after the full cycle must be 2π within this)
-CLOSURE_TOLERANCE = 1e-6
+CLOSURE_TOLERANCE = TOL.law_closure
 
 
 def _reduce(x, period):
@@ -102,7 +104,7 @@ class WheelStepLaw(TransmissionLaw):
 
     In the paper's symbols the driving-gear angle is θ and the driven (hub) angle φ; here, following the gear
     package, the driving angle is ``phi`` and the driven angle ``theta``. With X(·) the mover displacement over a
-    step of the hub (:meth:`assur.wheelstep.Shoe.displacement`, periodic) and X_01 its value per step:
+    step of the hub (:meth:`assur.gears.wheelstep.Shoe.displacement`, periodic) and X_01 its value per step:
 
         driving angle = (n·π/2) · X(hub angle) / X_01,     n = driving_turns
 
@@ -330,7 +332,7 @@ def law_from_ratio(ratio: Callable, *, driving_turns: int = 1, samples: int = 16
     if bad.any():
         raise GearError(f"the speed ratio k(φ) = dθ/dφ must be finite and > 0 (else a pitch radius is ≤ 0): it is "
                         f"not for φ ∈ {angle_ranges(u, bad)}")
-    if abs(k[-1] - k[0]) > 1e-9 * max(1.0, abs(k[0])):
+    if abs(k[-1] - k[0]) > TOL.ratio_periodic * max(1.0, abs(k[0])):
         raise GearError(f"the speed ratio must be 360°-periodic (the driving pitch curve must close): "
                         f"k(0) = {k[0]:.6g}, k(360°) = {k[-1]:.6g}")
     k[-1] = k[0]

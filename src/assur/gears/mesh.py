@@ -29,8 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GearError, angle_ranges
-from .teeth import TWO_PI, periodic_interp
+from ..errors import GearError
+from .errors import angle_ranges
+from .raster import TWO_PI, periodic_interp, rasterise_min
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,11 +62,10 @@ class PolarOutline:
 def polar_outline(xy, rays: int = 16384) -> PolarOutline:
     """A closed polygon (M, 2) (centre at the origin, star-shaped about it) as radii on ``rays`` uniform rays:
     per ray the nearest crossing of the polygon (the material seen from the centre)."""
-    from .teeth import _rasterise_min
     xy = np.asarray(xy, dtype=float)
     closed = np.concatenate([xy, xy[:1]])[None]
     out = np.full(int(rays), np.inf)
-    _rasterise_min(out, closed, np.ones(closed.shape[:2], dtype=bool))
+    rasterise_min(out, closed, np.ones(closed.shape[:2], dtype=bool))
     if not np.all(np.isfinite(out)):
         raise GearError("the outline does not surround its centre (some directions cross no edge)")
     return PolarOutline(out)

@@ -21,7 +21,9 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import GearError, angle_ranges
+from ..errors import GearError
+from ..tolerances import DEFAULT as TOL
+from .errors import angle_ranges
 from .law import TWO_PI, TransmissionLaw, as_law
 
 #: finite-difference step (rad) for derivatives of exactly known radius functions
@@ -190,7 +192,7 @@ def pitch_pair(law=None, centre_distance: float = None, *, ratio=None, driving_t
     if bad.any():
         raise GearError(f"pitch radius of the driving gear ≤ 0 (speed ratio dθ/dφ ≤ 0) for φ ∈ "
                         f"{angle_ranges(phi, bad)}")
-    if abs(tl.theta(TWO_PI * n) - TWO_PI) > 1e-6:
+    if abs(tl.theta(TWO_PI * n) - TWO_PI) > TOL.law_closure:
         raise GearError(f"the law does not close: θ(2π·{n}) = {math.degrees(tl.theta(TWO_PI * n)):.4f}°, must be 360°")
     r1 = L * k / (1.0 + k)
     r2 = L - r1

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GearError
+from ..errors import GearError
+from ..tolerances import DEFAULT as TOL
 from .law import TransmissionLaw
 
 #: the paper's five flank radii, as fractions of the module from the pitch radius (spec B4)
@@ -125,8 +126,9 @@ def mirrored(model: SectorModel) -> bool:
     """True if sectors N..N/2+1 mirror sectors 1..N/2 (θ_{N+2−i} = −θ_i, r_{N+1−i} = r_i) to 1e-9 relative."""
     th, ph = model.driving_angle, model.driven_angle
     L = model.centre_distance
-    return bool(np.allclose(th, -th[::-1], atol=1e-9) and np.allclose(ph, -ph[::-1], atol=1e-9)
-                and np.allclose(model.driving_radius, model.driving_radius[::-1], rtol=0, atol=1e-9 * L))
+    tol = TOL.sector_symmetry
+    return bool(np.allclose(th, -th[::-1], atol=tol) and np.allclose(ph, -ph[::-1], atol=tol)
+                and np.allclose(model.driving_radius, model.driving_radius[::-1], rtol=0, atol=tol * L))
 
 
 # ---- flanks, eqs. (11)–(14) ----------------------------------------------------------------------------------
@@ -350,7 +352,8 @@ def sector_outline(model: SectorModel, module: float, backlash: float, *, linkin
     span_th, span_ph = th[-1] - th[0], ph[-1] - ph[0]
     reps_th = int(round(2 * math.pi / span_th)) if steps_per_turn is None else int(steps_per_turn)
     reps_ph = int(round(2 * math.pi / span_ph))
-    if abs(reps_th * span_th - 2 * math.pi) > 1e-9 or abs(reps_ph * span_ph - 2 * math.pi) > 1e-9:
+    if abs(reps_th * span_th - 2 * math.pi) > TOL.sector_symmetry or \
+            abs(reps_ph * span_ph - 2 * math.pi) > TOL.sector_symmetry:
         raise GearError(f"the sectors must tile a whole number of steps per turn: driving span "
                         f"{math.degrees(span_th):.4f}°, driven span {math.degrees(span_ph):.4f}°")
     n = model.n_sectors
@@ -441,8 +444,8 @@ def sector_outline(model: SectorModel, module: float, backlash: float, *, linkin
 def _dedupe(xy):
     """Drop consecutive duplicate points (and a closing duplicate of the first)."""
     keep = np.ones(len(xy), dtype=bool)
-    keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > 1e-12
+    keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > TOL.outline_point
     xy = xy[keep]
-    if np.linalg.norm(xy[-1] - xy[0]) <= 1e-12:
+    if np.linalg.norm(xy[-1] - xy[0]) <= TOL.outline_point:
         xy = xy[:-1]
     return xy

@@ -47,10 +47,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import GearError, angle_ranges
+from ..errors import GearError
+from ..tolerances import DEFAULT as TOL
+from .errors import angle_ranges
 from .pitch import Corner
-
-TWO_PI = 2.0 * math.pi
+from .raster import TWO_PI, periodic_interp, rasterise_fans, wrap_angle
+from .rounding import rounded_pair
 
 
 # -- result objects --------------------------------------------------------------------------------
@@ -218,20 +220,6 @@ class GearTeeth:
 
 
 # -- small helpers ---------------------------------------------------------------------------------
-def periodic_interp(a, values):
-    """Linear interpolation of values sampled at 2π·i/M (i = 0..M−1) at angles a (...), periodic."""
-    m = values.shape[0]
-    x = np.mod(a, TWO_PI) * (m / TWO_PI)
-    i0 = np.floor(x).astype(np.intp)
-    f = x - i0
-    i0 %= m
-    return values[i0] * (1.0 - f) + values[(i0 + 1) % m] * f
-
-
-def _wrap(a):
-    return (a + math.pi) % TWO_PI - math.pi
-
-
 def _deg(x):
     return f"{math.degrees(x):.1f}°"
 
@@ -265,7 +253,7 @@ def _rolling_path(points, max_turn: float) -> tuple[_Path, np.ndarray, np.ndarra
     s_vertex = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
     perimeter = float(seg.sum())
     seg_dir = np.arctan2(chord[:, 1], chord[:, 0])             # direction of chord i (vertex i → i+1)
-    turn = _wrap(seg_dir - np.roll(seg_dir, 1))                 # at vertex i: chord i−1 → chord i
+    turn = wrap_angle(seg_dir - np.roll(seg_dir, 1))                 # at vertex i: chord i−1 → chord i
     # tangent at a vertex of a smooth curve = mean of the two chords; through a corner the rack pivots from the
     # incoming to the outgoing chord direction, so each vertex gets k ≥ 1 states spread over its turn.
     prev_dir = seg_dir - turn
@@ -280,69 +268,6 @@ def _rolling_path(points, max_turn: float) -> tuple[_Path, np.ndarray, np.ndarra
     frac = np.where(k[owner] == 1, 0.5, j / np.maximum(k[owner] - 1, 1))
     tau = np.unwrap(prev_dir[owner] + frac * turn[owner])
     return _Path(s_vertex[owner], points[owner], tau, perimeter), turn, seg
-
-
-# -- polar rasterisation: per ray the smallest radius of any candidate polyline crossing it ---------------
-def _rasterise_min(out, xy, valid):
-    """Lower ``out`` (M,) (radius per uniform ray) by every segment of polylines ``xy`` (..., K, 2) between
-    consecutive valid points (valid (..., K)). Linear interpolation in (ψ, ρ) along each segment."""
-    m = out.shape[0]
-    dpsi = TWO_PI / m
-    a = xy[..., :-1, :].reshape(-1, 2)
-    b = xy[..., 1:, :].reshape(-1, 2)
-    ok = (valid[..., :-1] & valid[..., 1:]).reshape(-1)
-    a, b = a[ok], b[ok]
-    psi_a = np.arctan2(a[:, 1], a[:, 0])
-    psi_b = psi_a + _wrap(np.arctan2(b[:, 1], b[:, 0]) - psi_a)
-    rho_a = np.hypot(a[:, 0], a[:, 1])
-    rho_b = np.hypot(b[:, 0], b[:, 1])
-    lo = np.minimum(psi_a, psi_b)
-    hi = np.maximum(psi_a, psi_b)
-    g0 = np.ceil(lo / dpsi - 1e-7).astype(np.int64)      # rays on a segment's end belong to both neighbours
-    g1 = np.floor(hi / dpsi + 1e-7).astype(np.int64)
-    n = np.maximum(g1 - g0 + 1, 0)
-    if n.sum() == 0:
-        return
-    seg = np.repeat(np.arange(n.size), n)
-    first = np.concatenate([[0], np.cumsum(n)[:-1]])
-    g = g0[seg] + (np.arange(seg.size) - first[seg])
-    span = psi_b[seg] - psi_a[seg]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(np.abs(span) > 0, (g * dpsi - psi_a[seg]) / span, 0.0)
-    rho = rho_a[seg] + np.clip(t, 0.0, 1.0) * (rho_b[seg] - rho_a[seg])
-    np.minimum.at(out, np.mod(g, m), rho)
-
-
-def _rasterise_fans(out, xy, valid, poles, start, step):
-    """Per fan z: lower ``out[z]`` (Z, R+1) (distance from ``poles[z]`` along the rays start[z] + i·step[z],
-    i = 0..R) by the segments of the polylines ``xy[z]`` (Z, n, K, 2) between consecutive valid points
-    (``valid`` (Z, n, K)). Linear interpolation in (angle, distance) along each segment."""
-    Z, R1 = out.shape
-    rel = xy - poles[:, None, None, :]
-    ang = np.arctan2(rel[..., 1], rel[..., 0]) - start[:, None, None]
-    ang = _wrap(ang)
-    dist = np.hypot(rel[..., 0], rel[..., 1])
-    ok = valid[..., :-1] & valid[..., 1:]
-    zz = np.broadcast_to(np.arange(Z)[:, None, None], ok.shape)[ok]
-    a0, a1 = ang[..., :-1][ok], ang[..., 1:][ok]
-    a1 = a0 + _wrap(a1 - a0)
-    d0, d1 = dist[..., :-1][ok], dist[..., 1:][ok]
-    st = step[zz]
-    lo = np.minimum(a0, a1) / st
-    hi = np.maximum(a0, a1) / st
-    g0 = np.maximum(np.ceil(lo - 1e-7), 0).astype(np.int64)       # rays on a segment's end belong to both
-    g1 = np.minimum(np.floor(hi + 1e-7), R1 - 1).astype(np.int64)
-    n = np.maximum(g1 - g0 + 1, 0)
-    if n.sum() == 0:
-        return
-    seg = np.repeat(np.arange(n.size), n)
-    first = np.concatenate([[0], np.cumsum(n)[:-1]])
-    g = g0[seg] + (np.arange(seg.size) - first[seg])
-    span = a1[seg] - a0[seg]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        f = np.where(np.abs(span) > 0, (g * st[seg] - a0[seg]) / span, 0.0)
-    d = d0[seg] + np.clip(f, 0.0, 1.0) * (d1[seg] - d0[seg])
-    np.minimum.at(out.reshape(-1), zz[seg] * R1 + g, d)
 
 
 # -- one gear ----------------------------------------------------------------------------------------
@@ -418,7 +343,7 @@ def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_ph
         frac = np.where(hi > lo, 0.0, (sv - path.s[j]) / np.maximum(seg_at(j), 1e-300))
         nxt = np.where(j + 1 < J, j + 1, 0)
         pt = path.point[j] + frac[:, None] * (path.point[nxt] - path.point[j])
-        tu = path.tau[j] + frac * _wrap(path.tau[nxt] - path.tau[j])
+        tu = path.tau[j] + frac * wrap_angle(path.tau[nxt] - path.tau[j])
         return pt, np.stack([np.sin(tu), -np.cos(tu)], axis=-1)
 
     def seg_at(j):
@@ -447,7 +372,7 @@ def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_ph
         xy = cand[rows[zs]].reshape(zs.size, -1, K, 2)
         ok = cmask[rows[zs]].reshape(zs.size, -1, K)
         sub = lengths[zs]
-        _rasterise_fans(sub, xy, ok, poles[zs], ray0[zs], step[zs])
+        rasterise_fans(sub, xy, ok, poles[zs], ray0[zs], step[zs])
         lengths[zs] = sub
     if not np.all(np.isfinite(lengths)):
         raise GearError("the tooth outline has directions without any boundary (the module is too large for the "
@@ -516,7 +441,7 @@ def _curvature_check(name, turn, seg, tooth, psi_of_vertex, radius_of_vertex):
 
 # -- public API --------------------------------------------------------------------------------------
 def tooth_count(perimeter: float, module: float | None, teeth: int | None, *, name: str = "driving",
-                rel_tol: float = 1e-3) -> tuple[float, int]:
+                rel_tol: float = TOL.tooth_perimeter) -> tuple[float, int]:
     """(module, teeth) consistent with a pitch perimeter: perimeter = π·m·z.
 
     Give either (module derived from z) or both (checked to ``rel_tol``); GearError names the numbers."""
@@ -587,7 +512,7 @@ def cut_gear(radius_of, tooth: ToothParameters, teeth: int, *, name: str = "gear
 
 def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
              pressure_angle: float = math.radians(20.0), addendum: float = 1.0, clearance: float = 0.25,
-             backlash: float = 0.0, rel_tol: float = 1e-3, samples: int | None = None,
+             backlash: float = 0.0, rel_tol: float = TOL.tooth_perimeter, samples: int | None = None,
              rays: int = 160) -> GearTeeth:
     """Cut both gears of a :class:`~assur.gears.pitch.GearPair` with one basic rack.
 
@@ -622,60 +547,3 @@ def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
 
 __all__ = ["GearOutline", "GearTeeth", "ToothParameters", "cut_gear", "cut_pair", "periodic_interp", "rounded_pair",
            "tooth_count"]
-
-
-# -- rounding the corners of a law before cutting (spec 001 B7.8) ----------------------------------------
-def _bump(d):
-    """1 for d ≤ 2, 0 for d ≥ 4, C¹ smoothstep between."""
-    x = np.clip((d - 2.0) / 2.0, 0.0, 1.0)
-    return 1.0 - x * x * (3.0 - 2.0 * x)
-
-
-def rounded_pair(pair, module: float, pressure_angle: float = math.radians(20.0), *, width: float | None = None,
-                 samples: int = 4096, widths=None):
-    """The pair with the corners of its pitch curves rounded, for a rack that cannot cut a corner.
-
-    The speed ratio k(φ) has a kink at each corner. Near each corner (driving angle φ_c) k is replaced by its
-    periodic Gaussian smoothing of standard deviation ``width`` (rad of φ), blended back to the exact k between
-    2 and 4 widths from the corner; the result is scaled so that ∫k over a driving turn stays 2π/n (the curves
-    close). ``width=None``: the smallest of ``widths`` (default 0.01 … 0.6 rad, geometric) for which both pitch
-    curves have no corner and no stretch with radius of curvature below m/sin²α
-    (:func:`assur.gears.pitch.curvature_report`). Returns (pair, width) — (pair, 0.0) when there is no corner.
-    Raises GearError when no width in the range suffices."""
-    from scipy.interpolate import CubicSpline
-    from .law import law_from_ratio
-    from .pitch import curvature_report, find_corners, pitch_pair
-    n = int(pair.driving_turns)
-    corners = find_corners(pair.driving)
-    if not corners and not find_corners(pair.driven):
-        return pair, 0.0
-    phi_c = np.mod(-np.array([c.angle for c in corners]), TWO_PI)
-    u = np.arange(samples) * (TWO_PI / samples)
-    k = np.asarray(pair.ratio(u), dtype=float)
-    dist = np.min(np.abs(_wrap(u[:, None] - phi_c[None, :])), axis=1) if phi_c.size else np.full(u.shape, np.inf)
-    freq = np.fft.rfftfreq(samples, d=TWO_PI / samples) * TWO_PI       # angular frequency per rad
-
-    def build(w):
-        smooth = np.fft.irfft(np.fft.rfft(k) * np.exp(-0.5 * (freq * w) ** 2), n=samples)
-        ks = k + _bump(dist / w) * (smooth - k)
-        ks *= (TWO_PI / n) / (ks.mean() * TWO_PI)
-        spline = CubicSpline(np.append(u, TWO_PI), np.append(ks, ks[0]), bc_type="periodic")
-        law = law_from_ratio(lambda x: spline(np.mod(x, TWO_PI)), driving_turns=n, samples=samples)
-        return pitch_pair(law, pair.centre_distance, samples=max(2048, samples // 2))
-
-    def fine(p):
-        for curve in (p.driving, p.driven):
-            rep = curvature_report(curve, module=module, pressure_angle=pressure_angle)
-            if rep.corners or rep.undercut_ranges:
-                return False
-        return True
-
-    if width is not None:
-        return build(float(width)), float(width)
-    for w in (widths if widths is not None else np.geomspace(0.01, 0.6, 16)):
-        p = build(float(w))
-        if fine(p):
-            return p, float(w)
-    raise GearError(f"the pitch-curve corners cannot be rounded for module {1e3 * module:g} mm: even a rounding "
-                    f"width of {math.degrees(float(w)):.1f}° of the driving angle leaves a radius of curvature "
-                    f"below m/sin²α = {1e3 * module / math.sin(pressure_angle) ** 2:.3f} mm")

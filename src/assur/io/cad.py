@@ -9,15 +9,14 @@ All files are written through :func:`assur.io.output.atomic_file`.
 """
 from __future__ import annotations
 
-import csv
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .output import atomic_file, json_text
+from ..errors import SpecError
+from .output import atomic_file, json_text, write_csv
 
 MM = 1e3
 
@@ -36,7 +35,7 @@ class Shape:
 def _check(shape: Shape) -> np.ndarray:
     xy = np.asarray(shape.xy, dtype=float)
     if xy.ndim != 2 or xy.shape[1] != 2 or xy.shape[0] < 3 or not np.all(np.isfinite(xy)):
-        raise ValueError(f"outline {shape.name!r} must be a finite (M ≥ 3, 2) polygon: shape {xy.shape}")
+        raise SpecError(f"outline {shape.name!r} must be a finite (M ≥ 3, 2) polygon: shape {xy.shape}")
     return xy
 
 
@@ -118,27 +117,6 @@ def write_svg(path, shapes, *, metadata: dict | None = None) -> Path:
     with atomic_file(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return path
-
-
-def write_csv(path, header, rows) -> Path:
-    """A table (header: names with units, rows: sequences of numbers/strings) as CSV."""
-    path = Path(path)
-    with atomic_file(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(list(header))
-            for r in rows:
-                w.writerow([_cell(v) for v in r])
-    return path
-
-
-def _cell(v):
-    if isinstance(v, (float, np.floating)):
-        v = float(v)
-        return "nan" if not math.isfinite(v) else repr(v)
-    if isinstance(v, (np.integer,)):
-        return int(v)
-    return v
 
 
 def write_json(path, data) -> Path:

@@ -8,13 +8,15 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
-from pathlib import Path
 
 from ..errors import SpecError
 from ..model.mechanism import (FRAME, Actuator, BranchHint, Gait, Joint, LinearDriver, Link, Mechanism,
-                               Placement, Prismatic, RotaryDriver, Units)
+                               Placement, Prismatic, RotaryDriver, TimeTable, Units)
+from ..tolerances import DEFAULT as TOL
 from . import units as U
+from .mechanism_writer import as_dict, dump, dumps, to_dict
+from .problems import Problems
+from .toml_reader import parse_toml, read_text, read_toml
 
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
@@ -23,16 +25,19 @@ _TOP = {"format", "name", "description", "units", "points", "links", "prismatic"
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
-class _Problems:
-    def __init__(self):
-        self.items: list[tuple[str, str]] = []
+#: every number of a mechanism file (a coordinate, length, angle …, in file units) is below this in magnitude
+MAX_MAGNITUDE = 1e9
 
-    def add(self, path: str, msg: str):
-        self.items.append((path, msg))
+
+def _name(x):
+    """A name field as found, or the text of any other value (a list, a table, a number): never a name, so the
+    usual 'unknown …' check reports it, and never unhashable."""
+    return x if x is None or isinstance(x, str) else repr(x)
 
 
 def _num(x) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+    """A usable number: finite and below MAX_MAGNITUDE in magnitude (1e308° or 1e300 mm is a typo)."""
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and abs(x) < MAX_MAGNITUDE
 
 
 def _known(names) -> str:
@@ -41,44 +46,20 @@ def _known(names) -> str:
     return f"(known: {shown})" if names else "(none defined)"
 
 
-def read_text(path) -> str:
-    """A document's text; SpecError naming the file if it is missing or unreadable."""
-    path = Path(path)
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SpecError(f"no such file: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SpecError(f"cannot read {path}: {exc}") from None
-
-
-def read_toml(path) -> dict:
-    """Any assur TOML document (mechanism, gears, wheel-step, synthesis problem) as a dict;
-    SpecError with the file and the parser's position if it is not valid TOML."""
-    try:
-        return tomllib.loads(read_text(path))
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError([("", f"not valid TOML: {exc}")], str(path)) from None
-
-
 def load(path) -> Mechanism:
     """Read a mechanism file. Raises SpecError (every problem, with its location)."""
     return loads(read_text(path), source=str(path))
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError([("", f"not valid TOML: {exc}")], source) from None
-    return from_dict(data, source)
+    """Read a mechanism from TOML text (``source`` names it in messages). Raises SpecError."""
+    return from_dict(parse_toml(text, source), source)
 
 
 def from_dict(data: dict, source: str | None = None) -> Mechanism:
-    P = _Problems()
-    for key in data:
-        if key not in _TOP:
-            P.add(key, f"unknown key (allowed: {', '.join(sorted(_TOP))})")
+    """A Mechanism from a parsed document. Raises SpecError listing every problem with its location."""
+    P = Problems()
+    P.unknown_keys(data, sorted(_TOP))
     fmt = data.get("format")
     if fmt != FORMAT:
         P.add("format", f"must be '{FORMAT}': {fmt!r}")
@@ -87,23 +68,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("dimension", f"must be 2 or 3: {dimension!r}")
         dimension = 2
 
-    # units
-    udata = data.get("units", {})
-    ulen, uang = "m", "rad"
-    if not isinstance(udata, dict):
-        P.add("units", "must be a table with 'length' and 'angle'")
-        udata = {}
-    for k in udata:
-        if k not in ("length", "angle"):
-            P.add(f"units.{k}", "unknown key (allowed: angle, length)")
-    ulen = udata.get("length", "m")
-    if ulen not in U.LENGTH:
-        P.add("units.length", f"must be one of {', '.join(U.LENGTH)}: {ulen!r}")
-        ulen = "m"
-    uang = udata.get("angle", "deg")
-    if uang not in U.ANGLE:
-        P.add("units.angle", f"must be one of {', '.join(U.ANGLE)}: {uang!r}")
-        uang = "deg"
+    ulen, uang = U.parse_units(data, P, "m")
     units = Units(ulen, uang)
     L, A = U.LENGTH[ulen], U.ANGLE[uang]
 
@@ -140,9 +105,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             plist = spec
             ppath = path
         elif isinstance(spec, dict):
-            for k in spec:
-                if k not in ("points", "length", "place"):
-                    P.add(f"{path}.{k}", "unknown key (allowed: length, place, points)")
+            P.unknown_keys(spec, ("length", "place", "points"), path)
             plist = spec.get("points")
             ppath = f"{path}.points"
             if not isinstance(plist, list):
@@ -167,7 +130,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                 if lname == FRAME:
                     P.add(f"{path}.length", "the frame's points are fixed at their coordinates; it takes no length")
                 elif not _num(spec["length"]) or spec["length"] <= 0:
-                    P.add(f"{path}.length", f"must be a positive number: {spec['length']!r}")
+                    P.add(f"{path}.length", f"must be a positive number below 1e9: {spec['length']!r}")
                 elif len(plist) < 2:
                     P.add(f"{path}.length", "needs at least two points")
                 else:
@@ -188,13 +151,9 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                 if not isinstance(pspec, dict):
                     P.add(qpath, "must be a table {from, toward, distance, angle}")
                     continue
-                bad = False
-                for k in pspec:
-                    if k not in ("from", "toward", "distance", "angle"):
-                        P.add(f"{qpath}.{k}", "unknown key (allowed: angle, distance, from, toward)")
-                        bad = True
+                bad = P.unknown_keys(pspec, ("angle", "distance", "from", "toward"), qpath)
                 for k in ("from", "toward"):
-                    ref = pspec.get(k, plist[0] if k == "from" else plist[1] if len(plist) > 1 else None)
+                    ref = _name(pspec.get(k, plist[0] if k == "from" else plist[1] if len(plist) > 1 else None))
                     if ref not in placed:
                         P.add(f"{qpath}.{k}", f"must be a point of '{lname}' placed before {pn!r}: {ref!r}")
                         bad = True
@@ -203,7 +162,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                     P.add(f"{qpath}.distance", f"must be a non-negative number: {dist!r}")
                     bad = True
                 if not _num(ang):
-                    P.add(f"{qpath}.angle", f"must be a number: {ang!r}")
+                    P.add(f"{qpath}.angle", f"must be a number below 1e9 in magnitude: {ang!r}")
                     bad = True
                 if not bad:
                     org = pspec.get("from", plist[0])
@@ -220,35 +179,30 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # prismatic pairs
     prismatic: list[Prismatic] = []
-    prdata = data.get("prismatic", [])
-    if not isinstance(prdata, list):
-        P.add("prismatic", "must be an array of tables [[prismatic]]")
-        prdata = []
+    prdata = P.section(data, "prismatic", "must be an array of tables [[prismatic]]", list)
     seen_names: set[str] = set()
     for i, spec in enumerate(prdata):
         path = f"prismatic[{i}]"
         if not isinstance(spec, dict):
             P.add(path, "must be a table")
             continue
-        for k in spec:
-            if k not in ("name", "guide", "through", "angle", "offset", "point", "link"):
-                P.add(f"{path}.{k}", "unknown key (allowed: angle, guide, link, name, offset, point, through)")
+        P.unknown_keys(spec, ("angle", "guide", "link", "name", "offset", "point", "through"), path)
         name = spec.get("name", f"slide{i + 1}")
         if not isinstance(name, str) or not _NAME.match(name) or name in seen_names:
             P.add(f"{path}.name", f"must be a unique name: {name!r}")
         seen_names.add(str(name))
-        guide = spec.get("guide", FRAME)
+        guide = _name(spec.get("guide", FRAME))
         if guide not in link_names:
             P.add(f"{path}.guide", f"unknown link {guide!r} {_known(link_names)}")
-        through = spec.get("through")
+        through = _name(spec.get("through"))
         if guide in link_points and through not in link_points[guide]:
             P.add(f"{path}.through", f"must be a point of the guide link '{guide}': {through!r}")
         ang, off = spec.get("angle", 0.0), spec.get("offset", 0.0)
         if not _num(ang):
-            P.add(f"{path}.angle", f"must be a number: {ang!r}")
+            P.add(f"{path}.angle", f"must be a number below 1e9 in magnitude: {ang!r}")
         if not _num(off):
-            P.add(f"{path}.offset", f"must be a number: {off!r}")
-        point, link = spec.get("point"), spec.get("link")
+            P.add(f"{path}.offset", f"must be a number below 1e9 in magnitude: {off!r}")
+        point, link = _name(spec.get("point")), _name(spec.get("link"))
         if (point is None) == (link is None):
             P.add(path, "needs exactly one of 'point' (a pin in a slot) or 'link' (a link translating on the guide)")
         if point is not None and point not in point_names:
@@ -262,19 +216,14 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # actuators
     actuators: list[Actuator] = []
-    adata = data.get("actuators", {})
-    if not isinstance(adata, dict):
-        P.add("actuators", "must be a table of name = {between = [A, B]}")
-        adata = {}
+    adata = P.section(data, "actuators", "must be a table of name = {between = [A, B]}")
     for name, spec in adata.items():
         path = f"actuators.{name}"
         if not isinstance(spec, dict) or not isinstance(spec.get("between"), list) or len(spec["between"]) != 2:
             P.add(path, "must be a table with between = [A, B]")
             continue
-        for k in spec:
-            if k != "between":
-                P.add(f"{path}.{k}", "unknown key (allowed: between)")
-        a, b = spec["between"]
+        P.unknown_keys(spec, ("between",), path)
+        a, b = (_name(x) for x in spec["between"])
         for j, pn in enumerate((a, b)):
             if pn not in point_names:
                 P.add(f"{path}.between[{j}]", f"unknown point {pn!r} {_known(point_names)}")
@@ -285,10 +234,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # drivers
     drivers = []
-    ddata = data.get("drivers", [])
-    if not isinstance(ddata, list):
-        P.add("drivers", "must be an array of tables [[drivers]]")
-        ddata = []
+    ddata = P.section(data, "drivers", "must be an array of tables [[drivers]]", list)
     seen_names = set()
     for i, spec in enumerate(ddata):
         path = f"drivers[{i}]"
@@ -303,18 +249,15 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         try:
             speed = U.parse_speed(spec.get("speed", 1.0 if kind == "rotary" else 0.0), kind, units) \
                 if kind in ("rotary", "linear") else 0.0
-        except ValueError as exc:
+        except SpecError as exc:
             P.add(f"{path}.speed", str(exc))
             speed = 0.0
         if kind == "rotary":
-            allowed = {"name", "kind", "link", "pivot", "arm", "zero", "sense", "speed"}
-            for k in spec:
-                if k not in allowed:
-                    P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
-            link = spec.get("link")
+            P.unknown_keys(spec, ("arm", "kind", "link", "name", "pivot", "sense", "speed", "zero"), path)
+            link = _name(spec.get("link"))
             if link not in link_names or link == FRAME:
                 P.add(f"{path}.link", f"must be a moving link {_known(link_names - {FRAME})}: {link!r}")
-            pivot, arm = spec.get("pivot"), spec.get("arm")
+            pivot, arm = _name(spec.get("pivot")), _name(spec.get("arm"))
             pts = link_points.get(link, set())
             if link in link_points and pivot not in pts:
                 P.add(f"{path}.pivot", f"must be a point of link '{link}': {pivot!r}")
@@ -327,7 +270,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                 P.add(f"{path}.arm", f"must be a point of link '{link}' other than the pivot: {arm!r}")
             zero = spec.get("zero", 0.0)
             if not _num(zero):
-                P.add(f"{path}.zero", f"must be a number: {zero!r}")
+                P.add(f"{path}.zero", f"must be a number below 1e9 in magnitude: {zero!r}")
                 zero = 0.0
             sense = spec.get("sense", "ccw")
             if sense not in ("ccw", "cw"):
@@ -335,11 +278,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             drivers.append(RotaryDriver(str(name), link, pivot, arm, float(zero) * A,
                                         -1 if sense == "cw" else 1, speed))
         elif kind == "linear":
-            allowed = {"name", "kind", "actuator", "speed", "range", "law"}
-            for k in spec:
-                if k not in allowed:
-                    P.add(f"{path}.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
-            act = spec.get("actuator")
+            P.unknown_keys(spec, ("actuator", "kind", "law", "name", "range", "speed"), path)
+            act = _name(spec.get("actuator"))
             if act not in actuator_names:
                 P.add(f"{path}.actuator", f"unknown actuator {act!r} {_known(actuator_names)}")
             drivers.append(LinearDriver(str(name), act, speed, _stroke_range(spec.get("range"), L, f"{path}.range", P),
@@ -349,10 +289,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # branches
     branches = []
-    bdata = data.get("branches", {})
-    if not isinstance(bdata, dict):
-        P.add("branches", "must be a table of point = {side, of}")
-        bdata = {}
+    bdata = P.section(data, "branches", "must be a table of point = {side, of}")
     for pn, spec in bdata.items():
         path = f"branches.{pn}"
         if pn not in point_names:
@@ -370,17 +307,12 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # joints (spatial descriptions)
     joints = []
-    jdata = data.get("joints", {})
-    if not isinstance(jdata, dict):
-        P.add("joints", "must be a table of point = kind")
-        jdata = {}
+    jdata = P.section(data, "joints", "must be a table of point = kind")
     for pn, kind in jdata.items():
         axis = None
         if isinstance(kind, dict):   # {kind = "revolute", axis = [x, y, z] | {gamma1, gamma2}}
             spec, kind = kind, kind.get("kind")
-            for k in spec:
-                if k not in ("kind", "axis"):
-                    P.add(f"joints.{pn}.{k}", "unknown key (allowed: axis, kind)")
+            P.unknown_keys(spec, ("axis", "kind"), f"joints.{pn}")
             axis = _joint_axis(spec.get("axis"), A, f"joints.{pn}.axis", P)
         if pn not in point_names:
             P.add(f"joints.{pn}", f"unknown point {pn!r} {_known(point_names)}")
@@ -398,10 +330,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not isinstance(gdata, dict):
             P.add("gait", "must be a table with 'foot'")
         else:
-            allowed = {"foot", "ground", "up", "phases"}
-            for k in gdata:
-                if k not in allowed:
-                    P.add(f"gait.{k}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            P.unknown_keys(gdata, ("foot", "ground", "phases", "up"), "gait")
             foot = gdata.get("foot")
             if foot not in point_names:
                 P.add("gait.foot", f"unknown point {foot!r} {_known(point_names)}")
@@ -415,14 +344,15 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                     vecs[k] = None
                 else:
                     n = math.hypot(*v)
-                    if abs(n - 1.0) < 1e-14:   # already a unit vector (e.g. written by dump): keep it exactly
+                    if abs(n - 1.0) < TOL.unit_norm:   # already a unit vector (e.g. written by dump): keep it exactly
                         n = 1.0
                     vecs[k] = (float(v[0]) / n, float(v[1]) / n)
             phases = gdata.get("phases", [0.0])
             if not isinstance(phases, list) or not phases or not all(_num(c) for c in phases):
                 P.add("gait.phases", f"must be a non-empty list of crank phase offsets: {phases!r}")
                 phases = [0.0]
-            if vecs["ground"] and vecs["up"] and abs(vecs["ground"][0] * vecs["up"][0] + vecs["ground"][1] * vecs["up"][1]) > 1e-9:
+            if vecs["ground"] and vecs["up"] and abs(vecs["ground"][0] * vecs["up"][0]
+                                                     + vecs["ground"][1] * vecs["up"][1]) > TOL.perpendicular:
                 P.add("gait.up", "must be perpendicular to gait.ground")
             gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases))
 
@@ -449,8 +379,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     if not isinstance(desc, str):
         P.add("description", f"must be a string: {desc!r}")
         desc = ""
-    if P.items:
-        raise SpecError(P.items, source)
+    P.raise_if_any(source)
     return Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                      actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
                      joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
@@ -472,7 +401,7 @@ def _joint_axis(v, angle_factor, path, P):
         P.add(path, f"must be a non-zero vector [x, y, z] or {{gamma1, gamma2}}: {v!r}")
         return None
     n = math.hypot(*v)
-    if abs(n - 1.0) < 1e-14:
+    if abs(n - 1.0) < TOL.unit_norm:
         n = 1.0
     return tuple(float(c) / n for c in v)
 
@@ -491,7 +420,6 @@ def _time_table(v, length_factor, path, P):
     """A linear driver's ``law = {time = [...], length = [...], interpolation = "cubic" | "pchip"}``."""
     if v is None:
         return None
-    from ..model.mechanism import TimeTable
     if not isinstance(v, dict):
         P.add(path, f"must be a table {{time = [...], length = [...]}}: {v!r}")
         return None
@@ -522,102 +450,11 @@ def _time_table(v, length_factor, path, P):
     return TimeTable(tuple(float(c) for c in t), tuple(float(c) * length_factor for c in q), kind)
 
 
-def ldata_points(ldata, link):
+def ldata_points(ldata, link) -> list:
+    """The point names listed by link ``link`` of a document's ``links`` table (as written)."""
     spec = ldata.get(link)
     return spec if isinstance(spec, list) else (spec or {}).get("points", [])
 
 
-def _out(si: float, factor: float = 1.0) -> float | int:
-    """``si / factor`` in file units with the fewest digits that load back to exactly ``si``."""
-    x = si / factor
-    for digits in (15, 16, 17):
-        y = float(f"{x:.{digits}g}")
-        if y * factor == si or y == x and digits == 17:
-            break
-    return int(y) if y.is_integer() and abs(y) < 2**53 else y
-
-
-def to_dict(m: Mechanism) -> dict:
-    L, A = U.LENGTH[m.units.length], U.ANGLE[m.units.angle]
-    d: dict = {"format": m.format}
-    if m.name:
-        d["name"] = m.name
-    if m.description:
-        d["description"] = m.description
-    if m.dimension != 2:
-        d["dimension"] = m.dimension
-    d["units"] = {"length": m.units.length, "angle": m.units.angle}
-    d["points"] = {n: [_out(c, L) for c in xy] for n, xy in m.points}
-    links = {}
-    for lk in m.links:
-        if lk.length is None and not lk.place:
-            links[lk.name] = list(lk.points)
-        else:
-            t: dict = {"points": list(lk.points)}
-            if lk.length is not None:
-                t["length"] = _out(lk.length, L)
-            if lk.place:
-                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": _out(p.distance, L),
-                                   "angle": _out(p.angle, A)} for pn, p in lk.place}
-            links[lk.name] = t
-    d["links"] = links
-    if m.prismatic:
-        out = []
-        for pr in m.prismatic:
-            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": _out(pr.angle, A)}
-            if pr.offset:
-                t["offset"] = _out(pr.offset, L)
-            if pr.point is not None:
-                t["point"] = pr.point
-            else:
-                t["link"] = pr.link
-            out.append(t)
-        d["prismatic"] = out
-    if m.actuators:
-        d["actuators"] = {a.name: {"between": list(a.between)} for a in m.actuators}
-    if m.drivers:
-        out = []
-        for dr in m.drivers:
-            if dr.kind == "rotary":
-                out.append({"name": dr.name, "kind": "rotary", "link": dr.link, "pivot": dr.pivot, "arm": dr.arm,
-                            "zero": _out(dr.zero, A), "sense": "cw" if dr.sense < 0 else "ccw",
-                            "speed": U.format_speed(dr.speed, "rotary", m.units)})
-            else:
-                t = {"name": dr.name, "kind": "linear", "actuator": dr.actuator,
-                     "speed": U.format_speed(dr.speed, "linear", m.units)}
-                if dr.range is not None:
-                    t["range"] = [_out(v, L) for v in dr.range]
-                if dr.law is not None:
-                    t["law"] = {"time": [_out(v) for v in dr.law.times], "length": [_out(v, L) for v in dr.law.values],
-                                "interpolation": dr.law.interpolation}
-                out.append(t)
-        d["drivers"] = out
-    if m.branches:
-        d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
-    if m.joints:
-        with_axes = any(j.axis is not None for j in m.joints)   # then all as tables: the writer keeps their order
-        d["joints"] = {j.point: ({"kind": j.kind} | ({} if j.axis is None else {"axis": [_out(c) for c in j.axis]})
-                                 if with_axes else j.kind) for j in m.joints}
-    if m.gait is not None:
-        g = {"foot": m.gait.foot, "ground": [_out(c) for c in m.gait.ground]}
-        if m.gait.up is not None:
-            g["up"] = [_out(c) for c in m.gait.up]
-        g["phases"] = [_out(p, A) for p in m.gait.phases]
-        d["gait"] = g
-    return d
-
-
-def dumps(m: Mechanism) -> str:
-    from .toml_writer import dumps as write
-    return write(to_dict(m))
-
-
-def dump(m: Mechanism, path=None) -> str:
-    """The mechanism as TOML text; written to ``path`` (atomically) when given."""
-    text = dumps(m)
-    if path is not None:
-        path = Path(path)
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_text(text, encoding="utf-8")
-        tmp.replace(path)
-    return text
+__all__ = ["FORMAT", "as_dict", "dump", "dumps", "from_dict", "ldata_points", "load", "loads", "read_text", "read_toml",
+           "to_dict"]

@@ -3,6 +3,9 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
+
+from ..errors import AssumedUnitsWarning, SpecError
 
 LENGTH = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "dm": 1e-1, "km": 1e3, "in": 0.0254, "ft": 0.3048}
 ANGLE = {"rad": 1.0, "deg": math.pi / 180.0}
@@ -24,20 +27,54 @@ def linear_speed_units() -> dict[str, float]:
 def parse_speed(text, kind: str, units) -> float:
     """A driver speed to SI. ``text`` is a number (file units per second) or ``"27 rpm"``-style.
 
-    Raises ``ValueError`` with the accepted units on a bad value.
+    Raises SpecError (a ValueError) with the accepted units on a bad value.
     """
     table = ANGULAR_SPEED if kind == "rotary" else linear_speed_units()
     if isinstance(text, bool):
-        raise ValueError(f"must be a number or a string like '27 rpm': {text!r}")
+        raise SpecError(f"must be a number or a string like '27 rpm': {text!r}")
     if isinstance(text, (int, float)):
         base = ANGLE[units.angle] if kind == "rotary" else LENGTH[units.length]
-        return float(text) * base
+        return _finite_speed(float(text) * base, text)
     if not isinstance(text, str):
-        raise ValueError(f"must be a number or a string like '27 rpm': {text!r}")
+        raise SpecError(f"must be a number or a string like '27 rpm': {text!r}")
     m = _SPEED_RE.match(text)
     if not m or m.group(2) not in table:
-        raise ValueError(f"must be '<number> <unit>' with unit one of {', '.join(table)}: {text!r}")
-    return float(m.group(1)) * table[m.group(2)]
+        raise SpecError(f"must be '<number> <unit>' with unit one of {', '.join(table)}: {text!r}")
+    return _finite_speed(float(m.group(1)) * table[m.group(2)], text)
+
+
+#: a driver speed above this (rad/s or m/s) is a typo, not a machine
+MAX_SPEED = 1e9
+
+
+def _finite_speed(value: float, text) -> float:
+    if not (math.isfinite(value) and abs(value) < MAX_SPEED):
+        raise SpecError(f"must be a finite speed below {MAX_SPEED:g} rad/s or m/s: {text!r}")
+    return value
+
+
+def parse_units(data, problems, default_length: str = "m") -> tuple[str, str]:
+    """The ``[units]`` table of a document: (length unit, angle unit), defaults ``default_length`` and deg.
+
+    data: the whole parsed document; each bad key or value is added to ``problems``
+    (:class:`~assur.io.problems.Problems`) with its path, and its default is used instead. A document
+    without ``[units]`` gets an :class:`~assur.errors.AssumedUnitsWarning` naming the units assumed."""
+    if "units" not in data:
+        warnings.warn(f"no [units] table: lengths are read in {default_length} and angles in degrees (add "
+                      f'[units] length = "mm" or "m", angle = "deg" or "rad")', AssumedUnitsWarning, stacklevel=2)
+    table = data.get("units", {})
+    if not isinstance(table, dict):
+        problems.add("units", "must be a table with 'length' and 'angle'")
+        table = {}
+    problems.unknown_keys(table, ("angle", "length"), "units")
+    length, angle = table.get("length", default_length), table.get("angle", "deg")
+    if not isinstance(length, str) or length not in LENGTH:
+        problems.add("units.length", f"must be one of {', '.join(LENGTH)}: {length!r}")
+        length = default_length
+    if not isinstance(angle, str) or angle not in ANGLE:
+        problems.add("units.angle", f"must be one of {', '.join(ANGLE)}: {angle!r}")
+        angle = "deg"
+    return length, angle
 
 
 def format_speed(value: float, kind: str, units=None) -> str:

@@ -12,16 +12,17 @@ import dataclasses
 
 import numpy as np
 
+from ..errors import SpecError
 from ..model.mechanism import FRAME, Placement
 
 
 def mechanism_with_params(plan, params, *, name: str | None = None, description: str | None = None):
     """params: (n_params,) SI → Mechanism (the template's structure, this design's dimensions)."""
-    from ..solve import solve
+    from ..engine import solve
     m = plan.mechanism
     params = np.asarray(params, dtype=float)
     if params.shape != (plan.n_params,):
-        raise ValueError(f"params must have shape ({plan.n_params},): {params.shape}")
+        raise SpecError([("params", f"must have shape ({plan.n_params},): {params.shape}")])
     value = {n: float(v) for n, v in zip(plan.param_names, params)}
     st = solve(plan, params, plan.sketch_inputs[None, :], order=0, backend="numpy")
     assembled = bool(np.all(st.valid))

@@ -15,8 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import fourbar as fb
+from ..analysis.gait import population_gait, resolve_gait
+from ..errors import SpecError
 from ..tolerances import DEFAULT
+from . import fourbar as fb
 from .problem import Problem
 
 TWO_PI = 2.0 * np.pi
@@ -59,7 +61,7 @@ class Evaluation:
 
 def default_backend() -> str:
     """The engine backend every evaluation uses, fixed once so results never depend on chunking."""
-    from ..compiled_backend import available
+    from ..engine.planar.numba_backend import available
     return "numba" if available() else "numpy"
 
 
@@ -81,11 +83,11 @@ class Evaluator:
         self._order = 2 if "acceleration" in quantities else 0
         self._cycle_order = 1 if any(q.startswith("gait.speed") for q in quantities) else 0
         self._quantities = quantities
-        from ..compiled_backend import packer
+        from ..engine.planar.numba_backend import covers
         t = p.targets
         self._fusable = (self.backend == "numba" and t is not None and t.timing != "path"
                          and quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
-                         and packer(p.plan) is not None)
+                         and covers(p.plan))
         self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if self._fusable else self.CHUNK)
         self._needs_cycle = p.needs_cycle()
         self._cycle_q = np.linspace(0.0, TWO_PI, p.cycle_samples, endpoint=False)   # (M,) whole-cycle inputs
@@ -100,7 +102,7 @@ class Evaluator:
         reduction is used where it applies, which gives the same f and V to round-off)."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
         if X.shape[-1] != self.problem.n_vars:
-            raise ValueError(f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")
+            raise SpecError([("X", f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")])
         size = self.CHUNK if detail else self.chunk          # the detailed route keeps per-target arrays
         parts = [self._chunk(X[i:i + size], detail) for i in range(0, len(X), size)] or [self._chunk(X, detail)]
         return Evaluation.concatenate(parts)
@@ -144,11 +146,11 @@ class Evaluator:
 
     # -- one chunk -----------------------------------------------------------------------------------
     def _fused(self, theta, params):
-        """The compiled reduction (D, 5) of ``compiled_backend.path_objective`` where it covers the
+        """The compiled reduction (D, 5) of ``engine.planar.numba_backend.path_objective`` where it covers the
         problem (timed targets, deviation and buildability only), else None. theta: (n, N) target inputs."""
         if not self._fusable:
             return None
-        from ..compiled_backend import path_objective
+        from ..engine.planar.numba_backend import path_objective
         prob = self.problem
         cycle = self._cycle_q if self._needs_cycle else None
         q = theta[:1] if prob.targets.timing == "prescribed" else theta
@@ -156,7 +158,7 @@ class Evaluator:
                               DEFAULT.radicand)
 
     def _chunk(self, X, detail: bool = False) -> Evaluation:
-        from ..solve import solve
+        from ..engine import solve
         prob, plan = self.problem, self.problem.plan
         n = len(X)
         Xw = self.wrap(X)
@@ -226,7 +228,7 @@ class Evaluator:
 
     def _cycle(self, params, finite, V, Q):
         """Whole-cycle samples: buildability, gait quantities, transmission, path distances."""
-        from ..solve import solve
+        from ..engine import solve
         prob, plan = self.problem, self.problem.plan
         M, q = prob.cycle_samples, self._cycle_q
         st = solve(plan, params[:, None, :], q[:, None], order=self._cycle_order, backend=self.backend)
@@ -236,7 +238,7 @@ class Evaluator:
         if "buildable" in prob.constraints:
             shortfall = None
             if self.backend == "numba" and share.any():
-                from ..compiled_backend import path_objective
+                from ..engine.planar.numba_backend import path_objective
                 r = path_objective(plan, params, np.zeros((1, 0)), np.zeros((0, 2)), plan.point_names[0], q,
                                    DEFAULT.radicand)
                 shortfall = None if r is None else r[:, 4] / M
@@ -280,7 +282,8 @@ class Evaluator:
                     start, width = theta[:, 0], fb.gaps(theta).sum(axis=1)
                 elif t.timing == "uniform":
                     start = theta[:, 0]
-                    width = np.full(n, abs(t.step) * (t.n if abs(t.step) * t.n >= TWO_PI - 1e-12 else t.n - 1))
+                    whole = abs(t.step) * t.n >= TWO_PI - DEFAULT.full_turn
+                    width = np.full(n, abs(t.step) * (t.n if whole else t.n - 1))
                     if t.step < 0:
                         start = theta[:, -1]
                 else:
@@ -320,38 +323,14 @@ def _polyline_distance(path, targets):
 
 
 def _sampled_gait(plan, st, ls):
-    """Gait quantities of every design from the cycle samples (see ``analysis.gait`` for the exact,
-    per-design definitions these sample): the contact arc is the arc between the horizontal extremes
-    with the lower mean height."""
-    from ..analysis.gait import _resolve
-    foot, ground, up = _resolve(plan, None, None, None)
-    g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
-    P = st.pos[:, :, plan.point_index(foot), :]
-    x, v = P @ g * ls, P @ u * ls
-    n, M = x.shape
-    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
-    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
-    k = np.arange(M)
-    arc1 = np.mod(k[None, :] - ia[:, None], M) <= np.mod(ib - ia, M)[:, None]
-    arc2 = np.mod(k[None, :] - ib[:, None], M) <= np.mod(ia - ib, M)[:, None]
-    with np.errstate(all="ignore"):
-        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
-        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
-    contact = np.where((m1 <= m2)[:, None], arc1, arc2)
-    out = {"gait.step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
-           "gait.lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed (then infeasible)
-           "gait.sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
-           "gait.duty": np.count_nonzero(contact, axis=1) / M}
-    if st.dpos_dq is not None:
-        w = abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0
-        speed = np.linalg.norm(st.dpos_dq[:, :, plan.point_index(foot), :, 0], axis=-1) * w * ls
-        smax = np.where(contact, speed, -np.inf).max(axis=1)
-        smin = np.where(contact, speed, np.inf).min(axis=1)
-        smean = np.where(contact, speed, 0).sum(axis=1) / np.count_nonzero(contact, axis=1)
-        out["gait.speed_mean"] = smean
-        out["gait.speed_spread"] = (smax - smin) / smean
-    bad = ~np.all(st.valid, axis=1)
-    return {k: np.where(bad, np.nan, val) for k, val in out.items()}
+    """Gait quantities ``gait.*`` of every design from the cycle samples st (n, M): the sampled form
+    (:func:`assur.analysis.gait.population_gait`) of the exact per-design definitions of ``analysis.gait``."""
+    foot, ground, up = resolve_gait(plan)
+    i = plan.point_index(foot)
+    dpos = None if st.dpos_dq is None else st.dpos_dq[:, :, i, :, 0]
+    w = abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0
+    out = population_gait(st.pos[:, :, i, :], st.valid, dpos, ground=ground, up=up, omega=w, scale=ls)
+    return {f"gait.{k}": v for k, v in out.items()}
 
 
 __all__ = ["Evaluation", "Evaluator", "default_backend"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 
+from ..errors import SpecError
 from .evaluate import Evaluation, Evaluator
 
 _WORKER_EVALUATOR = None
@@ -59,7 +60,7 @@ class LocalProcesses(InProcess):
 
     def __init__(self, workers: int):
         if workers < 1:
-            raise ValueError(f"workers must be at least 1: {workers}")
+            raise SpecError([("workers", f"must be at least 1: {workers}")])
         self.workers = int(workers)
         self._pool = None
         self._for = None
@@ -132,7 +133,7 @@ class DaskCluster(InProcess):
 def make_executor(workers: int | None = None, dask: str | None = None):
     """The executor for ``--workers N`` / ``--dask ADDRESS`` (in-process if neither)."""
     if workers and dask:
-        raise ValueError("give either workers or a Dask address, not both")
+        raise SpecError([("workers, dask", "give either workers or a Dask address, not both")])
     if dask:
         return DaskCluster(dask)
     if workers and workers > 1:

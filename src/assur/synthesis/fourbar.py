@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..tolerances import DEFAULT
+
 TWO_PI = 2.0 * np.pi
 
 
@@ -51,12 +53,12 @@ def min_discriminant(lengths, start, width):
 
 def grashof(lengths):
     s = np.sort(lengths, axis=1)
-    return np.maximum(0.0, s[:, 0] + s[:, 3] - s[:, 1] - s[:, 2] - 1e-9 * s[:, 3])
+    return np.maximum(0.0, s[:, 0] + s[:, 3] - s[:, 1] - s[:, 2] - DEFAULT.fourbar_slack * s[:, 3])
 
 
 def nondegenerate(lengths):
     lbar = mean_length(lengths)[:, None]
-    return np.maximum(0.0, 1e-9 * lbar - lengths).sum(axis=1)
+    return np.maximum(0.0, DEFAULT.fourbar_slack * lbar - lengths).sum(axis=1)
 
 
 def crank_shortest(lengths):

@@ -37,15 +37,21 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import SpecError
-from ..io.units import ANGLE, LENGTH, param_kind
-from .expressions import Expression, ExpressionError
+from ..engine import PARAM_KINDS
+from ..engine import compile as compile_
+from ..errors import ExpressionError, SpecError
+from ..io.expressions import Expression
+from ..io.mechanism_file import load
+from ..io.problems import Problems
+from ..io.toml_reader import read_toml
+from ..io.units import ANGLE, LENGTH
+from ..model.mechanism import Mechanism
 
 FORMAT = "assur-synth/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
 TIMINGS = ("prescribed", "free", "uniform", "path")
 DEVIATIONS = ("distance", "squared", "none")
-KINDS = ("length", "angle", "number")
+KINDS = PARAM_KINDS
 #: quantities a term or a limit may name (besides expressions); units: the file's
 QUANTITIES = {
     "deviation": "the deviation sum of [objective].deviation",
@@ -74,6 +80,9 @@ CONSTRAINTS = {
 FOURBAR_CONSTRAINTS = {"grashof", "continuous_motion", "nondegenerate", "r2_shortest", "cidetec_order"}
 FREE_TIMING_CONSTRAINTS = {"cyclic_order", "cyclic_order_any", "ascending"}
 
+
+#: the most cycle samples a problem may ask for (each design is solved at every one)
+MAX_CYCLE_SAMPLES = 100_000
 
 @dataclass(frozen=True, slots=True)
 class Variable:
@@ -188,7 +197,6 @@ _TOP = {"format", "name", "description", "mechanism", "variables", "parameters",
 
 def load_problem(path) -> Problem:
     """Read a problem file. Raises SpecError listing every problem with its location."""
-    from ..io.mechanism_file import read_toml
     path = Path(path)
     return problem_from_dict(read_toml(path), base_dir=path.parent, source=str(path))
 
@@ -196,31 +204,26 @@ def load_problem(path) -> Problem:
 def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, mechanism=None) -> Problem:
     """Build a Problem from a parsed document. ``mechanism`` (a Mechanism or a SolvePlan) replaces
     the document's ``mechanism`` path (the Python route)."""
-    from ..compile import compile as compile_
-    from ..io.mechanism_file import load
-    from ..model.mechanism import Mechanism
-    P: list[tuple[str, str]] = []
+    P = Problems()
 
     def fail():
-        raise SpecError(P, source)
+        raise P.error(source)
 
-    for key in data:
-        if key not in _TOP:
-            P.append((key, f"unknown key (allowed: {', '.join(sorted(_TOP))})"))
+    P.unknown_keys(data, sorted(_TOP))
     if data.get("format") != FORMAT:
-        P.append(("format", f"must be '{FORMAT}': {data.get('format')!r}"))
+        P.add("format", f"must be '{FORMAT}': {data.get('format')!r}")
     mech_source = None
     if mechanism is None:
         ref = data.get("mechanism")
         if not isinstance(ref, str) or not ref:
-            P.append(("mechanism", f"must be the path of a mechanism file: {ref!r}"))
+            P.add("mechanism", f"must be the path of a mechanism file: {ref!r}")
             fail()
         mech_path = (Path(base_dir) / ref)
         mech_source = str(mech_path)
         try:
             mechanism = load(mech_path)
         except SpecError as exc:
-            P += [(f"mechanism ({ref})" + (f": {p}" if p else ""), m) for p, m in exc.problems]
+            P.extend((f"mechanism ({ref})" + (f": {p}" if p else ""), m) for p, m in exc.problems)
             fail()
     if isinstance(mechanism, Mechanism):
         plan = compile_(mechanism)
@@ -236,7 +239,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
 
     def number(where, v):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            P.append((where, f"must be a finite number: {v!r}"))
+            P.add(where, f"must be a finite number: {v!r}")
             return None
         return float(v)
 
@@ -244,33 +247,36 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     variables = []
     raw_vars = data.get("variables", {})
     if not isinstance(raw_vars, dict) or not raw_vars:
-        P.append(("variables", "must be a table of at least one design variable with its bounds"))
+        P.add("variables", "must be a table of at least one design variable with its bounds")
         raw_vars = {}
     for name, spec in raw_vars.items():
         where = f"variables.{name}"
-        kind = param_kind(name) if name in params else "length"
+        kind = plan.param_kind_of(name) if name in params else "length"
         periodic = None
         if isinstance(spec, dict):
-            for k in spec:
-                if k not in ("bounds", "kind", "periodic"):
-                    P.append((f"{where}.{k}", "unknown key (allowed: bounds, kind, periodic)"))
+            P.unknown_keys(spec, ("bounds", "kind", "periodic"), where)
             kind = spec.get("kind", kind)
             periodic = spec.get("periodic")
             spec = spec.get("bounds")
         if kind not in KINDS:
-            P.append((f"{where}.kind", f"must be one of {', '.join(KINDS)}: {kind!r}"))
+            P.add(f"{where}.kind", f"must be one of {', '.join(KINDS)}: {kind!r}")
             continue
         if not (isinstance(spec, list) and len(spec) == 2):
-            P.append((where, f"bounds must be [low, high]: {spec!r}"))
+            P.add(where, f"bounds must be [low, high]: {spec!r}")
             continue
         lo, hi = number(f"{where}[0]", spec[0]), number(f"{where}[1]", spec[1])
         if lo is None or hi is None:
             continue
         if not lo < hi:
-            P.append((where, f"low bound must be below the high bound: [{lo:g}, {hi:g}]"))
+            P.add(where, f"low bound must be below the high bound: [{lo:g}, {hi:g}]")
+            continue
+        if name in params and (name.endswith(".length") and lo <= 0 or name.endswith(".distance") and lo < 0):
+            P.add(where, f"a {'link length' if name.endswith('.length') else 'distance'} must stay "
+                         f"{'positive' if name.endswith('.length') else 'non-negative'}: low bound {lo:g} would "
+                         "give non-physical designs")
             continue
         if not _NAME.match(name):
-            P.append((where, f"a variable name must be an identifier or a parameter name: {name!r}"))
+            P.add(where, f"a variable name must be an identifier or a parameter name: {name!r}")
             continue
         if periodic is None:
             periodic = kind == "angle"
@@ -282,26 +288,24 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         try:
             return Expression(text, known)
         except ExpressionError as exc:
-            P.append((where, str(exc)))
+            P.add(where, str(exc))
             return None
 
     # parameters: identity for variables that are parameters, then the expressions
     mapping = [(v.name, Expression(v.name, known)) for v in variables if v.name in params]
-    raw_params = data.get("parameters", {})
-    if not isinstance(raw_params, dict):
-        P.append(("parameters", "must be a table: parameter = \"expression\""))
-        raw_params = {}
+    raw_params = P.section(data, "parameters", "must be a table: parameter = \"expression\"")
     for name, text in raw_params.items():
         where = f"parameters.{name}"
         if name not in params:
             shown = ", ".join(plan.param_names[:14]) + (", …" if len(plan.param_names) > 14 else "")
-            P.append((where, f"not a parameter of the mechanism (its parameters: {shown})"))
+            P.add(where, f"not a parameter of the mechanism{_did_you_mean(name, plan.param_names)} (its parameters: "
+                         f"{shown})")
             continue
         if name in var_names:
-            P.append((where, "is already a design variable"))
+            P.add(where, "is already a design variable")
             continue
         if not isinstance(text, (str, int, float)) or isinstance(text, bool):
-            P.append((where, f"must be an expression string or a number: {text!r}"))
+            P.add(where, f"must be an expression string or a number: {text!r}")
             continue
         e = expression(where, str(text))
         if e is not None:
@@ -312,20 +316,15 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         for vn in (*targets.input_variables, *([targets.start] if targets.start else [])):
             unused.discard(vn)
             if vn not in var_names:
-                P.append(("targets", f"timing names {vn!r}, which is not a design variable"))
+                P.add("targets", f"timing names {vn!r}, which is not a design variable")
     # objective
-    obj = data.get("objective", {})
-    if not isinstance(obj, dict):
-        P.append(("objective", "must be a table"))
-        obj = {}
-    for k in obj:
-        if k not in ("deviation", "weight", "terms"):
-            P.append((f"objective.{k}", "unknown key (allowed: deviation, weight, terms)"))
+    obj = P.section(data, "objective")
+    P.unknown_keys(obj, ("deviation", "weight", "terms"), "objective")
     deviation = obj.get("deviation", "distance" if targets is not None else "none")
     if deviation not in DEVIATIONS:
-        P.append(("objective.deviation", f"must be one of {', '.join(DEVIATIONS)}: {deviation!r}"))
+        P.add("objective.deviation", f"must be one of {', '.join(DEVIATIONS)}: {deviation!r}")
     elif deviation != "none" and targets is None:
-        P.append(("objective.deviation", "needs [targets]"))
+        P.add("objective.deviation", "needs [targets]")
     dev_weight = number("objective.weight", obj.get("weight", 1.0)) or 0.0
     terms = []
     for i, t in enumerate(obj.get("terms", [])):
@@ -335,20 +334,15 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             w = extra.get("weight", 1.0)
             terms.append(Term(q, 1.0 if w is None else w, extra.get("target"), e))
     # constraints
-    con = data.get("constraints", {})
-    if not isinstance(con, dict):
-        P.append(("constraints", "must be a table"))
-        con = {}
-    for k in con:
-        if k not in ("use", "fourbar", "limits"):
-            P.append((f"constraints.{k}", "unknown key (allowed: use, fourbar, limits)"))
+    con = P.section(data, "constraints")
+    P.unknown_keys(con, ("use", "fourbar", "limits"), "constraints")
     use = con.get("use", [])
     if not isinstance(use, list):
-        P.append(("constraints.use", "must be a list of constraint names"))
+        P.add("constraints.use", "must be a list of constraint names")
         use = []
     for i, c in enumerate(use):
         if c not in CONSTRAINTS:
-            P.append((f"constraints.use[{i}]", f"unknown constraint {c!r} (known: {', '.join(CONSTRAINTS)})"))
+            P.add(f"constraints.use[{i}]", f"unknown constraint {c!r} (known: {', '.join(CONSTRAINTS)})")
     use = [c for c in use if c in CONSTRAINTS]
     implied = []   # a path without timing, gait and transmission quantities need the whole cycle
     named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
@@ -360,7 +354,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     raw_fb = con.get("fourbar")
     if raw_fb is not None:
         if not isinstance(raw_fb, dict) or set(raw_fb) != {"ground", "crank", "coupler", "rocker"}:
-            P.append(("constraints.fourbar", "must give ground, crank, coupler and rocker (expressions)"))
+            P.add("constraints.fourbar", "must give ground, crank, coupler and rocker (expressions)")
         else:
             for role in ("ground", "crank", "coupler", "rocker"):
                 e = expression(f"constraints.fourbar.{role}", str(raw_fb[role]))
@@ -368,38 +362,33 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
                     fourbar.append((role, e))
     for c in constraints:
         if c in FOURBAR_CONSTRAINTS and raw_fb is None:
-            P.append(("constraints.use", f"{c!r} needs constraints.fourbar (the four link lengths)"))
+            P.add("constraints.use", f"{c!r} needs constraints.fourbar (the four link lengths)")
         if c in FREE_TIMING_CONSTRAINTS and (targets is None or targets.timing != "free"):
-            P.append(("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")"))
+            P.add("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")")
         if c == "continuous_motion" and targets is not None and targets.timing == "path":
-            P.append(("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path"))
+            P.add("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path")
     limits = []
     for i, t in enumerate(con.get("limits", [])):
         item = _quantity_item(t, f"constraints.limits[{i}]", ("min", "max"), expression, number, P, targets)
         if item is not None:
             q, e, extra = item
             if extra.get("min") is None and extra.get("max") is None:
-                P.append((f"constraints.limits[{i}]", "needs min or max"))
+                P.add(f"constraints.limits[{i}]", "needs min or max")
             limits.append(Limit(q, extra.get("min"), extra.get("max"), e))
-    opts = data.get("options", {})
-    if not isinstance(opts, dict):
-        P.append(("options", "must be a table"))
-        opts = {}
-    for k in opts:
-        if k not in ("cycle_samples", "infeasible_offset", "violation_weight"):
-            P.append((f"options.{k}", "unknown key (allowed: cycle_samples, infeasible_offset, violation_weight)"))
+    opts = P.section(data, "options")
+    P.unknown_keys(opts, ("cycle_samples", "infeasible_offset", "violation_weight"), "options")
     samples = opts.get("cycle_samples", 360)
-    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 16:
-        P.append(("options.cycle_samples", f"must be an integer ≥ 16: {samples!r}"))
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 16 <= samples <= MAX_CYCLE_SAMPLES:
+        P.add("options.cycle_samples", f"must be an integer from 16 to {MAX_CYCLE_SAMPLES}: {samples!r}")
         samples = 360
     offset = number("options.infeasible_offset", opts.get("infeasible_offset", 1e7)) or 1e7
     vw = number("options.violation_weight", opts.get("violation_weight", 1e3)) or 1e3
     if not (deviation != "none" or terms):
-        P.append(("objective", "nothing to minimise: give a deviation or terms"))
+        P.add("objective", "nothing to minimise: give a deviation or terms")
     for vn in sorted(unused):
-        P.append((f"variables.{vn}", "is used by no parameter, timing or expression"))
+        P.add(f"variables.{vn}", "is used by no parameter, timing or expression")
     if plan.n_inputs != 1 and targets is not None:
-        P.append(("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}"))
+        P.add("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}")
     if P:
         fail()
     return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
@@ -409,16 +398,21 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
                    source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle)
 
 
+def _did_you_mean(name: str, known) -> str:
+    """' (did you mean 'x'?)' for the closest known name, or ''."""
+    import difflib
+    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
 def _quantity_item(t, where, keys, expression, number, P, targets):
     if not isinstance(t, dict):
-        P.append((where, "must be a table with quantity (or expression)"))
+        P.add(where, "must be a table with quantity (or expression)")
         return None
-    for k in t:
-        if k not in ("quantity", "expression", *keys):
-            P.append((f"{where}.{k}", f"unknown key (allowed: quantity, expression, {', '.join(keys)})"))
+    P.unknown_keys(t, ("quantity", "expression", *keys), where)
     q, text = t.get("quantity"), t.get("expression")
     if (q is None) == (text is None):
-        P.append((where, "give exactly one of quantity or expression"))
+        P.add(where, "give exactly one of quantity or expression")
         return None
     e = None
     if text is not None:
@@ -426,11 +420,12 @@ def _quantity_item(t, where, keys, expression, number, P, targets):
         if e is None:
             return None
         q = f"expression:{text}"
-    elif q not in QUANTITIES:
-        P.append((f"{where}.quantity", f"unknown quantity {q!r} (known: {', '.join(QUANTITIES)})"))
+    elif not isinstance(q, str) or q not in QUANTITIES:
+        hint = _did_you_mean(q, QUANTITIES) if isinstance(q, str) else ""
+        P.add(f"{where}.quantity", f"unknown quantity {q!r}{hint} (known: {', '.join(QUANTITIES)})")
         return None
     if q in ("deviation", "acceleration") and targets is None:
-        P.append((f"{where}.quantity", f"{q!r} needs [targets]"))
+        P.add(f"{where}.quantity", f"{q!r} needs [targets]")
     extra = {}
     for k in keys:
         if k in t:
@@ -442,14 +437,12 @@ def _targets(raw, plan, L, A, number, P) -> Targets | None:
     if raw is None:
         return None
     if not isinstance(raw, dict):
-        P.append(("targets", "must be a table"))
+        P.add("targets", "must be a table")
         return None
-    for k in raw:
-        if k not in ("point", "xy", "timing", "inputs", "variables", "start", "step"):
-            P.append((f"targets.{k}", "unknown key (allowed: point, xy, timing, inputs, variables, start, step)"))
+    P.unknown_keys(raw, ("point", "xy", "timing", "inputs", "variables", "start", "step"), "targets")
     point = raw.get("point")
     if point not in plan.point_names:
-        P.append(("targets.point", f"unknown point {point!r} (known: {', '.join(plan.point_names)})"))
+        P.add("targets.point", f"unknown point {point!r} (known: {', '.join(plan.point_names)})")
         return None
     xy = raw.get("xy")
     try:
@@ -457,12 +450,12 @@ def _targets(raw, plan, L, A, number, P) -> Targets | None:
     except (TypeError, ValueError):
         xy = None
     if xy is None or xy.ndim != 2 or xy.shape[1] != 2 or len(xy) < 1 or not np.all(np.isfinite(xy)):
-        P.append(("targets.xy", "must be a list of [x, y] points"))
+        P.add("targets.xy", "must be a list of [x, y] points")
         return None
     n = len(xy)
     timing = raw.get("timing", "prescribed" if "inputs" in raw else "path")
     if timing not in TIMINGS:
-        P.append(("targets.timing", f"must be one of {', '.join(TIMINGS)}: {timing!r}"))
+        P.add("targets.timing", f"must be one of {', '.join(TIMINGS)}: {timing!r}")
         return None
     unit = A if plan.input_kinds[0] == "rotary" else L
     t = Targets(point, xy * L, timing)
@@ -472,22 +465,22 @@ def _targets(raw, plan, L, A, number, P) -> Targets | None:
         except (TypeError, ValueError):
             q = None
         if q is None or q.shape != (n,) or not np.all(np.isfinite(q)):
-            P.append(("targets.inputs", f"must list one input value per target ({n})"))
+            P.add("targets.inputs", f"must list one input value per target ({n})")
             return None
         return Targets(point, xy * L, timing, inputs=q * unit)
     if timing == "free":
         names = raw.get("variables")
         if not (isinstance(names, list) and len(names) == n and all(isinstance(s, str) for s in names)):
-            P.append(("targets.variables", f"free timing needs one design variable name per target ({n})"))
+            P.add("targets.variables", f"free timing needs one design variable name per target ({n})")
             return None
         return Targets(point, xy * L, timing, input_variables=tuple(names))
     if timing == "uniform":
         start, step = raw.get("start"), number("targets.step", raw.get("step"))
         if not isinstance(start, str):
-            P.append(("targets.start", "uniform timing needs the design variable of the first input"))
+            P.add("targets.start", "uniform timing needs the design variable of the first input")
             return None
         if step is None or step == 0:
-            P.append(("targets.step", "uniform timing needs a non-zero step"))
+            P.add("targets.step", "uniform timing needs a non-zero step")
             return None
         return Targets(point, xy * L, timing, start=start, step=step * unit)
     return t
