@@ -207,7 +207,7 @@ def test_stroke_summary_without_speed_uses_analogues():
 
 
 def test_report_section_has_the_envelope_and_the_figure():
-    from assur.report.html import analysis_html
+    from assur.report.mechanism import analysis_html
     plan = assur.compile(assur.load(EXAMPLE))
     page = analysis_html(assur.analyze(plan, steps=60), plan)
     assert "Stroke envelope" in page and "K_ω = ω(driven_rod) / ω(drive_rod)" in page
@@ -217,7 +217,7 @@ def test_report_section_has_the_envelope_and_the_figure():
 
 def test_actuator_figure_for_several_speeds():
     from assur.plot.actuators import actuator_figure
-    from assur.plot.figures import close
+    from assur.plot.draw import close
     plan = assur.compile(assur.load(EXAMPLE))
     fig = actuator_figure(plan, speeds=(0.08, 0.10, 0.17), steps=40)
     ax_w = fig.axes[0]
@@ -231,6 +231,7 @@ def test_actuator_figure_for_several_speeds():
         actuator_figure(assur.compile(assur.loads(CRANK_CYLINDER)))
 
 
+@pytest.mark.slow
 def test_report_of_the_example(tmp_path, capsys):
     out = tmp_path / "rep"
     assert main(["report", str(EXAMPLE), "-o", str(out), "--steps", "40", "--frames", "4"]) == 0

@@ -17,8 +17,9 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from assur.io.output import MARKER   # every output directory carries it (io/output.py)
 import assur
-from mechanisms import rssr
+from conftest import rssr
 from assur.analysis.gait import gait_metrics
 from assur.cli.main import main
 
@@ -267,6 +268,7 @@ def test_usage_errors_exit_2(argv, capsys):
     assert "usage:" in err
 
 
+@pytest.mark.slow
 def test_python_m_assur(fourbar, tmp_path):
     env = {**os.environ, "PYTHONIOENCODING": "utf-8"}
     r = subprocess.run([sys.executable, "-m", "assur", "validate", str(fourbar)], capture_output=True, text=True,
@@ -464,6 +466,7 @@ def test_analyze_unbuildable(unbuildable, capsys):
 
 
 # -- plot / animate ------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_plot_png_and_svg(fourbar, tmp_path, capsys):
     png, svg = tmp_path / "f.png", tmp_path / "f.svg"
     assert run(["plot", fourbar, "-o", png, "--steps", 36], capsys)[0] == 0
@@ -507,11 +510,12 @@ def _assert_self_contained(text):
     assert "https://" not in text
 
 
+@pytest.mark.slow
 def test_report(fourbar, tmp_path, capsys):
     out = tmp_path / "rep"
     code, stdout, err = run(["report", fourbar, "-o", out, "--steps", 36, "--frames", 3], capsys)
     assert code == 0, err
-    assert sorted(p.name for p in out.iterdir()) == ["index.html"]
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "index.html"]
     text = (out / "index.html").read_text(encoding="utf-8")
     assert FORMULA in text and "I(0,1) → II(2,3)" in text
     assert '<img class="figure"' in text and "data:image/png;base64," in text
@@ -520,9 +524,10 @@ def test_report(fourbar, tmp_path, capsys):
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
     # a second run replaces the page in place
     code, _, _ = run(["report", fourbar, "-o", out, "--steps", 24, "--frames", 2], capsys)
-    assert code == 0 and sorted(p.name for p in out.iterdir()) == ["index.html"]
+    assert code == 0 and sorted(p.name for p in out.iterdir()) == [MARKER, "index.html"]
 
 
+@pytest.mark.slow
 def test_report_module_timeline(tmp_path, capsys):
     f = write(tmp_path, "module.toml", FOURBAR.format(crank=0.27, phases="[0, 120, 240]"))
     out = tmp_path / "mod"
@@ -554,11 +559,11 @@ def test_failing_report_leaves_nothing(fourbar, tmp_path, capsys, monkeypatch):
     assert code == 1 and err.startswith("error: ")
     assert not (tmp_path / "out").exists()
 
-    import assur.report.html as report_html
+    import assur.report.mechanism as report_page
 
     def boom(*a, **k):
         raise assur.UnbuildableError("simulated failure while drawing")
-    monkeypatch.setattr(report_html, "positions_html", boom)
+    monkeypatch.setattr(report_page, "positions_html", boom)
     code, _, err = run(["report", fourbar, "-o", out, "--steps", 24, "--frames", 2], capsys)
     assert code == 1 and err.strip() == "error: simulated failure while drawing"
     assert not (tmp_path / "out").exists()
@@ -574,7 +579,8 @@ def test_json_is_strict(unbuildable, capsys):
 
 def test_plot_positions_option(fourbar, tmp_path, capsys):
     """--positions sets how many positions the kinematic diagram draws (its title lists them)."""
-    from assur.plot.figures import close, mechanism_figure
+    from assur.plot.draw import close
+    from assur.plot.figures import mechanism_figure
     import assur as _assur
     plan = _assur.compile(_assur.load(fourbar))
     fig = mechanism_figure(plan, 36, positions=3)
@@ -585,3 +591,38 @@ def test_plot_positions_option(fourbar, tmp_path, capsys):
     assert run(["plot", fourbar, "-o", out, "--steps", 36, "--positions", "3"], capsys)[0] == 0
     assert out.read_bytes()[:4] == b"\x89PNG"
     assert run(["plot", fourbar, "-o", out, "--positions", "0"], capsys)[0] == 2
+
+
+def test_one_solve_of_the_turn_serves_the_analysis_and_the_figure(tmp_path, monkeypatch):
+    """summarize solves the turn once (buildability, transmission angles, gait and module all read that grid,
+    dead centres scan their own grid of positions) and the figure drawn from it solves nothing new;
+    its numbers equal a plain analyze at the same sample count."""
+    import assur.analysis.sampling as sampling
+    from assur.analysis.summary import analyze, summarize
+    from assur.plot.draw import close
+    from assur.plot.figures import Sweep, mechanism_figure
+    plan = assur.compile(assur.loads(FOURBAR.format(crank=0.27, phases="[0, 180]")))
+    expected = analyze(plan, steps=90)
+    grids = []
+    solve = sampling.solve
+
+    def counting(plan_, params, q, **kw):
+        if np.shape(q) == (90, 1) and np.array_equal(q[:, 0], np.linspace(0, 2 * math.pi, 90, endpoint=False)):
+            grids.append(kw.get("order"))          # the uniform grid of the turn (not a refinement)
+        return solve(plan_, params, q, **kw)
+    monkeypatch.setattr(sampling, "solve", counting)
+    an = summarize(plan, steps=90)
+    assert grids == [2]
+    assert an.summary == expected and an.summary["module"]["max_feet"] >= 1
+    assert an.gait.as_dict() == expected["gait"] and len(an.gait_curves.q) == 90
+    fig = mechanism_figure(plan, sweep=Sweep.of_cycle(an.cycle), gait=an.gait_curves)
+    close(fig)
+    assert grids == [2]
+
+
+def test_analyze_report_and_plot_share_the_documented_sample_count():
+    from assur.analysis.sampling import CYCLE_STEPS
+    from assur.cli.main import build_parser
+    parser = build_parser()
+    for argv in (["analyze", "f.toml"], ["report", "f.toml", "-o", "d"], ["plot", "f.toml", "-o", "f.png"]):
+        assert parser.parse_args(argv).steps == CYCLE_STEPS == 720

@@ -54,6 +54,7 @@ def read_csv(path):
     return rows[0], np.array(rows[1:], dtype=float)
 
 
+@pytest.mark.slow
 def test_paper_gears_summary_and_tables(paper_gears):
     out, s = paper_gears
     assert s["closure"]["perimeter_ratio"] == pytest.approx(2.0, abs=1e-6)
@@ -67,6 +68,7 @@ def test_paper_gears_summary_and_tables(paper_gears):
     assert data["rows"][4][2:] == pytest.approx([-87.84, -86.36, 63.30], abs=0.006)   # Table 2, i = 1, j = 5
 
 
+@pytest.mark.slow
 def test_paper_sector_scheme_interferes_near_the_step_boundary(paper_gears):
     _, s = paper_gears
     m = s["sectors"]["mesh"]["143.5 mm"]
@@ -98,6 +100,7 @@ def crossings(xy, chunk=256):
     return count
 
 
+@pytest.mark.slow
 def test_paper_dxf_outlines_are_closed_and_match_the_csv(paper_gears):
     ezdxf = pytest.importorskip("ezdxf")
     out, _ = paper_gears
@@ -119,6 +122,7 @@ def test_paper_dxf_outlines_are_closed_and_match_the_csv(paper_gears):
         assert len(ET.fromstring(svg).findall("{http://www.w3.org/2000/svg}path")) >= 2
 
 
+@pytest.mark.slow
 def test_wheelstep_budget_and_drive(tmp_path, capsys):
     out = tmp_path / "ws"
     assert main(["wheelstep", str(WHEELSTEP), "-o", str(out), "--mesh-steps", "12", "--frames", "3"]) == 0
@@ -140,6 +144,7 @@ def test_wheelstep_budget_and_drive(tmp_path, capsys):
     assert page.count("data:image/png;base64,") >= 2
 
 
+@pytest.mark.slow
 def test_envelope_design(tmp_path, capsys):
     f = tmp_path / "oval.toml"
     f.write_text(ENVELOPE, encoding="utf-8")

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from assur.io.output import MARKER   # every output directory carries it (io/output.py)
 import assur
 from assur.cli.main import main
 
@@ -123,7 +124,7 @@ def test_report(tmp_path, capsys):
     out = tmp_path / "rep"
     code, text, err = run(["report", TILTED, "-o", out, "--steps", "72", "--frames", "8"], capsys)
     assert code == 0, err
-    assert sorted(p.name for p in out.iterdir()) == ["index.html"]
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "index.html"]
     page = (out / "index.html").read_text(encoding="utf-8")
     for s in ("3D view and animation", "Somov–Malyshev", "rocker swing", "P4.axis.gamma1", "scatter3d",
               "data:image/png;base64,", "dead centre (extended)"):

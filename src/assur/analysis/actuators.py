@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SpecError
+from ..tolerances import DEFAULT as TOL
 
 
 def _cross(a, b):
@@ -88,10 +89,10 @@ def _length_angle(r, dr, d2r):
 
 def start_state(state):
     """The state's designs at the sketch inputs (the start of a stroke), positions only, same shape."""
-    from ..solve import solve
+    from ..engine import solve
     plan = state.plan
     q0 = np.broadcast_to(np.asarray(plan.sketch_inputs, dtype=float), state.shape + (plan.n_inputs,))
-    return solve(plan, state._params, q0, order=0, backend="numpy")
+    return solve(plan, state.params, q0, order=0, backend="numpy")
 
 
 def actuator_motions(state, input: int = 0, start=None) -> dict[str, ActuatorMotion]:  # noqa: A002
@@ -178,7 +179,7 @@ def rod_pairs(state, motions=None, start=None) -> list[RodPair]:
                     return 0.5 * _cross(J0 - P, J - P)
                 sl, sb = swept(pl), swept(pb)
                 scale = plan.length_scale
-                tiny = (np.abs(sl) <= 1e-14 * scale * scale)
+                tiny = (np.abs(sl) <= TOL.swept_area * scale * scale)
                 ratio = np.where(tiny, np.nan, sb / np.where(tiny, 1.0, sl))
             out.append(RodPair(mo.name, other.name, joint, k, areal, ratio, other.dlength_dq > 0))
     return out
@@ -186,7 +187,7 @@ def rod_pairs(state, motions=None, start=None) -> list[RodPair]:
 
 # -- buildable parts of a stroke -----------------------------------------------------------------------
 def _valid_at(plan, params, k, q_values):
-    from ..solve import solve
+    from ..engine import solve
     q = np.tile(np.asarray(plan.sketch_inputs, dtype=float), (len(q_values), 1))
     q[:, k] = q_values
     st = solve(plan, params, q, order=1)
@@ -199,7 +200,7 @@ def stroke_ranges(plan, start: float, stop: float, *, params=None, input: int = 
     """Which parts of the run of input ``input`` from ``start`` to ``stop`` (SI) can be assembled.
 
     Returns ``{"buildable": [(a, b), ...], "unbuildable": [(a, b), ...], "fraction_unbuildable": f}``
-    with the interval ends refined by bisection on the validity to 1e-12 of the stroke (a guide out
+    with the interval ends refined by bisection on the validity to ``stroke_edge`` of the stroke (a guide out
     of the driving rod's reach, a rod at a dead point). Other inputs are held at their sketch values."""
     params = plan.defaults if params is None else np.asarray(params, dtype=float)
     q = np.linspace(start, stop, max(int(steps), 2))
@@ -208,7 +209,7 @@ def stroke_ranges(plan, start: float, stop: float, *, params=None, input: int = 
 
     def edge(a, b, ok_a):
         for _ in range(60):
-            if abs(b - a) <= 1e-12 * max(span, 1e-300):
+            if abs(b - a) <= TOL.stroke_edge * max(span, 1e-300):
                 break
             mid = 0.5 * (a + b)
             if bool(_valid_at(plan, params, input, np.array([mid]))[0]) == ok_a:
@@ -326,7 +327,7 @@ def stroke_envelope(plan, law, *, params=None, input: int = 0, steps: int = 400,
     st, vals, pairs = _evaluate(plan, law, t, params, input)
     ok = st.valid
     span = law.t_end - law.t_start
-    h = 1e-5 * span
+    h = TOL.stroke_step * span
 
     def value(key, x):
         return float(_evaluate(plan, law, np.array([x]), params, input)[1][key][0])
@@ -341,11 +342,11 @@ def stroke_envelope(plan, law, *, params=None, input: int = 0, steps: int = 400,
             fa, fb = f(key, a), f(key, b)
             if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0:
                 return None
-            return float(brentq(lambda x: f(key, x), a, b, xtol=1e-12 * span))
+            return float(brentq(lambda x: f(key, x), a, b, xtol=TOL.stroke_root * span))
         except ValueError:
             return None
 
-    # rounding noise is not an extremum: steps below 1e-9 of the largest value of that quantity
+    # rounding noise is not an extremum: steps below ``rounding_noise`` of the largest value of that quantity
     # over all actuators (or pairs) count as flat
     ref: dict = {}
     for (owner, qn), v in vals.items():
@@ -360,7 +361,7 @@ def stroke_envelope(plan, law, *, params=None, input: int = 0, steps: int = 400,
         good = np.isfinite(v)
         if not good.any():
             continue
-        noise = 1e-9 * ref.get(key[1], 0.0) + 1e-300
+        noise = TOL.rounding_noise * ref.get(key[1], 0.0) + 1e-300
         found = []
         idx = np.flatnonzero(good)
         dv = np.diff(v[idx])
@@ -460,7 +461,7 @@ def stroke_summary(plan, params=None, *, steps: int = 400, stroke=None) -> dict:
             spread = float(np.nanmax(v) - np.nanmin(v))
             entry[qn] = {"min": _extreme_dict(ex["min"]), "max": _extreme_dict(ex["max"]),
                          "interior": [_extreme_dict(e) for e in ex["interior"]],
-                         "constant": spread <= 1e-9 * max(float(np.nanmax(np.abs(v))), 1e-300)}
+                         "constant": spread <= TOL.rounding_noise * max(float(np.nanmax(np.abs(v))), 1e-300)}
         pairs.append(entry)
     out["rod_pairs"] = pairs
     try:

@@ -17,10 +17,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SpecError
+from ..tolerances import DEFAULT as TOL
 
 #: relative tolerance on a square-root (or arcsin) argument below which the paper's formulas are
 #: reported singular instead of evaluated (relative to the squared rod length)
-LITERAL_TOLERANCE = 1e-9
+LITERAL_TOLERANCE = TOL.literal_singular
 
 
 def _deg(x: float) -> str:
@@ -55,13 +56,13 @@ class LeverManipulator:
                                                 f"β = {_deg(be)} (need α > 0, β > 0, α + β < 180°)"))
             else:
                 bg = be - ga
-                if not -math.pi / 2 < bg < math.pi / 2 or abs(math.cos(bg)) < 1e-12:
+                if not -math.pi / 2 < bg < math.pi / 2 or abs(math.cos(bg)) < TOL.degenerate_sine:
                     problems.append(("beta - gamma", f"must lie strictly between −90° and 90° (extending the driving "
                                                      f"rod must move B forward along the guide): β − γ = {_deg(bg)}"))
-                elif abs(math.sin(bg)) < 1e-12:
+                elif abs(math.sin(bg)) < TOL.degenerate_sine:
                     problems.append(("gamma", f"the guide passes through A (β = γ = {_deg(be)}): the driving rod "
                                               f"cannot turn and K_ω is infinite"))
-                if abs(math.sin(al + ga)) < 1e-12:
+                if abs(math.sin(al + ga)) < TOL.degenerate_sine:
                     problems.append(("gamma", f"the guide passes through O (α + γ = {_deg(al + ga)}): the driven "
                                               f"rod's angle is undefined where B meets O"))
         if problems:
@@ -109,7 +110,7 @@ class LeverManipulator:
         mirrored = bool(b[1] < 0)
         if mirrored:
             b[1], w[1] = -b[1], -w[1]
-        if abs(b[1]) <= 1e-12 * a:
+        if abs(b[1]) <= TOL.degenerate_sine * a:
             raise SpecError([("B0", f"lies on the line O–A: the start triangle is degenerate: {B0.tolist()}")])
         alpha = math.atan2(b[1], b[0])
         beta = math.atan2(b[1], a - b[0])
@@ -264,8 +265,8 @@ def lever_layout(plan, params=None, *, strict: bool = False) -> LeverLayout | No
     m = plan.mechanism
     if plan.n_inputs != 1 or plan.input_kinds[0] != "linear":
         return None
-    from ..compile import geometry
-    from ..solve import solve
+    from ..engine import geometry
+    from ..engine import solve
     frame_pts = set(m.frame.points)
     drv = m.drivers[0]
     acts = {a.name: a for a in m.actuators}
@@ -358,7 +359,7 @@ def paper_formulas(geom: LeverManipulator, t, V1: float, V2: float | None = None
         singular["K_omega (13)"] = singular["omega_phi (12)"] | singular["omega_psi (9)"]
         values["K_omega (13)"] = values["omega_phi (12)"] / values["omega_psi (9)"]
         ratio = A * np.sin(ex["psi"]) / (C * np.sin(ex["phi"]))
-        singular["V2 (14)"] = ~(np.abs(np.sin(ex["phi"])) > 1e-12)
+        singular["V2 (14)"] = ~(np.abs(np.sin(ex["phi"])) > TOL.degenerate_sine)
         values["V2 (14)"] = b1 - l1 * ratio - ratio * V1
         singular["eps_psi (15)"] = singular["omega_psi (9)"]
         values["eps_psi (15)"] = -l1 * C * V1 ** 2 * (2 * L * L - (l1 * C) ** 2) / (L * L * rad_l ** 1.5)

@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels import spatial as V
-from .sampling import TWO_PI, Cycle, root_between, sign_changes
+from .overview import finite_or_none, summary_header
+from .sampling import CYCLE_STEPS, TWO_PI, Cycle, cycle_source, root_between, sign_changes
 from .transmission import buildable_ranges
 
 
@@ -39,13 +40,13 @@ def dyads(plan, state, params=None) -> list[DyadGeometry]:
     params = plan.defaults if params is None else np.asarray(params, dtype=float)
     out = []
     for st in plan.rss_steps():
-        D, Ap, Bp, ci = st.data[:4]
+        D, Ap, Bp, ci = st.pivot, st.start, st.joint, st.coupler
         E = V.axis_frame(params[..., plan.param_index(f"{D}.axis.gamma1")],
                          params[..., plan.param_index(f"{D}.axis.gamma2")])
         out.append(DyadGeometry(Bp, plan.body_names[st.body], plan.body_names[ci],
                                 state.pos[..., plan.point_index(Ap), :], state.pos[..., plan.point_index(Bp), :],
                                 state.pos[..., plan.point_index(D), :], E,
-                                params[..., st.data[4]], params[..., st.data[6]]))
+                                params[..., st.rocker_length_param], params[..., st.coupler_length_param]))
     return out
 
 
@@ -86,7 +87,7 @@ def paper_w(g: DyadGeometry) -> np.ndarray:
 def stopping_function(plan, state, point: str) -> np.ndarray:
     """(B − A)·A' (...): zero where the rocker solving ``point`` stops (a dead centre)."""
     st = next(s for s in plan.rss_steps() if s.key_point == point)
-    ia, ib = plan.point_index(st.data[1]), plan.point_index(point)
+    ia, ib = plan.point_index(st.start), plan.point_index(point)
     dA = state.dpos_dq[..., ia, :, 0]
     return np.sum((state.pos[..., ib, :] - state.pos[..., ia, :]) * dA, -1)
 
@@ -101,11 +102,11 @@ def distance_extremes(plan, params=None, point: str | None = None) -> dict:
     if not rss:
         return {}
     st = rss[0]
-    D, Ap = st.data[0], st.data[1]
-    crank = next((c for c in plan.steps if c.kind == "crank" and c.data[1] == Ap), None)
+    D, Ap = st.pivot, st.start
+    crank = next((c for c in plan.crank_steps() if c.arm == Ap), None)
     if crank is None:
         return {}
-    pivot, arm, k, il, ih, iz, sense, _ = crank.data
+    pivot, il, ih, iz, sense = crank.pivot, crank.length_param, crank.axial_param, crank.zero_param, crank.sense
     pi = plan.param_index
     E = V.axis_frame(params[pi(f"{pivot}.axis.gamma1")], params[pi(f"{pivot}.axis.gamma2")])
     O = np.array([params[pi(f"{pivot}.{c}")] for c in "xyz"])
@@ -120,7 +121,7 @@ def distance_extremes(plan, params=None, point: str | None = None) -> dict:
     q_min = (sense * (theta - params[iz])) % TWO_PI
     q_max = (q_min + math.pi) % TWO_PI
     d_min, d_max = math.hypot(rho - r, wa), math.hypot(rho + r, wa)
-    lr, lc = params[st.data[4]], params[st.data[6]]
+    lr, lc = params[st.rocker_length_param], params[st.coupler_length_param]
 
     def mu(d):
         c = (lc * lc + lr * lr - d * d) / (2 * lc * lr)
@@ -170,11 +171,14 @@ def _unwrap_cyclic(theta):
     return out
 
 
-def dyad_summaries(plan, params=None, steps: int = 720) -> list[DyadSummary]:
-    """Every R–S–S dyad's outputs over one crank turn (needs one rotary input)."""
-    cyc = Cycle(plan, params, order=1)
-    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    st = cyc.state(q)
+def dyad_summaries(plan, params=None, steps: int = CYCLE_STEPS) -> list[DyadSummary]:
+    """Every R–S–S dyad's outputs over one crank turn (needs one rotary input).
+
+    plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
+    :class:`~assur.analysis.sampling.Cycle` (its solved grid and parameters)."""
+    cyc = Cycle.of(plan, params, steps, order=1)
+    plan = cyc.plan
+    q, st = cyc.grid()
     out = []
     for g in dyads(plan, st, cyc.params):
         th = rocker_angle(g)
@@ -223,8 +227,8 @@ def _extended(plan, state, g) -> str:
     """'extended' when the coupler points away from the crank's axis along the crank arm
     ((B − A)·u_r > 0, u_r the crank's radial unit vector), 'folded' when towards it; 'stop' when
     A is not a crank's arm."""
-    crank = next((c for c in plan.steps if c.kind == "crank" and c.data[1] == plan.point_names[
-        plan.point_index(next(s for s in plan.rss_steps() if s.key_point == g.point).data[1])]), None)
+    start = next(s for s in plan.rss_steps() if s.key_point == g.point).start
+    crank = next((c for c in plan.crank_steps() if c.arm == start), None)
     if crank is None:
         return "stop"
     u_r = state.body_frame[..., crank.body, :, 0]
@@ -239,42 +243,36 @@ def _nanmax(x):
     return float(np.nanmax(x)) if np.isfinite(x).any() else float("nan")
 
 
-def analyze_spatial(plan, params=None, steps: int = 720) -> dict:
+def analyze_spatial(plan, params=None, steps: int = CYCLE_STEPS) -> dict:
     """The JSON-ready summary of a spatial plan (``assur analyze``): structure, buildability with the
-    buildable crank ranges, and every dyad's branch, swing, transmission angles and dead centres."""
-    from .summary import structure_summary
-    out = structure_summary(plan.mechanism)
-    out["parameters"] = {n: float(v) for n, v in zip(plan.param_names, plan.defaults if params is None else params)}
-    out["inputs"] = [{"name": n, "kind": k, "speed": float(s), "sketch": float(q)}
-                     for n, k, s, q in zip(plan.input_names, plan.input_kinds, plan.speeds, plan.sketch_inputs)]
-    out["steps"] = steps
+    buildable crank ranges, and every dyad's branch, swing, transmission angles and dead centres.
+
+    plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
+    :class:`~assur.analysis.sampling.Cycle` (its one solved grid serves every quantity)."""
+    source = plan
+    plan, params, steps = cycle_source(source, params, steps)
+    out = summary_header(plan, params, steps)
     if plan.n_inputs != 1:
-        out["unbuildable"] = None
-        out["note"] = "cycle analysis needs a single input; use 'assur solve' for several inputs"
         return out
-    ranges, bad, _ = buildable_ranges(plan, params, steps)
+    cyc = Cycle.of(source, params, steps)
+    ranges, bad, _ = buildable_ranges(cyc)
     out["unbuildable"] = bad
     out["buildable_ranges"] = [{"start": a, "end": b} for a, b in ranges]
     out["full_rotation"] = bad == 0
-    sums = dyad_summaries(plan, params, steps)
+    sums = dyad_summaries(cyc)
     out["transmission_angles"] = {}
     out["dead_centres"] = []
     for s in sums:
         out["transmission_angles"][f"{s.point} (μ_T)"] = {
-            "min": _fin(s.mu_t_min), "max": _fin(s.mu_t_max),
-            "worst_deviation_from_90": _fin(math.pi / 2 - s.mu_t_min)}
+            "min": finite_or_none(s.mu_t_min), "max": finite_or_none(s.mu_t_max),
+            "worst_deviation_from_90": finite_or_none(math.pi / 2 - s.mu_t_min)}
         out["transmission_angles"][f"{s.point} (μ_int)"] = {
-            "min": _fin(s.mu_int_min), "max": _fin(s.mu_int_max),
-            "worst_deviation_from_90": _fin(max(abs(s.mu_int_min - math.pi / 2), abs(s.mu_int_max - math.pi / 2)))}
+            "min": finite_or_none(s.mu_int_min), "max": finite_or_none(s.mu_int_max),
+            "worst_deviation_from_90": finite_or_none(max(abs(s.mu_int_min - math.pi / 2), abs(s.mu_int_max - math.pi / 2)))}
         out["dead_centres"] += [{"angle": c.angle, "kind": c.kind, "link": c.link} for c in s.dead_centres]
     out["dyads"] = [_json(s.as_dict()) for s in sums]
     return out
 
 
-def _fin(x):
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def _json(d):
-    return {k: (_fin(v) if isinstance(v, float) else v) for k, v in d.items()}
+    return {k: (finite_or_none(v) if isinstance(v, float) else v) for k, v in d.items()}

@@ -106,10 +106,10 @@ def driver_law(plan, k: int = 0, stroke=None):
 
 def solve_in_time(plan, laws, t, params=None, *, order: int = 2, on_unbuildable: str = "nan"):
     """Solve ``plan`` at times ``t (n,)`` along ``laws`` (one time law per input, or one law for a
-    one-input plan). Returns the engine's :class:`~assur.state.State` of shape (n,) (or
+    one-input plan). Returns the engine's :class:`~assur.engine.state.State` of shape (n,) (or
     ``params.shape[:-1]`` broadcast against (n,)), with ``vel``, ``acc``, ``body_omega`` and
     ``body_alpha`` at the laws' rates and accelerations."""
-    from ..solve import solve
+    from ..engine import solve
     if callable(laws):
         laws = [laws]
     laws = list(laws)

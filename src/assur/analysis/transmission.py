@@ -15,8 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..compile import geometry
-from .sampling import TWO_PI, Cycle, intervals, root_between, sign_changes
+from ..engine import geometry
+from ..kernels.runs import cyclic_runs
+from ..tolerances import DEFAULT as TOL
+from .sampling import TWO_PI, Cycle, cycle_source, root_between, sign_changes
 
 
 def _angle(a, b):
@@ -41,19 +43,19 @@ def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
     out = {}
     for st in plan.steps:
         if st.kind == "RRR":
-            sa, A, sb, B, J = st.data
+            A, B, J = st.point_a, st.point_b, st.joint
             out[J] = _angle(P(A) - P(J), P(B) - P(J))
         elif st.kind == "RRP":
-            sa, A, slider, line, J = st.data
+            A, line, J = st.point_a, st.line, st.joint
             guide = plan.lines[line][2]
             u = lines[line][1] * np.exp(1j * theta[..., guide])
             out[J] = _acute(P(J) - P(A), 1j * u)
         elif st.kind == "RPR":
-            guide, gp, slider, sp, line = st.data
+            guide, gp, sp, line = st.guide, st.guide_point, st.slider_point, st.line
             u = lines[line][1] * np.exp(1j * theta[..., guide])
             out[st.key_point] = _acute(P(sp) - P(gp), 1j * u)
         elif st.kind in ("PRP", "PPR"):
-            la, lb = (st.data[1], st.data[3]) if st.kind == "PRP" else (st.data[3], st.data[4])
+            la, lb = (st.line_a, st.line_b) if st.kind == "PRP" else (st.outer_line, st.inner_line)
             ua = lines[la][1] * np.exp(1j * theta[..., plan.lines[la][2]])
             ub = lines[lb][1] * np.exp(1j * theta[..., plan.lines[lb][2]])
             out[st.key_point or f"step{plan.steps.index(st)}"] = _acute(ua, ub)
@@ -69,12 +71,17 @@ class DeadCentre:
 
 
 def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
-    """Input angles where a crank is collinear with the link hinged at its arm (one-input plans)."""
+    """Input angles where a crank is collinear with the link hinged at its arm (one-input plans).
+
+    plan: a plan (at ``params``, default its defaults) or a :class:`~assur.analysis.sampling.Cycle` (its plan
+    and parameters). The crank's turn is scanned at ``steps`` inputs for sign changes of the collinearity,
+    each then refined by a root solve."""
+    plan, params, _ = cycle_source(plan, params)
     if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
         return []
     cyc = Cycle(plan, params, order=0)
     crank = next(s for s in plan.steps if s.kind == "crank")
-    pivot, arm = crank.data[0], crank.data[1]
+    pivot, arm = crank.pivot, crank.arm
     # the link hinged at the arm (whatever group solves it), and another of its points
     follower = None
     g = plan.structure.graph
@@ -110,16 +117,20 @@ def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
 
 def buildable_ranges(plan, params=None, steps: int = 1440):
     """Input intervals over one turn where the mechanism assembles, with their ends refined by
-    bisection on buildability to 1e-12 rad (the toggle positions where a group locks).
+    bisection on buildability to :attr:`~assur.tolerances.Tolerances.toggle_angle` (the toggle positions
+    where a group locks).
 
+    plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
+    :class:`~assur.analysis.sampling.Cycle` (its solved grid and parameters).
     Returns (ranges [(start, end)] in rad, number of unbuildable samples, steps)."""
-    cyc = Cycle(plan, params, order=0)
-    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    valid = cyc.state(q).valid
+    cyc = Cycle.of(plan, params, steps, order=0)
+    q, state = cyc.grid()
+    valid = state.valid
+    steps = len(q)
     h = q[1] - q[0]
 
     def ok(t):
-        return bool(cyc.state(np.array([t])).valid[0])
+        return bool(cyc.state(np.array([t]), order=0).valid[0])
 
     def edge(good, bad):
         for _ in range(60):
@@ -128,12 +139,12 @@ def buildable_ranges(plan, params=None, steps: int = 1440):
                 good = mid
             else:
                 bad = mid
-            if abs(bad - good) < 1e-12:
+            if abs(bad - good) < TOL.toggle_angle:
                 break
         return good
 
     out = []
-    runs = intervals(valid)
+    runs = cyclic_runs(valid)
     for a, b in runs:
         if len(runs) == 1 and valid.all():
             out.append((0.0, TWO_PI))

@@ -1,37 +1,16 @@
-"""``assur gears DESIGN.toml -o DIR`` and ``assur wheelstep DESIGN.toml -o DIR``.
-
-``gears`` writes, for a gear-pair design (format assur-gears/1), into DIR (atomically: all or nothing):
-
-- ``pitch.csv/json``: φ, θ, k = dθ/dφ, r1, r2 over the cycle; ``summary.json``: everything printed;
-- envelope teeth (rack-cutter envelope along the exact pitch curves, :mod:`assur.gears.teeth`; the recommended
-  outlines for manufacture): ``envelope_driving.dxf/.svg``, ``envelope_driven.dxf/.svg`` (each gear centred at
-  its own origin), ``envelope_pair.dxf/.svg`` (assembled at φ = 0), ``envelope_*_outline.csv`` (x, y in mm),
-  ``envelope_mesh.json``, ``envelope_mesh.html`` (animation of the meshing pair); where the pitch curves have corners (a rack cannot cut them) the law is rounded first
-  (:func:`assur.gears.teeth.rounded_pair`) and the change of the speed law is reported;
-- for ``teeth.method = "sectors"`` (the paper's scheme, reproduction mode) also ``table1/2/3.csv/json``, the
-  sector outlines ``sectors_*.dxf/.svg`` (relieved linking lines) and ``sectors_mesh.json`` at the design and the
-  installation centre distance;
-- plots ``pitch.png``, ``teeth_envelope.png``, ``speed_envelope.png`` (and ``teeth_sectors.png``,
-  ``speed_sectors.png``).
-
-``wheelstep`` writes the shoe profile table, the displacement budget and ``shoe.png``, plus the gear outputs of its
-drive in ``DIR/gears/``.
+"""``assur gears DESIGN.toml -o DIR`` and ``assur wheelstep DESIGN.toml -o DIR``: the outputs of a gear-pair
+design (format assur-gears/1) or of a wheel-step mover (assur-wheelstep/1), written into DIR atomically (all or
+nothing) by :mod:`assur.report.bundles`, which lists them.
 """
 from __future__ import annotations
 
-import dataclasses
-import math
 from pathlib import Path
 
-import numpy as np
-
-MM = 1e3
-DEG = 180.0 / math.pi
+from .args import positive
 
 
 def register(sub) -> None:
     """Add this module's sub-commands to the argparse sub-parsers `sub`."""
-    from .main import _positive
     for name, func, help_ in (("gears", cmd_gears, "non-circular gear pair: pitch curves, teeth (DXF/SVG), "
                                                    "mesh check, tables and plots"),
                               ("wheelstep", cmd_wheelstep, "wheel-step mover: shoe profile, displacement budget, "
@@ -40,296 +19,38 @@ def register(sub) -> None:
         sp.add_argument("file", metavar="FILE", help="design file (.toml)")
         sp.add_argument("-o", "--output", type=Path, required=True, metavar="DIR", help="output directory")
         sp.add_argument("--json", action="store_true", help="print the summary as one JSON object (SI units)")
-        sp.add_argument("--mesh-steps", type=_positive(8), default=360, metavar="N",
+        sp.add_argument("--mesh-steps", type=positive(8), default=360, metavar="N",
                         help="driving-angle positions of the mesh check over the cycle (default 360)")
-        sp.add_argument("--frames", type=_positive(0), default=24, metavar="N",
+        sp.add_argument("--frames", type=positive(0), default=24, metavar="N",
                         help="frames of the meshing animation envelope_mesh.html (default 24; 0: none)")
         sp.set_defaults(func=func)
 
 
-# -- the pipeline (also used by the report) -----------------------------------------------------------------
-def _shapes_pair(name, xy1, xy2, pair, references=True):
-    from ..io.cad import Shape
-    L = pair.centre_distance
-    th0 = float(pair.law(0.0))
-    c, s = math.cos(-th0), math.sin(-th0)
-    placed = np.stack([L + c * xy2[:, 0] - s * xy2[:, 1], s * xy2[:, 0] + c * xy2[:, 1]], axis=-1)
-    r1 = (pair.driving.xy(2048),) if references else ()
-    p2 = pair.driven.xy(4096)
-    r2 = (np.stack([L + c * p2[:, 0] - s * p2[:, 1], s * p2[:, 0] + c * p2[:, 1]], axis=-1),) if references else ()
-    return [Shape(f"{name}_driving", xy1, (0.0, 0.0), r1), Shape(f"{name}_driven", placed, (L, 0.0), r2)]
-
-
-def _write_outlines(tmp: Path, prefix: str, xy1, xy2, pair, meta: dict):
-    from ..io.cad import Shape, write_csv, write_dxf, write_svg
-    files = []
-    for gear, xy, curve in (("driving", xy1, pair.driving), ("driven", xy2, pair.driven)):
-        shape = [Shape(f"{prefix}_{gear}", xy, (0.0, 0.0), (curve.xy(4096),))]
-        m = {**meta, "gear": gear, "points": int(len(xy)),
-             "handedness": "counter-clockwise outline; the driving gear turns ccw, the driven cw"}
-        files.append(write_dxf(tmp / f"{prefix}_{gear}.dxf", shape, metadata=m))
-        files.append(write_svg(tmp / f"{prefix}_{gear}.svg", shape, metadata=m))
-        files.append(write_csv(tmp / f"{prefix}_{gear}_outline.csv", ["x [mm]", "y [mm]"], (xy * MM).tolist()))
-    pair_shapes = _shapes_pair(prefix, xy1, xy2, pair)
-    files.append(write_dxf(tmp / f"{prefix}_pair.dxf", pair_shapes, metadata={**meta, "assembly": "phi = 0"}))
-    files.append(write_svg(tmp / f"{prefix}_pair.svg", pair_shapes, metadata={**meta, "assembly": "phi = 0"}))
-    return files
-
-
-def _mesh_json(rep, pair):
-    s = rep.summary()
-    out = {k: v for k, v in s.items()}
-    out["centre_distance"] = pair.centre_distance
-    return out
-
-
-def _mesh_text(s, label):
-    fine = s.get("fine_scan")
-    if fine and fine["interference_driving_ranges"]:
-        verdict = (f"INTERFERES near the step boundaries at driving angle φ ∈ {fine['interference_driving_ranges']} "
-                   f"(fine scan; max penetration {fine['max_penetration'] * MM:.3f} mm)")
-    elif s["interference"]:
-        verdict = (f"INTERFERES at driving angle φ ∈ {s['interference_driving_ranges']} (max penetration "
-                   f"{s['max_penetration'] * MM:.3f} mm)")
-    else:
-        verdict = "runs without interference"
-    bl = (f"; backlash {s['backlash_min'] * MM:.3f}…{s['backlash_max'] * MM:.3f} mm"
-          if s["backlash_min"] is not None else "")
-    ratio = (f"; transmitted ratio {s['actual_ratio_min']:.4f}…{s['actual_ratio_max']:.4f} "
-             f"(law {s['law_ratio_min']:.4f}…{s['law_ratio_max']:.4f}, largest deviation "
-             f"{100 * s['max_ratio_deviation']:.2f} %)" if s["max_ratio_deviation"] is not None else "")
-    return f"mesh check ({label}, {s['positions']} positions): {verdict}{bl}{ratio}"
-
-
-def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True, log=print,
-              frames: int = 0) -> dict:
-    """All outputs of a gear design into the directory ``tmp``; returns the summary (SI units, rad)."""
-    from ..gears.mesh import mesh_check, polar_outline
-    from ..gears.pitch import closure_report, curvature_report
-    from ..gears.teeth import cut_pair, rounded_pair
-    from ..io.cad import write_json, write_table
-    pair = design.pair()
-    n = pair.driving_turns
-    clo = closure_report(pair)
-    summary = {"name": design.name, "method": design.method, "centre_distance": pair.centre_distance,
-               "installation_distance": design.installation_distance, "driving_turns": n,
-               "closure": dataclasses.asdict(clo), "module": design.module,
-               "pressure_angle": design.pressure_angle, "backlash": design.backlash,
-               "teeth": [design.driving_teeth, design.driven_teeth]}
-    log(f"{design.name or 'gear pair'}: centre distance {pair.centre_distance * MM:.4f} mm, driving turns {n} "
-        f"per driven turn")
-    log(f"pitch perimeters: driving {clo.driving_perimeter * MM:.4f} mm, driven {clo.driven_perimeter * MM:.4f} mm "
-        f"(ratio {clo.perimeter_ratio:.6f}, must be {n}); closure: θ(2π·{n}) = {math.degrees(clo.law_end):.6f}°, "
-        f"max |r1 + r2 − L| = {clo.centre_distance_error * MM:.2e} mm")
-    # pitch table
-    phi = np.linspace(0.0, 2 * math.pi * n, 721 * n)[:-1] if n else None
-    r1, r2 = pair.contact_radii(phi)
-    k = pair.ratio(phi)
-    write_table(tmp / "pitch", ["phi [deg]", "theta [deg]", "k = dtheta/dphi", "r1 [mm]", "r2 [mm]"],
-                np.column_stack([phi * DEG, pair.law(phi) * DEG, k, r1 * MM, r2 * MM]).tolist(),
-                meta={"title": "pitch curves at the contact point over the cycle"})
-    summary["ratio_range"] = [float(k.min()), float(k.max())]
-    log(f"speed ratio dθ/dφ: {k.min():.5f} … {k.max():.5f}")
-    curv = {}
-    for name, curve in (("driving", pair.driving), ("driven", pair.driven)):
-        rep = curvature_report(curve, module=design.module, pressure_angle=design.pressure_angle)
-        curv[name] = {"corners": [dataclasses.asdict(c) for c in rep.corners],
-                      "min_convex_radius": rep.min_convex_radius, "concave_ranges": rep.concave_ranges,
-                      "min_concave_radius": rep.min_concave_radius, "undercut_ranges": rep.undercut_ranges}
-        for c in rep.corners:
-            log(f"{name} pitch curve: {c.kind} corner at body angle {math.degrees(c.angle):.2f}°, tangent jump "
-                f"{math.degrees(c.tangent_jump):+.2f}°")
-    summary["curvature"] = curv
-    meta = {"design": design.name, "units": "mm", "centre_distance_mm": pair.centre_distance * MM,
-            "driving_turns": n}
-    figs = {}
-
-    # ---- envelope teeth (recommended for manufacture) ----------------------------------------------------
-    z1 = design.driving_teeth
-    corners = any(curv[g]["corners"] for g in curv)
-    if corners:
-        m0 = pair.driving.perimeter / (math.pi * z1)
-        cut_on, width = rounded_pair(pair, m0, design.pressure_angle)
-        ph = np.linspace(0, 2 * math.pi * n, 4001)
-        dev = cut_on.ratio(ph) / pair.ratio(ph) - 1
-        summary["envelope_rounding"] = {"width": width, "max_speed_deviation": float(np.max(np.abs(dev))),
-                                        "max_theta_deviation": float(np.max(np.abs(cut_on.law(ph) - pair.law(ph))))}
-        log(f"envelope teeth: the pitch-curve corners are rounded (Gaussian smoothing of k over σ = "
-            f"{math.degrees(width):.2f}° of φ near each corner): the speed law changes by up to "
-            f"{100 * np.max(np.abs(dev)):.2f} %, θ by up to {math.degrees(summary['envelope_rounding']['max_theta_deviation']):.3f}°")
-    else:
-        cut_on = pair
-    module = design.module if (design.method == "envelope" and not corners) else None
-    gt = cut_pair(cut_on, module=module, teeth=z1, pressure_angle=design.pressure_angle,
-                  addendum=design.addendum, clearance=design.clearance, backlash=design.backlash)
-    m = gt.tooth.module
-    if design.method != "envelope" or corners:
-        log(f"envelope teeth: module {m * MM:.5f} mm = driving perimeter / (π·{z1}) (the design's "
-            f"{design.module * MM:g} mm would need {cut_on.driving.perimeter / (math.pi * design.module):.3f} teeth)")
-    for note in gt.notes:
-        log("envelope teeth: " + note)
-    env_meta = {**meta, "method": "rack-cutter envelope", "module_mm": m * MM,
-                "pressure_angle_deg": math.degrees(design.pressure_angle), "backlash_mm": design.backlash * MM,
-                "addendum": design.addendum, "clearance": design.clearance,
-                "teeth_driving": gt.driving.teeth, "teeth_driven": gt.driven.teeth}
-    _write_outlines(tmp, "envelope", gt.driving.xy, gt.driven.xy, cut_on, env_meta)
-    rep = mesh_check(gt.driving, gt.driven, cut_on, steps=mesh_steps)
-    ms = _mesh_json(rep, cut_on)
-    write_json(tmp / "envelope_mesh.json", ms)
-    summary["envelope"] = {"module": m, "teeth": [gt.driving.teeth, gt.driven.teeth], "notes": list(gt.notes),
-                           "undercut_driving": gt.driving.undercut_text, "undercut_driven": gt.driven.undercut_text,
-                           "mesh": ms}
-    log(_mesh_text(ms, "envelope teeth"))
-    results = {"pair": pair, "envelope": (gt, cut_on, rep)}
-
-    # ---- the paper's sector scheme (reproduction mode) --------------------------------------------------
-    if design.method == "sectors":
-        from ..gears.sectors import sector_findings, sector_outline, table1, table2, table3
-        model = design.sector_model()
-        for base, tab in (("table1", table1(model, design.module)),
-                          ("table2", table2(model, design.module, design.backlash)),
-                          ("table3", table3(model, design.module, design.backlash))):
-            head = [f"{c} [{u}]" if u else c for c, u in zip(tab.columns, tab.units)]
-            write_table(tmp / base, head, tab.data.tolist(), meta={"title": tab.title})
-        f = sector_findings(model, design.law, design.module)
-        summary["sectors"] = {"arc": model.arc, "steps_exceeding_2m": [list(p) for p in f.steps_exceeding],
-                              "working_pressure_angle": f.working_pressure_angle,
-                              "speed_ripple_sector": list(f.speed_ripple_sector),
-                              "speed_ripple_involute": list(f.speed_ripple_involute)}
-        log(f"sector scheme: {model.n_sectors} sectors of arc s = {model.arc * MM:.6f} mm; radial steps > 2m at "
-            f"sectors {', '.join(f'{a}–{b}' for a, b in f.steps_exceeding) or 'none'}; mover speed ripple "
-            f"{f.speed_ripple_sector[0]:.4f}…{f.speed_ripple_sector[1]:.4f} (sector ratio), "
-            f"{f.speed_ripple_involute[0]:.4f}…{f.speed_ripple_involute[1]:.4f} (involute pairs)")
-        so = sector_outline(model, design.module, design.backlash, linking="relieved", dedendum=design.dedendum)
-        sec_meta = {**meta, "method": "paper sector scheme (eqs. 11-14), relieved linking lines",
-                    "module_mm": design.module * MM, "backlash_mm": design.backlash * MM,
-                    "teeth_driving": so.teeth[0], "teeth_driven": so.teeth[1]}
-        _write_outlines(tmp, "sectors", so.driving, so.driven, pair, sec_meta)
-        p1 = polar_outline(so.driving, rays=512 * so.teeth[0])
-        p2 = polar_outline(so.driven, rays=512 * so.teeth[1])
-        summary["sectors"]["mesh"] = {}
-        reps = {}
-        distances = [design.centre_distance]
-        if abs(design.installation_distance - design.centre_distance) > 1e-12:
-            distances.append(design.installation_distance)
-        # the step boundaries (the driving curve's corners) are where the scheme is tight: scan ±12° around
-        # each at 0.25° besides the coarse cycle (spec B6.9)
-        phi_c = np.unique(np.round(np.mod([-c["angle"] for c in curv["driving"]["corners"]], 2 * math.pi), 9))
-        fine = (phi_c[:, None] + np.radians(np.arange(-12.0, 12.01, 0.25))[None, :]).ravel()
-        for L in distances:
-            at = dataclasses.replace(pair, centre_distance=L)
-            r = mesh_check(p1, p2, at, steps=mesh_steps, pitch=math.pi * design.module, vertex_stride=1)
-            js = _mesh_json(r, at)
-            if fine.size:
-                rf = mesh_check(p1, p2, at, phi=fine, pitch=math.pi * design.module, vertex_stride=1)
-                order = np.argsort(np.mod(fine, 2 * math.pi * n))
-                from ..gears.errors import angle_ranges
-                js["fine_scan"] = {"driving_angles": "±12° around the step boundaries φ = " + ", ".join(
-                    f"{math.degrees(a):.1f}°" for a in phi_c) + ", every 0.25°",
-                    "interference_driving_ranges": angle_ranges(np.mod(fine, 2 * math.pi * n)[order],
-                                                                rf.interferes[order], max_ranges=8),
-                    "max_penetration": float(rf.penetration[rf.interferes].max()) if rf.any_interference else 0.0}
-                if rf.any_interference:
-                    js["interference"] = True
-            summary["sectors"]["mesh"][f"{L * MM:g} mm"] = js
-            reps[L] = r
-            log(_mesh_text(js, f"sector scheme at L = {L * MM:g} mm"))
-        write_json(tmp / "sectors_mesh.json", summary["sectors"]["mesh"])
-        results["sectors"] = (so, reps)
-
-    if figures:
-        from ..plot.figures import close
-        from ..plot.gears import pitch_figure, speed_figure, teeth_figure
-        fig = pitch_figure(pair, title=f"pitch curves, L = {pair.centre_distance * MM:.2f} mm")
-        figs["pitch.png"] = fig
-        figs["teeth_envelope.png"] = teeth_figure(gt.driving.xy, gt.driven.xy, cut_on,
-                                                  title=f"envelope teeth, m = {m * MM:.4f} mm")
-        ref = (np.linspace(0, 2 * math.pi * n, 2001), pair.ratio(np.linspace(0, 2 * math.pi * n, 2001)))
-        figs["speed_envelope.png"] = speed_figure(rep, law_name="law (rounded)" if corners else "law",
-                                                  reference=ref if corners else None)
-        if "sectors" in results:
-            so, reps = results["sectors"]
-            figs["teeth_sectors.png"] = teeth_figure(so.driving, so.driven, pair, title="paper sector scheme")
-            figs["speed_sectors.png"] = speed_figure(reps[design.centre_distance], law_name="law")
-        from ..plot.figures import figure_png
-        for name, fig in figs.items():
-            (tmp / name).write_bytes(figure_png(fig, dpi=100))
-            close(fig)
-        if frames:
-            from ..plot.figures import save_animation
-            from ..plot.gears import mesh_animation
-            fig, anim = mesh_animation(gt.driving.xy, gt.driven.xy, cut_on, frames=frames, report=rep)
-            save_animation(anim, tmp / "envelope_mesh.html", fps=8, title="meshing pair (envelope teeth)")
-            close(fig)
-    write_json(tmp / "summary.json", summary)
-    summary["_results"] = results
-    return summary
-
-
-def run_wheelstep(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True, log=print,
-                  frames: int = 0) -> dict:
-    """Shoe outputs into ``tmp`` and the drive's gear outputs into ``tmp/gears``; returns the summary."""
-    from ..io.cad import write_json, write_table
-    shoe = design.shoe
-    b = shoe.budget
-    summary = {"name": design.name, "a": shoe.a, "b": shoe.b, "c": shoe.c, "r_min": shoe.r_min,
-               "r_step_end": shoe.r_step_end, "X_I": b.crank, "X_II": b.rolling, "X_01": b.total,
-               "rolling_share": b.rolling_share, "X_II_eq10": shoe.rolling_eq10()}
-    log(f"{design.name or 'wheel-step mover'}: a = {shoe.a:g} m, b = {shoe.b:g} m, c = {shoe.c:.6g} m "
-        f"(c = R_min − a + 4b with R_min = {shoe.r_min:.6g} m)")
-    log(f"displacement per step: X_I = 6b = {b.crank:.4f} m, X_II = (a − b + c)·π/2 − 3b = {b.rolling:.4f} m "
-        f"(corrected eq. 6), X_01 = {b.total:.4f} m, rolling share {100 * b.rolling_share:.2f} %")
-    phi = np.linspace(-math.pi / 4, math.pi / 4, 91)
-    xy = shoe.profile(phi)
-    rho, alpha = shoe.profile_polar(phi)
-    rows = np.column_stack([phi * DEG, xy[:, 0], xy[:, 1], rho, alpha * DEG, shoe.curvature_radius(phi),
-                            shoe.displacement(phi, periodic=False), shoe.rolling_displacement(phi),
-                            shoe.crank_displacement(phi)])
-    write_table(tmp / "shoe_profile", ["phi [deg]", "X [m]", "Y [m]", "rho [m]", "alpha [deg]", "R [m]",
-                                       "X_mover [m]", "X_rolling [m]", "X_crank [m]"], rows.tolist(),
-                meta={"title": "support-shoe profile over one step (eqs. 1-3, 7-9) and the mover displacement"})
-    write_json(tmp / "budget.json", summary)
-    if figures:
-        from ..plot.figures import close, figure_png
-        from ..plot.gears import shoe_figure
-        fig = shoe_figure(shoe)
-        (tmp / "shoe.png").write_bytes(figure_png(fig))
-        close(fig)
-    if design.gears is not None:
-        (tmp / "gears").mkdir()
-        summary["gears"] = run_gears(design.gears, tmp / "gears", mesh_steps=mesh_steps, figures=figures, log=log,
-                                     frames=frames)
-    return summary
-
-
-def _public(summary):
-    return {k: (_public(v) if isinstance(v, dict) else v) for k, v in summary.items() if not k.startswith("_")}
-
-
-def _run(args, expected, runner):
+def _run(args, expected: str) -> int:
     from ..errors import SpecError
     from ..gears.design import load_design
-    from ..io.output import atomic_directory
-    from ..io.output import json_text
+    from ..io.output import atomic_directory, json_text
+    from ..report.bundles import public_summary, run_gears, run_wheelstep
     design = load_design(args.file)
-    kind = type(design).__name__
-    if kind != expected:
+    if type(design).__name__ != expected:
         want = "assur-gears/1" if expected == "GearDesign" else "assur-wheelstep/1"
         raise SpecError([("format", f"`assur {args.command}` needs a {want} file")], source=str(args.file))
-    lines = []
-    log = (lambda s: lines.append(s)) if args.json else print
+    runner = run_gears if expected == "GearDesign" else run_wheelstep
+    log = (lambda _: None) if args.json else print
     with atomic_directory(args.output) as tmp:
         summary = runner(design, Path(tmp), mesh_steps=args.mesh_steps, log=log, frames=args.frames)
     if args.json:
-        print(json_text(_public(summary)))
+        print(json_text(public_summary(summary)))
     else:
         print(f"wrote {args.output}/")
     return 0
 
 
 def cmd_gears(args) -> int:
-    return _run(args, "GearDesign", run_gears)
+    """``assur gears DESIGN -o DIR``."""
+    return _run(args, "GearDesign")
 
 
 def cmd_wheelstep(args) -> int:
-    return _run(args, "WheelStepDesign", run_wheelstep)
+    """``assur wheelstep DESIGN -o DIR``."""
+    return _run(args, "WheelStepDesign")

@@ -9,10 +9,12 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ..report.text import format_number
+from .args import positive, positive_float
+
 
 def register(sub) -> None:
     """Add ``synth`` to the argparse sub-parsers ``sub``."""
-    from .main import _positive, _positive_float
     sp = sub.add_parser("synth", help="dimensional synthesis: optimise a mechanism's dimensions for a problem file",
                         description="Minimise a synthesis problem (format assur-synth/1): differential evolution, "
                                     "CMA-ES or a local polish, with multi-start, on this process, local workers or "
@@ -23,27 +25,22 @@ def register(sub) -> None:
     sp.add_argument("--polish", choices=("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none"), default="auto",
                     help="local refinement of each start's best (default auto)")
     sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
-    sp.add_argument("--budget", type=_positive(1), default=None, metavar="N", help="objective evaluations in all")
-    sp.add_argument("--time", type=_positive_float, default=None, metavar="T", help="wall-time limit in seconds")
-    sp.add_argument("--starts", type=_positive(1), default=1, metavar="K", help="independent starts (default 1)")
-    sp.add_argument("--popsize", type=_positive(2), default=15, metavar="P",
+    sp.add_argument("--budget", type=positive(1), default=None, metavar="N", help="objective evaluations in all")
+    sp.add_argument("--time", type=positive_float, default=None, metavar="T", help="wall-time limit in seconds")
+    sp.add_argument("--starts", type=positive(1), default=1, metavar="K", help="independent starts (default 1)")
+    sp.add_argument("--popsize", type=positive(2), default=15, metavar="P",
                     help="population per variable (default 15)")
-    sp.add_argument("--maxiter", type=_positive(1), default=1000, metavar="G", help="generations per start")
+    sp.add_argument("--maxiter", type=positive(1), default=1000, metavar="G", help="generations per start")
     sp.add_argument("--target", type=float, default=None, metavar="F",
                     help="stop at the first feasible design with objective ≤ F (later starts are skipped)")
     sp.add_argument("--strategy", default="best1bin", metavar="NAME",
                     help="scipy differential-evolution strategy (default best1bin; e.g. rand1bin, currenttobest1bin)")
     grp = sp.add_mutually_exclusive_group()
-    grp.add_argument("--workers", type=_positive(1), default=None, metavar="N", help="local worker processes")
+    grp.add_argument("--workers", type=positive(1), default=None, metavar="N", help="local worker processes")
     grp.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
     sp.set_defaults(func=cmd_synth)
-
-
-def _fmt(v) -> str:
-    from ..analysis.summary import format_number
-    return "—" if v is None else format_number(v)
 
 
 def cmd_synth(args) -> int:
@@ -88,22 +85,22 @@ def cmd_synth(args) -> int:
     width = max(len(n) for n in problem.names)
     for name, v, var in zip(problem.names, result.x_file, problem.variables):
         vu = u if var.kind == "length" else problem.angle_unit if var.kind == "angle" else ""
-        print(f"  {name:<{width}} = {_fmt(float(v))} {vu}".rstrip())
+        print(f"  {name:<{width}} = {format_number(float(v))} {vu}".rstrip())
     q = result.details["quantities"]
     if "distances" in q:
-        print("target distances: " + ", ".join(_fmt(d) for d in q["distances"]) + f" {u}")
+        print("target distances: " + ", ".join(format_number(d) for d in q["distances"]) + f" {u}")
     for k in sorted(q):
         if k not in ("distances", "offsets", "deviation") and not isinstance(q[k], list):
-            print(f"  {k}: {_fmt(q[k])}")
+            print(f"  {k}: {format_number(q[k])}")
     bad = {k: v for k, v in result.details["violations"].items() if v}
     if bad:
         print("violated: " + ", ".join(f"{k} {v:.4g}" for k, v in bad.items()))
     g = result.gait()
     if g is not None:
         s = problem.length_scale
-        print(f"gait (exact): step {_fmt(g.step_length * s)} {u}, lift {_fmt(g.lift * s)} {u}, "
-              f"sag {_fmt(g.sag * s)} {u}, duty {_fmt(g.duty_factor)}, support speed "
-              f"{_fmt(g.support_speed.min * s)}…{_fmt(g.support_speed.max * s)} {u}/s")
+        print(f"gait (exact): step {format_number(g.step_length * s)} {u}, lift {format_number(g.lift * s)} {u}, "
+              f"sag {format_number(g.sag * s)} {u}, duty {format_number(g.duty_factor)}, support speed "
+              f"{format_number(g.support_speed.min * s)}…{format_number(g.support_speed.max * s)} {u}/s")
     if written:
         print(f"wrote {written}")
     return 0 if result.feasible else 3

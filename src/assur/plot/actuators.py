@@ -15,7 +15,7 @@ from ..analysis.actuators import actuator_motions, rod_pairs
 from ..analysis.timelaw import ConstantSpeed, TableLaw, driver_law, solve_in_time
 from ..errors import SpecError
 from ..io.units import LENGTH
-from .figures import _mpl
+from .draw import mpl
 
 
 def actuator_figure(plan, params=None, *, speeds=None, stroke=None, steps: int = 300, figsize=(14, 9.5),
@@ -23,7 +23,7 @@ def actuator_figure(plan, params=None, *, speeds=None, stroke=None, steps: int =
     """The four panels above for a one-input plan with a linear driver. ``speeds`` (m/s): constant
     driving speeds to compare (default: the driver's speed, or its table law); ``stroke`` (m, the
     driving rod's length range; default the driver's ``range``). Returns a matplotlib Figure."""
-    _, plt = _mpl()
+    _, plt = mpl()
     if plan.n_inputs != 1 or plan.input_kinds[0] != "linear":
         raise SpecError([("drivers", "actuator figures need a single linear driver")])
     d = plan.mechanism.drivers[0]

@@ -1,6 +1,6 @@
 """Figures of a non-circular gear pair and a wheel-step shoe: pitch curves, teeth in mesh, the speed law, the shoe
 profile, and an animation of the meshing pair. Lengths in mm, angles in degrees. matplotlib is imported lazily
-(Agg backend) through :func:`assur.plot.figures._mpl`.
+(Agg backend) through :func:`assur.plot.draw.mpl`.
 """
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .figures import _mpl
+from .draw import closed, mpl
 
 MM = 1e3
 TWO_PI = 2.0 * math.pi
@@ -19,19 +19,15 @@ def _rot(xy, angle, centre=(0.0, 0.0)):
     return np.stack([centre[0] + c * xy[:, 0] - s * xy[:, 1], centre[1] + s * xy[:, 0] + c * xy[:, 1]], axis=-1)
 
 
-def _closed(xy):
-    return np.concatenate([xy, xy[:1]])
-
-
 def pitch_figure(pair, *, title: str = "", dpi: int = 100):
     """Both pitch curves in mesh position (φ = 0) and the pitch radii over the cycle."""
-    _, plt = _mpl()
+    _, plt = mpl()
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.8), dpi=dpi, gridspec_kw={"width_ratios": [1.3, 1]})
     L = pair.centre_distance
     c1 = pair.driving.xy(2048)
     c2 = _rot(pair.driven.xy(4096), -float(pair.law(0.0)), (L, 0.0))
-    ax.plot(*(_closed(c1) * MM).T, color="C0", label=f"driving (perimeter {pair.driving.perimeter * MM:.2f} mm)")
-    ax.plot(*(_closed(c2) * MM).T, color="C1", label=f"driven (perimeter {pair.driven.perimeter * MM:.2f} mm)")
+    ax.plot(*(closed(c1, True) * MM).T, color="C0", label=f"driving (perimeter {pair.driving.perimeter * MM:.2f} mm)")
+    ax.plot(*(closed(c2, True) * MM).T, color="C1", label=f"driven (perimeter {pair.driven.perimeter * MM:.2f} mm)")
     ax.plot([0, L * MM], [0, 0], "k+", ms=10)
     ax.axhline(0, color="0.8", lw=0.6, zorder=0)
     ax.set_aspect("equal")
@@ -55,17 +51,17 @@ def teeth_figure(driving_xy, driven_xy, pair, *, title: str = "", zoom: float | 
                  phi: float = 0.0):
     """Both tooth outlines (body frames, m) placed in mesh at driving angle φ, whole pair and a zoom at the
     pitch point (``zoom``: half width, m; default 6 module-ish: 4 % of L)."""
-    _, plt = _mpl()
+    _, plt = mpl()
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 5), dpi=dpi)
     L = pair.centre_distance
     a = _rot(np.asarray(driving_xy), phi)
     b = _rot(np.asarray(driven_xy), -float(pair.law(phi)), (L, 0.0))
     r1 = float(pair.contact_radii(np.array([phi]))[0][0])
     for axis in (ax, ax2):
-        axis.fill(*(_closed(a) * MM).T, color="C0", alpha=0.25, lw=0)
-        axis.plot(*(_closed(a) * MM).T, color="C0", lw=0.6)
-        axis.fill(*(_closed(b) * MM).T, color="C1", alpha=0.25, lw=0)
-        axis.plot(*(_closed(b) * MM).T, color="C1", lw=0.6)
+        axis.fill(*(closed(a, True) * MM).T, color="C0", alpha=0.25, lw=0)
+        axis.plot(*(closed(a, True) * MM).T, color="C0", lw=0.6)
+        axis.fill(*(closed(b, True) * MM).T, color="C1", alpha=0.25, lw=0)
+        axis.plot(*(closed(b, True) * MM).T, color="C1", lw=0.6)
         axis.set_aspect("equal")
         axis.set_xlabel("x [mm]")
     ax.plot([0, L * MM], [0, 0], "k+", ms=10)
@@ -83,7 +79,7 @@ def teeth_figure(driving_xy, driven_xy, pair, *, title: str = "", zoom: float | 
 def speed_figure(report, *, law_name: str = "law", reference=None, dpi: int = 100):
     """Speed law k(φ) = dθ/dφ of the law and as transmitted by the outlines (mesh report), the transmission
     error δ_lo and the backlash; ``reference``: optional (phi, k) of an unrounded law."""
-    _, plt = _mpl()
+    _, plt = mpl()
     fig, axs = plt.subplots(3, 1, figsize=(9, 7.5), dpi=dpi, sharex=True)
     d = np.degrees(report.phi)
     axs[0].plot(d, report.law_ratio, color="C0", label=law_name)
@@ -114,7 +110,7 @@ def speed_figure(report, *, law_name: str = "law", reference=None, dpi: int = 10
 def shoe_figure(shoe, *, dpi: int = 100, samples: int = 361):
     """The support-shoe profile (X, Y) over one step with the hub and crank axes, its curvature radius R(φ),
     and the mover displacement X(φ) split into crank and rolling parts."""
-    _, plt = _mpl()
+    _, plt = mpl()
     phi = np.linspace(-math.pi / 4, math.pi / 4, samples)
     xy = np.asarray(shoe.profile(phi))
     fig, axs = plt.subplots(1, 3, figsize=(13, 4.2), dpi=dpi)
@@ -148,7 +144,7 @@ def mesh_animation(driving_xy, driven_xy, pair, frames: int = 36, fps: float = 1
                    dpi: int = 72, report=None):
     """(fig, FuncAnimation) of the two outlines turning through one driven turn (the driven gear at θ(φ) + δ_lo
     when a mesh report is given, else at the law)."""
-    _, plt = _mpl()
+    _, plt = mpl()
     from matplotlib.animation import FuncAnimation
     L = pair.centre_distance
     n = pair.driving_turns

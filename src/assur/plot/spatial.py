@@ -14,9 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
-from ..io.units import LENGTH
-from .figures import _mpl, sample
+from .draw import closed, file_scale, mpl
+from .figures import sample
 
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
 
@@ -29,14 +30,10 @@ def _plotly():
     return go
 
 
-def _k(plan) -> float:
-    return 1.0 / LENGTH[plan.mechanism.units.length]
-
-
 def link_polylines(plan, pos_row) -> list[np.ndarray]:
     """Each moving link as a polyline through its points (closed for three or more), (k, 3) each,
     in the file's length unit; a frame revolute's axis as a short segment through its point."""
-    k = _k(plan)
+    k = file_scale(plan)
     out = []
     for lk in plan.mechanism.links:
         if lk.name == "frame":
@@ -54,13 +51,13 @@ def axis_segments(plan, params=None) -> list[tuple[str, np.ndarray]]:
     mechanism's size long."""
     from ..kernels.spatial import e_z2
     params = plan.defaults if params is None else params
-    k = _k(plan)
+    k = file_scale(plan)
     half = 0.15 * plan.length_scale * k
     out = []
     for st in plan.steps:
         if st.kind not in ("crank", "RSS"):
             continue
-        p = st.data[0]
+        p = st.pivot
         e = e_z2(params[plan.param_index(f"{p}.axis.gamma1")], params[plan.param_index(f"{p}.axis.gamma2")])
         c = np.array([params[plan.param_index(f"{p}.{a}")] for a in "xyz"]) * k
         out.append((p, np.stack([c - half * e, c + half * e])))
@@ -88,14 +85,17 @@ def _segments_trace_xyz(polys):
     return xs, ys, zs
 
 
-def plotly_figure(plan, steps: int = 360, *, positions: int = 6, frames: int = 36, params=None, ranges=None):
+def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames: int = 36, params=None, ranges=None,
+                  sweep=None):
     """An interactive 3D figure: the mechanism in ``positions`` positions (faded), the paths of the
     moving points with their projections on the planes x = x₀, y = y₀, z = z₀ (paper 003 Fig. 2–3),
-    the revolute axes, and the mechanism animated over ``frames`` positions (play button and slider)."""
+    the revolute axes, and the mechanism animated over ``frames`` positions (play button and slider).
+    ``sweep``: the solved run the paths and positions come from (default: :func:`~assur.plot.figures.sample`
+    of ``steps`` over one turn or ``ranges``)."""
     go = _plotly()
-    sw = sample(plan, steps, params, ranges)
+    sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
     st = sw.state
-    k = _k(plan)
+    k = file_scale(plan)
     unit = plan.mechanism.units.length
     pos = st.pos * k
     if not np.isfinite(pos).any():
@@ -103,7 +103,6 @@ def plotly_figure(plan, steps: int = 360, *, positions: int = 6, frames: int = 3
     lo, hi = _planes(pos.reshape(-1, 3))
     moving = _moving_points(plan)
     data = []
-    closed = (lambda a: np.vstack([a, a[:1]])) if sw.cyclic else (lambda a: a)
     # the animated mechanism: trace 0 (replaced by each frame)
     anim = sample(plan, frames, params, ranges)
     apos = anim.state.pos * k
@@ -130,7 +129,7 @@ def plotly_figure(plan, steps: int = 360, *, positions: int = 6, frames: int = 3
     # paths and projections
     for c, pi in enumerate(moving):
         col = COLORS[c % len(COLORS)]
-        path = closed(pos[:, pi])
+        path = closed(pos[:, pi], sw.cyclic)
         name = plan.point_names[pi]
         data.append(go.Scatter3d(x=path[:, 0], y=path[:, 1], z=path[:, 2], mode="lines", name=f"path of {name}",
                                  line=dict(color=col, width=4),
@@ -187,13 +186,12 @@ def write_html(fig, path, title: str = "") -> None:
 
 # -- matplotlib ---------------------------------------------------------------------------------------
 def _draw3d(ax, plan, sw, positions, lo, hi):
-    k = _k(plan)
+    k = file_scale(plan)
     st = sw.state
     pos = st.pos * k
-    closed = (lambda a: np.vstack([a, a[:1]])) if sw.cyclic else (lambda a: a)
     for c, pi in enumerate(_moving_points(plan)):
         col = COLORS[c % len(COLORS)]
-        path = closed(pos[:, pi])
+        path = closed(pos[:, pi], sw.cyclic)
         ax.plot(path[:, 0], path[:, 1], path[:, 2], color=col, lw=1.6, label=f"path of {plan.point_names[pi]}")
         for axis in range(3):
             proj = path.copy()
@@ -217,13 +215,15 @@ def _draw3d(ax, plan, sw, positions, lo, hi):
     ax.set_box_aspect((1, 1, 1))
 
 
-def figure(plan, steps: int = 360, *, positions: int = 6, params=None, ranges=None, dpi: int = 100):
+def figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, params=None, ranges=None, dpi: int = 100,
+           sweep=None):
     """A static figure: the 3D view (positions, paths, projections) and, per R–S–S dyad, the rocker
-    angle θ4 and the transmission angles μ_int, μ_T over the sweep."""
-    _, plt = _mpl()
+    angle θ4 and the transmission angles μ_int, μ_T over the sweep. ``sweep``: the solved run to draw
+    (default: :func:`~assur.plot.figures.sample` of ``steps`` over one turn or ``ranges``)."""
+    _, plt = mpl()
     from ..analysis.spatial import dyads, mu_int, mu_t, rocker_angle
-    sw = sample(plan, steps, params, ranges)
-    pos = sw.state.pos * _k(plan)
+    sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
+    pos = sw.state.pos * file_scale(plan)
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
     lo, hi = _planes(pos.reshape(-1, 3))
@@ -255,13 +255,15 @@ def figure(plan, steps: int = 360, *, positions: int = 6, params=None, ranges=No
 
 
 def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=None, figsize=(6.4, 6.4),
-              dpi: int = 100):
-    """A matplotlib 3D animation of one turn with the traced paths. Returns ``(figure, animation)``."""
-    _, plt = _mpl()
+              dpi: int = 100, path=None):
+    """A matplotlib 3D animation of ``frames`` positions over one turn with the traced paths; ``path``: the
+    solved run the paths are drawn from (default :data:`~assur.analysis.sampling.CYCLE_STEPS` samples of
+    the same run). Returns ``(figure, animation)``."""
+    _, plt = mpl()
     from matplotlib.animation import FuncAnimation
     sw = sample(plan, frames, params, ranges)
-    dense = sample(plan, max(4 * frames, 180), params, ranges)
-    k = _k(plan)
+    dense = path if path is not None else sample(plan, CYCLE_STEPS, params, ranges)
+    k = file_scale(plan)
     pos = dense.state.pos * k
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
@@ -289,8 +291,4 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     return fig, anim
 
 
-def is_spatial(plan) -> bool:
-    return getattr(plan, "dimension", 2) == 3
-
-
-__all__ = ["plotly_figure", "write_html", "html_fragment", "figure", "animation", "is_spatial", "link_polylines"]
+__all__ = ["plotly_figure", "write_html", "html_fragment", "figure", "animation", "link_polylines"]

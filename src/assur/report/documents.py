@@ -2,110 +2,102 @@
 
 The page (``out_dir/index.html``) is self-contained — summary tables, the figures as embedded PNG, an embedded
 animation of the meshing pair — and links to the CAD files (DXF, SVG) and tables (CSV, JSON) written beside it by
-the same pipeline as ``assur gears`` / ``assur wheelstep``. Everything is written atomically.
+the same pipeline as ``assur gears`` / ``assur wheelstep`` (:mod:`assur.report.bundles`). Everything is written
+atomically.
 """
 from __future__ import annotations
 
-import html
+import json
 import math
 from pathlib import Path
 
-from .html import _CSS, _png_tag, _section, _table
-
-MM = 1e3
-
-
-def _e(x) -> str:
-    return html.escape(str(x))
-
-
-def _mm(v, digits=4):
-    return "—" if v is None else f"{v * MM:.{digits}f} mm"
+from .page import escape, header, page, png_tag, section, table
+from .text import mm_text
 
 
 def _mesh_rows(label, s):
     fine = s.get("fine_scan") or {}
     where = fine.get("interference_driving_ranges") or s.get("interference_driving_ranges") or "—"
     return [label, "interferes" if s["interference"] else "runs clear", where if s["interference"] else "—",
-            _mm(max(s.get("max_penetration") or 0.0, fine.get("max_penetration") or 0.0), 3),
-            f"{_mm(s['backlash_min'], 3)} … {_mm(s['backlash_max'], 3)}" if s["backlash_min"] is not None else "—",
+            mm_text(max(s.get("max_penetration") or 0.0, fine.get("max_penetration") or 0.0), 3),
+            f"{mm_text(s['backlash_min'], 3)} … {mm_text(s['backlash_max'], 3)}" if s["backlash_min"] is not None else "—",
             f"{s['actual_ratio_min']:.4f} … {s['actual_ratio_max']:.4f}" if s["actual_ratio_min"] is not None else "—",
             f"{100 * s['max_ratio_deviation']:.2f} %" if s["max_ratio_deviation"] is not None else "—"]
 
 
 def _links(tmp: Path, prefix: str = "") -> str:
     files = sorted(p for p in tmp.rglob("*") if p.is_file() and p.suffix in (".dxf", ".svg", ".csv", ".json"))
-    items = [f'<a href="{_e(p.relative_to(tmp).as_posix())}">{_e(p.relative_to(tmp).as_posix())}</a>'
+    items = [f'<a href="{escape(p.relative_to(tmp).as_posix())}">{escape(p.relative_to(tmp).as_posix())}</a>'
              for p in files]
     return "<p>" + " · ".join(items) + "</p>"
 
 
 def _png(tmp: Path, name: str, alt: str) -> str:
     p = tmp / name
-    return _png_tag(p.read_bytes(), alt) if p.exists() else ""
+    return png_tag(p.read_bytes(), alt) if p.exists() else ""
 
 
 def _gears_html(s: dict, tmp: Path, rel: str, frames: int) -> str:
     body = []
     clo = s["closure"]
-    rows = [["centre distance", _mm(s["centre_distance"])],
+    rows = [["centre distance", mm_text(s["centre_distance"])],
             ["driving turns per driven turn", s["driving_turns"]],
-            ["pitch perimeters", f"{_mm(clo['driving_perimeter'])} / {_mm(clo['driven_perimeter'])} "
+            ["pitch perimeters", f"{mm_text(clo['driving_perimeter'])} / {mm_text(clo['driven_perimeter'])} "
                                  f"(ratio {clo['perimeter_ratio']:.6f})"],
             ["closure θ(2π·n)", f"{math.degrees(clo['law_end']):.6f}°"],
             ["speed ratio dθ/dφ", f"{s['ratio_range'][0]:.5f} … {s['ratio_range'][1]:.5f}"],
-            ["design teeth", f"{s['teeth'][0]} / {s['teeth'][1]}, module {_mm(s['module'], 3)}"]]
+            ["design teeth", f"{s['teeth'][0]} / {s['teeth'][1]}, module {mm_text(s['module'], 3)}"]]
     for g, c in s["curvature"].items():
         for k in c["corners"]:
             rows.append([f"{g} corner", f"body angle {math.degrees(k['angle']):.2f}°, tangent jump "
                                         f"{math.degrees(k['tangent_jump']):+.2f}°"])
-    body.append(_section("Pitch curves", _table(["quantity", "value"], rows) + _png(tmp, f"{rel}pitch.png",
+    body.append(section("Pitch curves", table(["quantity", "value"], rows) + _png(tmp, f"{rel}pitch.png",
                                                                                       "pitch curves")))
     env = s["envelope"]
-    txt = (f"<p>Rack-cutter envelope along the exact pitch curves: module {_mm(env['module'], 5)}, "
+    txt = (f"<p>Rack-cutter envelope along the exact pitch curves: module {mm_text(env['module'], 5)}, "
            f"{env['teeth'][0]} / {env['teeth'][1]} teeth.")
     if "envelope_rounding" in s:
         r = s["envelope_rounding"]
         txt += (f" The pitch-curve corners are rounded first (σ = {math.degrees(r['width']):.2f}° of the driving "
                 f"angle): the speed law changes by up to {100 * r['max_speed_deviation']:.2f} %.")
-    txt += "</p>" + "".join(f'<p class="note">{_e(n)}</p>' for n in env["notes"])
+    txt += "</p>" + "".join(f'<p class="note">{escape(n)}</p>' for n in env["notes"])
     mesh = [_mesh_rows("envelope teeth", env["mesh"])]
     if "sectors" in s:
         for L, m in s["sectors"]["mesh"].items():
             mesh.append(_mesh_rows(f"paper sector scheme, L = {L}", m))
-    table = _table(["outlines", "verdict", "where (driving angle)", "max penetration", "backlash",
+    checks = table(["outlines", "verdict", "where (driving angle)", "max penetration", "backlash",
                     "transmitted ratio", "max ratio deviation"], mesh)
-    body.append(_section("Teeth and mesh check", txt + table + _png(tmp, f"{rel}teeth_envelope.png", "teeth")
+    body.append(section("Teeth and mesh check", txt + checks + _png(tmp, f"{rel}teeth_envelope.png", "teeth")
                          + _png(tmp, f"{rel}speed_envelope.png", "speed law")))
     if "sectors" in s:
         sc = s["sectors"]
-        rows = [["sector arc s", _mm(sc["arc"], 6)],
+        rows = [["sector arc s", mm_text(sc["arc"], 6)],
                 ["radial steps > 2m", ", ".join(f"{a}–{b}" for a, b in sc["steps_exceeding_2m"]) or "none"],
                 ["working pressure angle", f"{math.degrees(sc['working_pressure_angle']):.3f}°"],
                 ["mover speed / nominal (sector ratio)", f"{sc['speed_ripple_sector'][0]:.4f} … "
                                                          f"{sc['speed_ripple_sector'][1]:.4f}"],
                 ["mover speed / nominal (involute pairs)", f"{sc['speed_ripple_involute'][0]:.4f} … "
                                                            f"{sc['speed_ripple_involute'][1]:.4f}"]]
-        import json
         t1 = json.loads((tmp / f"{rel}table1.json").read_text(encoding="utf-8"))
         cells = [[f"{int(r[0])}"] + [f"{v:.2f}" for v in r[1:]] for r in t1["rows"]]
-        t1_html = (f"<h3>{_e(t1['title'])}</h3>" + '<div class="scroll">'
-                   + _table(t1["columns"], cells, num_cols=tuple(range(len(t1["columns"])))) + "</div>")
-        body.append(_section("Paper sector scheme (reproduction mode)",
-                             _table(["quantity", "value"], rows) + t1_html
+        t1_html = (f"<h3>{escape(t1['title'])}</h3>" + '<div class="scroll">'
+                   + table(t1["columns"], cells, num_cols=tuple(range(len(t1["columns"])))) + "</div>")
+        body.append(section("Paper sector scheme (reproduction mode)",
+                             table(["quantity", "value"], rows) + t1_html
                              + _png(tmp, f"{rel}teeth_sectors.png", "sectors")
                              + _png(tmp, f"{rel}speed_sectors.png", "sector speed")))
     res = s["_results"]
     gt, cut_on, rep = res["envelope"]
-    from ..plot.figures import close, jshtml
+    from ..plot.animation import jshtml
+    from ..plot.draw import close
     from ..plot.gears import mesh_animation
     fig, anim = mesh_animation(gt.driving.xy, gt.driven.xy, cut_on, frames=frames, report=rep)
     import matplotlib
     with matplotlib.rc_context({"animation.embed_limit": 60.0}):
         js = jshtml(anim, fps=12)
     close(fig)
-    body.append(_section("Animation of the meshing pair (envelope teeth)", js))
-    body.append(_section("Files", _links(tmp / rel) if rel else _links(tmp)))
+    body.append(section("Animation of the meshing pair (envelope teeth)", js))
+    body.append(section("Files", _links(tmp / rel) if rel else _links(tmp)))
     return "\n".join(body)
 
 
@@ -113,9 +105,7 @@ def build_document_page(design, s: dict, tmp: Path, *, frames: int = 36, source:
     from .. import __version__
     from ..gears.design import GearDesign
     title = design.name or Path(source).stem
-    body = [f"<h1>{_e(title)}</h1>", f'<p class="meta">{_e(source)} — assur {_e(__version__)}</p>']
-    if design.description.strip():
-        body.append(f'<div class="desc">{_e(design.description.strip())}</div>')
+    body = header(title, f"{escape(source)} — assur {escape(__version__)}", design.description)
     if isinstance(design, GearDesign):
         body.append(_gears_html(s, tmp, "", frames))
     else:
@@ -126,22 +116,20 @@ def build_document_page(design, s: dict, tmp: Path, *, frames: int = 36, source:
                 ["X_II by eq. (10)", f"{s['X_II_eq10']:.4f} m"],
                 ["X_01 = X_I + X_II (eq. 4)", f"{s['X_01']:.4f} m"],
                 ["rolling share", f"{100 * s['rolling_share']:.2f} %"]]
-        body.append(_section("Support shoe and displacement budget", _table(["quantity", "value"], rows)
+        body.append(section("Support shoe and displacement budget", table(["quantity", "value"], rows)
                              + _png(tmp, "shoe.png", "shoe profile")))
         if "gears" in s:
             body.append("<h2>Gear drive</h2>")
             body.append(_gears_html(s["gears"], tmp, "gears/", frames))
         else:
-            body.append(_section("Files", _links(tmp)))
-    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{_e(title)}</title>\n"
-            f"<style>{_CSS}</style>\n</head>\n<body>\n" + "\n".join(body) + "\n</body>\n</html>\n")
+            body.append(section("Files", _links(tmp)))
+    return page(title, body)
 
 
 def write_document_report(path, out_dir, *, frames: int = 36, mesh_steps: int = 180) -> Path:
     """Write ``out_dir/index.html`` and the CAD/table files of the design document ``path`` (a gear pair or a
     wheel-step mover) atomically; returns the page's path."""
-    from ..cli.gears import run_gears, run_wheelstep
+    from .bundles import run_gears, run_wheelstep
     from ..gears.design import GearDesign, load_design
     from ..io.output import atomic_directory
     design = load_design(path)

@@ -1,0 +1,93 @@
+"""Argument checks and input reading shared by the commands: argparse types, output extensions, the
+``--range`` option, loading and compiling a file, and a TOML document's format.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from ..errors import SpecError
+from ..io.units import ANGLE, LENGTH
+
+PLOT_EXTENSIONS = (".png", ".svg", ".pdf", ".html")   # .html: interactive 3D view (spatial files)
+ANIMATION_EXTENSIONS = (".gif", ".mp4", ".html")
+
+
+def positive(minimum: int = 1):
+    """An argparse type: an integer of at least ``minimum``."""
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer: {text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}: {v}")
+        return v
+    return parse
+
+
+def positive_float(text):
+    """An argparse type: a positive finite number."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number: {text!r}") from None
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"must be a positive number: {text!r}")
+    return v
+
+
+def output_path(extensions):
+    """An argparse type: a path ending with one of ``extensions``."""
+    def parse(text):
+        ext = Path(text).suffix.lower()
+        if ext not in extensions:
+            raise argparse.ArgumentTypeError(f"the output must end with {', '.join(extensions)}: {text!r}")
+        return Path(text)
+    return parse
+
+
+def add_range(sp) -> None:
+    """The ``--range START STOP`` option (once per input) of a sub-parser."""
+    sp.add_argument("--range", nargs=2, type=float, action="append", metavar=("START", "STOP"),
+                    help="run an input from START to STOP (the file's angle or length unit); once per input, "
+                         "in driver order; needed for a linear input or several moving inputs")
+
+
+def input_ranges(plan, args):
+    """--range pairs (file units) → SI, one per input; None when not given."""
+    if not getattr(args, "range", None):
+        return None
+    u = plan.mechanism.units
+    if len(args.range) != plan.n_inputs:
+        raise SpecError([("--range", f"give one --range START STOP per input, in driver order "
+                                     f"({plan.n_inputs}: {', '.join(plan.input_names)}): {len(args.range)} given")])
+    out = []
+    for k, (a, b) in enumerate(args.range):
+        f = ANGLE[u.angle] if plan.input_kinds[k] == "rotary" else LENGTH[u.length]
+        out.append((a * f, b * f))
+    return out
+
+
+def load_mechanism(path):
+    """The mechanism of the file ``path``."""
+    from ..io.mechanism_file import load
+    return load(path)
+
+
+def compile_file(path):
+    """(mechanism, plan) of the file ``path``."""
+    from ..engine import compile as compile_
+    m = load_mechanism(path)
+    return m, compile_(m)
+
+
+def document_format(path) -> str:
+    """The top-level ``format`` key of a TOML document: "assur/1" (a mechanism, planar or spatial),
+    "assur-gears/1", "assur-wheelstep/1" or "assur-synth/1". A missing key reads as "assur/1" so that the
+    mechanism loader reports what is wrong with the file."""
+    from ..io.mechanism_file import read_toml
+    doc = read_toml(path)
+    fmt = doc.get("format", "assur/1")
+    return fmt if isinstance(fmt, str) else "assur/1"

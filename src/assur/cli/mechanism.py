@@ -1,0 +1,221 @@
+"""The commands on a mechanism file, planar or spatial: validate, info, solve, analyze, plot, animate,
+report (a report also takes a gear or wheel-step design). Each turns its arguments into calls of
+:mod:`assur.analysis`, :mod:`assur.plot` and :mod:`assur.report` and prints what they return; a file's
+dimension (``plan.dimension``) picks the planar or the spatial figures.
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..analysis.sampling import CYCLE_STEPS
+from ..errors import SpecError
+from ..io.output import atomic_file
+from .args import (ANIMATION_EXTENSIONS, PLOT_EXTENSIONS, add_range, compile_file, document_format, input_ranges,
+                   load_mechanism, output_path, positive, positive_float)
+
+
+def register(sub) -> None:
+    """Add the mechanism commands to the argparse sub-parsers ``sub``."""
+    def add(name, func, help_):
+        sp = sub.add_parser(name, help=help_, description=help_)
+        sp.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
+        sp.set_defaults(func=func)
+        return sp
+
+    add("validate", cmd_validate, "load and compile a mechanism file and report whether it is valid")
+    add("info", cmd_info, "structure (mobility, Assur groups, structural formula), parameters and drivers")
+    sp = add("solve", cmd_solve, "positions, velocities, accelerations and analogues over one turn")
+    sp.add_argument("--steps", type=positive(1), required=True, metavar="N", help="number of input positions")
+    sp.add_argument("--csv", type=Path, metavar="OUT", help="write every point's values to this CSV file")
+    sp.add_argument("--file-units", action="store_true",
+                    help="lengths in the file's unit and angles in degrees (default: SI, m and rad)")
+    add_range(sp)
+    sp = add("analyze", cmd_analyze, "buildability, transmission angles, dead centres and gait metrics")
+    sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
+                    help=f"samples per turn (default {CYCLE_STEPS})")
+    sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    sp = add("plot", cmd_plot, "a figure: paths, kinematic diagram, velocity and acceleration curves")
+    sp.add_argument("-o", "--output", type=output_path(PLOT_EXTENSIONS), required=True, metavar="OUT",
+                    help="output image (.png, .svg or .pdf; .html for an interactive 3D view of a spatial file)")
+    sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
+                    help=f"samples per turn (default {CYCLE_STEPS})")
+    sp.add_argument("--dpi", type=positive(10), default=100, help="resolution of a PNG (default 100)")
+    sp.add_argument("--positions", type=positive(1), default=6, metavar="K",
+                    help="positions drawn in the kinematic diagram (default 6)")
+    add_range(sp)
+    sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
+    sp.add_argument("-o", "--output", type=output_path(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
+                    help="output animation (.gif, .mp4 or .html)")
+    sp.add_argument("--frames", type=positive(2), default=60, metavar="N", help="frames per turn (default 60)")
+    sp.add_argument("--fps", type=positive_float, default=20.0, metavar="F", help="frames per second (default 20)")
+    add_range(sp)
+    sp = add("report", cmd_report, "one self-contained HTML page with the structure, analysis, plots and animation")
+    sp.add_argument("-o", "--output", type=Path, required=True, metavar="DIR", help="output directory (index.html)")
+    sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
+                    help=f"samples per turn (default {CYCLE_STEPS})")
+    sp.add_argument("--frames", type=positive(2), default=36, metavar="N",
+                    help="frames of the embedded animation (default 36)")
+    add_range(sp)
+
+
+def _emit(lines) -> None:
+    for line in lines:
+        print(line)
+
+
+def _title(m, path) -> str:
+    return m.name or Path(path).stem
+
+
+def cmd_validate(args) -> int:
+    """``assur validate FILE``: load and compile the file, print one line on it."""
+    from ..engine import compile as compile_
+    from ..report.text import validation_line
+    m = load_mechanism(args.file)
+    if m.dimension == 3 and not any(j.axis for j in m.joints):
+        from ..structure.assur import analyse
+        print(validation_line(args.file, m, structure=analyse(m)))
+        return 0
+    print(validation_line(args.file, m, compile_(m)))
+    return 0
+
+
+def cmd_info(args) -> int:
+    """``assur info FILE``: structure, parameters and drivers, each printed as soon as it is known (a file
+    that does not compile still shows its structure)."""
+    from ..analysis.overview import structure_summary
+    from ..engine import compile as compile_
+    from ..report import text
+    m = load_mechanism(args.file)
+    s = structure_summary(m)
+    _emit(text.info_head_lines(m, _title(m, args.file), args.file, s))
+    if m.dimension == 3:
+        _emit(text.point_lines(m))
+        if not any(j.axis for j in m.joints):
+            _emit(text.structural_description_lines(m))
+            return 0
+        plan = compile_(m)
+        _emit(text.spatial_plan_lines(plan) + text.parameter_lines(plan))
+        return 0
+    from ..structure.assur import analyse
+    _emit(text.group_lines(s, getattr(analyse(m), "undetermined", ())))
+    plan = compile_(m)
+    _emit(text.parameter_lines(plan) + text.gait_lines(m))
+    return 0
+
+
+def cmd_solve(args) -> int:
+    """``assur solve FILE --steps N``: solve a turn (or ``--range``), print an excerpt, write ``--csv``."""
+    from ..analysis.sampling import sweep_inputs, tracked_point
+    from ..engine import solve
+    from ..report import table
+    m, plan = compile_file(args.file)
+    q, moving, cyclic = sweep_inputs(plan, args.steps, input_ranges(plan, args))
+    state = solve(plan, None, q)
+    cols, _, _ = table.solve_columns(plan, args.file_units)
+    values = table.solve_table(plan, q, state, args.file_units)
+    what = (f"{len(q)} positions of {plan.input_names[moving]} over one turn" if cyclic
+            else f"{len(q)} samples of {', '.join(plan.input_names)} over the given range(s)")
+    spatial = " (spatial)" if plan.dimension == 3 else ""
+    print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled")
+    if plan.dimension == 3 and state.n_unbuildable:
+        from ..engine.spatial.numpy_backend import unbuildable_message
+        print("  " + unbuildable_message(plan, state.inputs, state.valid, state.status))
+    heads, row = table.excerpt(plan, state, values, tracked_point(plan), args.file_units)
+    _emit(table.excerpt_lines(heads, row, len(q), bool(args.csv)))
+    if args.csv:
+        table.write_csv(args.csv, cols, values)
+        print(f"wrote {args.csv} ({len(values)} rows × {len(cols)} columns, "
+              f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})")
+    return 0
+
+
+def cmd_analyze(args) -> int:
+    """``assur analyze FILE``: the analysis summary as text or ``--json``."""
+    from ..analysis.summary import analyze
+    from ..io.output import json_text
+    from ..report.text import analysis_lines
+    m, plan = compile_file(args.file)
+    summary = analyze(plan, steps=args.steps)
+    if args.json:
+        print(json_text({"file": str(args.file), **summary}))
+        return 0
+    print(f"{_title(m, args.file)}  [{args.file}]" + (" (spatial)" if plan.dimension == 3 else ""))
+    _emit(analysis_lines(summary, m.units))
+    return 0
+
+
+def cmd_plot(args) -> int:
+    """``assur plot FILE -o OUT``: the figure of a turn (a 3D view of a spatial file; .html: interactive)."""
+    from ..plot.draw import close
+    m, plan = compile_file(args.file)
+    ext = args.output.suffix.lower()
+    if plan.dimension != 3 and ext == ".html":
+        raise SpecError([("--output", "an .html view is for spatial mechanisms; use .png, .svg or .pdf")])
+    ranges = input_ranges(plan, args)
+    if plan.dimension == 3:
+        from ..plot import spatial as view
+        if ext == ".html":
+            fig = view.plotly_figure(plan, args.steps, positions=args.positions, ranges=ranges)
+            with atomic_file(args.output) as tmp:
+                view.write_html(fig, tmp, title=plan.mechanism.name)
+            print(f"wrote {args.output}")
+            return 0
+        fig = view.figure(plan, args.steps, positions=args.positions, ranges=ranges, dpi=args.dpi)
+    else:
+        from ..plot.figures import mechanism_figure
+        fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi)
+    try:
+        with atomic_file(args.output) as tmp:
+            fig.savefig(tmp, format=ext[1:], dpi=args.dpi)
+    finally:
+        close(fig)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_animate(args) -> int:
+    """``assur animate FILE -o OUT``: an animation of a turn as GIF, MP4 or HTML."""
+    from ..plot.animation import save_animation
+    from ..plot.draw import close
+    from ..report.text import format_number
+    m, plan = compile_file(args.file)
+    ranges = input_ranges(plan, args)
+    if plan.dimension == 3:
+        from ..plot import spatial as view
+        if args.output.suffix.lower() in (".html", ".htm"):
+            fig = view.plotly_figure(plan, frames=args.frames, ranges=ranges)
+            with atomic_file(args.output) as tmp:
+                view.write_html(fig, tmp, title=plan.mechanism.name)
+            print(f"wrote {args.output} ({args.frames} frames at {format_number(args.fps)} fps)")
+            return 0
+        fig, anim = view.animation(plan, args.frames, args.fps, ranges=ranges)
+    else:
+        from ..plot.animation import animation
+        fig, anim = animation(plan, args.frames, args.fps, ranges=ranges)
+
+    def show(i, n):
+        print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
+    try:
+        with atomic_file(args.output) as tmp:
+            save_animation(anim, tmp, args.fps, progress=show if sys.stderr.isatty() else None)
+    finally:
+        close(fig)
+    print(f"wrote {args.output} ({args.frames} frames at {format_number(args.fps)} fps)")
+    return 0
+
+
+def cmd_report(args) -> int:
+    """``assur report FILE -o DIR``: the page of a mechanism or of a gear or wheel-step design."""
+    if document_format(args.file) in ("assur-gears/1", "assur-wheelstep/1"):
+        from ..report.documents import write_document_report
+        path = write_document_report(args.file, args.output, frames=args.frames)
+        print(f"wrote {path}")
+        return 0
+    from ..report.mechanism import write_report
+    m, plan = compile_file(args.file)
+    path = write_report(plan, args.output, steps=args.steps, frames=args.frames, ranges=input_ranges(plan, args),
+                        source=str(args.file))
+    print(f"wrote {path}")
+    return 0

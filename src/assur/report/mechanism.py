@@ -1,0 +1,296 @@
+"""``assur report``: one self-contained HTML page about a mechanism, planar or spatial.
+
+The page holds the structure (mobility, Assur groups, structural formula), the parameters, the
+analysis summary (buildability, transmission angles, dead centres, gait and walking-module metrics; a
+spatial mechanism's dyads), the figure panels as embedded PNG, an animation (planar: embedded
+``to_jshtml``; spatial: an interactive 3D view, plotly.js inlined) and a table of positions. The
+analysis, the figures and the animation's path share one solved turn of
+:data:`~assur.analysis.sampling.CYCLE_STEPS` samples (or ``steps``). Nothing refers to an external file
+or the network. The page is written into a temporary directory next to the output and moved into
+place, so a failure leaves nothing behind.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..analysis.sampling import CYCLE_STEPS
+from ..analysis.summary import summarize
+from ..errors import SpecError
+from ..io.units import LENGTH
+from .page import escape, header, page, png_tag, section, table
+from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, gait_rows, parameter_rows, phases_text,
+                   roman, speed_text)
+
+__all__ = ["build_report", "write_report"]
+
+
+# -- sections of both pages ------------------------------------------------------------------------
+def structure_html(summary: dict) -> str:
+    """Mobility, pairs, drivers, the Assur groups and the structural formula of a summary."""
+    s = summary
+    pairs = ", ".join(f"{k} = {v}" for k, v in s["pairs"].items())
+    parts = [f'<p>Mobility ({escape(s["formula"])}): <span class="formula">{escape(s["mobility_formula"])}</span></p>',
+             f"<p>Moving links n = {s['moving_links']}; kinematic pairs {escape(pairs)}; drivers: "
+             f"{escape(', '.join(s['drivers']) or 'none')}.</p>"]
+    if s["groups"]:
+        rows = []
+        for i, g in enumerate(s["groups"], 1):
+            n = dyad_kind_number(g["kind"])
+            kind = f"{g['kind']} (kind {n})" if n else g["kind"]
+            rows.append((i, roman(g["class"]), g["order"], kind, ", ".join(g["bodies"]), ", ".join(g["attaches_to"])))
+        parts.append(table(["#", "class", "order", "kind", "bodies", "attached to"], rows, num_cols=(0, 2)))
+    if s.get("structural_formula"):
+        parts.append(f'<p>Structural formula: <span class="formula">{escape(s["structural_formula"])}</span><br>'
+                     f'numbered (frame 0, links in file order): '
+                     f'<span class="formula">{escape(s["structural_formula_numbered"])}</span></p>')
+    return "\n".join(parts)
+
+
+def parameters_html(plan) -> str:
+    """The parameters in the file's units and in SI."""
+    return table(["parameter", "value", "unit", "SI value", "SI unit"], parameter_rows(plan), num_cols=(1, 3))
+
+
+def drivers_html(plan) -> str:
+    """What each driver drives, and its speed."""
+    m = plan.mechanism
+    rows = []
+    for d in m.drivers:
+        if d.kind == "rotary":
+            what = f"link {d.link} about {d.pivot} (arm {d.arm}), {'ccw' if d.sense > 0 else 'cw'}"
+        else:
+            what = f"actuator {d.actuator}"
+        rows.append((d.name, d.kind, what, speed_text(d.kind, d.speed, m.units)))
+    return table(["driver", "kind", "", "speed"], rows)
+
+
+def analysis_html(summary: dict, plan) -> str:
+    """The analysis of a summary: a stroke, or buildability, transmission angles, dead centres and gait."""
+    s = summary
+    u = plan.mechanism.units
+    kL = 1.0 / LENGTH[u.length]
+    Lu = u.length
+    parts = []
+    if s.get("note"):
+        parts.append(f'<p class="note">{escape(s["note"])}</p>')
+    act = s.get("actuators")
+    if act:   # a linear driver's working stroke
+        return "\n".join(parts + _stroke_html(act, plan, 1.0 / kL, Lu))
+    if s.get("unbuildable") is None:
+        return "\n".join(parts)
+    steps = s.get("steps")
+    if s.get("full_rotation"):
+        parts.append(f'<p>Buildability: <span class="ok">the crank turns fully</span> '
+                     f'(0 of {steps} positions unbuildable).</p>')
+    else:
+        rng = ", ".join(f"{deg_text(r['start'], 1)} … {deg_text(r['end'], 1)}" for r in s.get("buildable_ranges", []))
+        parts.append(f'<p>Buildability: <span class="bad">the crank cannot turn fully</span>: '
+                     f'{s["unbuildable"]} of {steps} positions cannot be assembled (unbuildable: {s["unbuildable"]}). '
+                     + (f"Buildable ranges: {escape(rng)}." if rng else "No position can be assembled.") + "</p>")
+    ta = s.get("transmission_angles") or {}
+    if ta:
+        rows = [(k, deg_text(t["min"]), deg_text(t["max"]), deg_text(t["worst_deviation_from_90"]))
+                for k, t in ta.items()]
+        parts.append("<h3>Transmission angles</h3>")
+        parts.append(table(["dyad (solved point)", "min μ", "max μ", "worst deviation from 90°"], rows,
+                           num_cols=(1, 2, 3)))
+    dc = s.get("dead_centres") or []
+    parts.append("<h3>Dead centres</h3>")
+    if dc:
+        parts.append(table(["crank angle", "kind", "link"], [(deg_text(d["angle"]), d["kind"], d["link"]) for d in dc],
+                           num_cols=(0,)))
+    else:
+        parts.append('<p class="note">none found</p>')
+    g = s.get("gait")
+    if g:
+        parts.append(f"<h3>Gait of foot {escape(g['foot'])}</h3>")
+        parts.append(table(["quantity", "value", "unit"], gait_rows(g, 1.0 / kL, Lu), num_cols=(1,)))
+    elif s.get("gait_error"):
+        parts.append(f'<h3>Gait</h3><p class="note">not available: {escape(s["gait_error"])}</p>')
+    return "\n".join(parts)
+
+
+def _stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list[str]:
+    """A linear driver's working stroke: the envelope tables and the actuator figure."""
+    rows = actuator_rows(act, length_factor, length_unit)
+    parts = [f"<p>{escape(line)}</p>" for line in rows["stroke"]]
+    if rows["lever"]:
+        parts.append("<h3>Lever manipulator (paper 002 parametrisation)</h3>")
+        parts.append(table(["quantity", "value", "unit"], rows["lever"], num_cols=(1,)))
+    parts.append("<h3>Stroke envelope</h3>")
+    parts.append('<p class="note">Extremes along the stroke; interior ones located by a root of the '
+                 "derivative.</p>")
+    parts.append('<div class="scroll">' + table(["rod", "quantity", "min (where)", "max (where)",
+                                                 "interior extrema", "unit"], rows["extremes"]) + "</div>")
+    if rows["pairs"]:
+        parts.append("<h3>Rods hinged at one joint</h3>")
+        parts.append(table(["quantity", "value", "note"], rows["pairs"], num_cols=(1,)))
+    try:
+        from ..plot.actuators import actuator_figure
+        from ..plot.draw import close, figure_png
+        fig = actuator_figure(plan)
+        parts.append(png_tag(figure_png(fig, dpi=80), "angular velocities and accelerations of the rods, "
+                                                      "K_ω and length changes along the stroke"))
+        close(fig)
+    except SpecError as exc:
+        parts.append(f'<p class="note">no actuator figure: {escape(exc)}</p>')
+    return parts
+
+
+def module_html(summary: dict, plan, gait, steps: int) -> str:
+    """The walking module's feet on the ground (``gait``: the leg's GaitMetrics), '' for a single leg."""
+    mod = summary.get("module")
+    if not mod:
+        return ""
+    rows = [("legs (phases)", phases_text(mod["phases"])),
+            ("feet on the ground: min", mod["min_feet"]), ("feet on the ground: max", mod["max_feet"]),
+            ("feet on the ground: mean", f"{mod['mean_feet']:.3f}"),
+            ("airborne share of the cycle", f"{100 * mod['airborne_fraction']:.1f} %")]
+    from ..plot.draw import close, figure_png
+    from ..plot.figures import timeline_figure
+    fig = timeline_figure(plan, gait, plan.mechanism.gait.phases, steps)
+    out = [table(["walking module", "value"], rows, num_cols=(1,)),
+           png_tag(figure_png(fig, dpi=90), "feet on the ground over one turn")]
+    close(fig)
+    return "\n".join(out)
+
+
+def positions_html(plan, n: int = 12, ranges=None) -> str:
+    """A table of the positions of every point at ``n`` inputs (12 crank angles: every 30°)."""
+    from ..plot.figures import sample
+    try:
+        sw = sample(plan, n, ranges=ranges)
+    except SpecError as exc:
+        return f'<p class="note">{escape(exc)}</p>'
+    u = plan.mechanism.units
+    kL = 1.0 / LENGTH[u.length]
+    axes = "xyz"[:plan.dimension]
+    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{u.length}]" for p in plan.point_names for c in axes]
+    rows = []
+    for i in range(sw.n):
+        r = [f"{sw.axis[i]:.4g}", "yes" if sw.state.valid[i] else "no"]
+        r += [format_number(v * kL, 6) for v in sw.state.pos[i].reshape(-1)]
+        rows.append(r)
+    return '<div class="scroll">' + table(head, rows, num_cols=tuple(range(2, len(head))) + (0,)) + "</div>"
+
+
+# -- the planar page -------------------------------------------------------------------------------
+def _planar_figures(plan, run, gait, frames: int, ranges) -> tuple[str, str]:
+    """(figure panels, embedded animation) of the solved run ``run`` (``gait``: its GaitCurves) as HTML."""
+    from ..plot.animation import animation, jshtml
+    from ..plot.draw import close, figure_png
+    from ..plot.figures import mechanism_figure
+    fig = mechanism_figure(plan, sweep=run, gait=gait)
+    panels = png_tag(figure_png(fig, dpi=90), "paths, kinematic diagram, velocity and acceleration")
+    close(fig)
+    fig, anim = animation(plan, frames, fps=12, ranges=ranges, figsize=(5.6, 5.6), dpi=72, path=run)
+    import matplotlib
+    with matplotlib.rc_context({"animation.embed_limit": 60.0}):
+        js = jshtml(anim, fps=12)
+    close(fig)
+    return panels, js
+
+
+def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges) -> list[str]:
+    summary = an.summary
+    out = [section("Structure", structure_html(summary)),
+           section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
+           section("Analysis", analysis_html(summary, plan))]
+    mod = module_html(summary, plan, an.gait, steps)
+    if mod:
+        out.append(section("Walking module", mod))
+    return out + [section("Plots", panels), section("Animation", anim),
+                  section("Positions", positions_html(plan, 12, ranges))]
+
+
+# -- the spatial page -------------------------------------------------------------------------------
+def joints_html(plan) -> str:
+    """The joints of a spatial mechanism with their axes."""
+    rows = []
+    for j in plan.mechanism.joints:
+        ax = "" if j.axis is None else "[" + ", ".join(format_number(c, 6) for c in j.axis) + "]"
+        rows.append((j.point, j.kind, ax))
+    return table(["point", "joint", "axis (revolute; pin of a universal joint)"], rows)
+
+
+def dyads_html(summary: dict) -> str:
+    """Each R–S–S dyad's branch, swing, transmission angles and dead centres."""
+    parts = []
+    for s in summary.get("dyads", []):
+        w = ", ".join(f"{v:+.0f}" for v in s["paper_w"]) or "undefined (V3_X = 0)"
+        rows = [("assembly branch s = sign det[A − D, e, B − D]", f"{s['branch_s']:+d}"),
+                ("the paper's W of eq. (21) (= s·sign V3_X)", w),
+                ("V3_X changes sign over the turn (a fixed W would jump)", "yes" if s["v3x_changes_sign"] else "no"),
+                ("rocker angle θ4 min", deg_text(s["rocker_angle_min"], 4)),
+                ("rocker angle θ4 max", deg_text(s["rocker_angle_max"], 4)),
+                ("rocker swing", deg_text(s["swing"], 4)),
+                ("transmission angle μ_int min … max",
+                 f"{deg_text(s['mu_int_min'], 3)} … {deg_text(s['mu_int_max'], 3)}"),
+                ("effective transmission angle μ_T min … max",
+                 f"{deg_text(s['mu_t_min'], 3)} … {deg_text(s['mu_t_max'], 3)}")]
+        rows += [(f"dead centre ({c['kind']})", f"crank {deg_text(c['angle'], 6)}, θ4 = {deg_text(c['rocker_angle'], 4)}")
+                 for c in s["dead_centres"]]
+        parts.append(f"<h3>Dyad solving {escape(s['point'])} (rocker {escape(s['rocker'])}, coupler "
+                     f"{escape(s['coupler'])})</h3>")
+        parts.append(table(["quantity", "value"], rows, num_cols=(1,)))
+    return "\n".join(parts)
+
+
+def _spatial_figures(plan, run, gait, frames: int, ranges) -> tuple[str, str]:
+    """(static figure as PNG, interactive 3D view with its animation) of the solved run ``run`` as HTML."""
+    from ..plot import spatial as view
+    from ..plot.draw import close, figure_png
+    fig = view.figure(plan, sweep=run)
+    panels = png_tag(figure_png(fig, dpi=90), "3D view with paths and projections; rocker and transmission angles")
+    close(fig)
+    pfig = view.plotly_figure(plan, frames=frames, ranges=ranges, sweep=run)
+    return panels, view.html_fragment(pfig, include_plotlyjs=True, div_id="view3d")
+
+
+def _spatial_sections(plan, an, panels: str, view: str, steps: int, ranges) -> list[str]:
+    summary = an.summary
+    return [section("Structure", structure_html(summary) + "\n" + joints_html(plan)),
+            section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
+            section("Analysis", analysis_html(summary, plan) + "\n" + dyads_html(summary)),
+            section("3D view and animation", '<p class="note">Drag to rotate, scroll to zoom; ▶ play animates '
+                                             "the mechanism. Dotted: the paths projected on the coordinate "
+                                             "planes (paper 003, Fig. 2–3).</p>\n" + view),
+            section("Plots", panels),
+            section("Positions", positions_html(plan, 12, ranges))]
+
+
+# -- the page ---------------------------------------------------------------------------------------
+def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None, source: str | None = None) -> str:
+    """The report page of a compiled mechanism (planar or spatial) as one HTML string. ``steps``: samples
+    of the turn (or of ``ranges``, one (start, stop) per input, SI) that the analysis, the figures and the
+    animation's path share; ``frames``: positions of the animation."""
+    from .. import __version__
+    from ..plot.figures import Sweep, sample
+    spatial = plan.dimension == 3
+    an = summarize(plan, steps=steps)
+    shared = an.cycle is not None and ranges is None      # the figures draw the analysed turn
+    try:
+        run = Sweep.of_cycle(an.cycle) if shared else sample(plan, steps, ranges=ranges)
+        figures = (_spatial_figures if spatial else _planar_figures)(plan, run, an.gait_curves if shared else None,
+                                                                      frames, ranges)
+    except SpecError as exc:    # nothing to draw (a linear input without a stroke, no position assembles)
+        note = f'<p class="note">no figures: {escape(exc)}</p>'
+        figures = (note, note)
+    body = (_spatial_sections if spatial else _planar_sections)(plan, an, *figures, steps, ranges)
+    m = plan.mechanism
+    title = m.name or (Path(source).stem if source else "mechanism")
+    kind = " — spatial (dimension = 3)" if spatial else ""
+    meta = (f"{escape(source or '')}{kind} — units: length {escape(m.units.length)}, angle {escape(m.units.angle)} "
+            f"— assur {escape(__version__)}")
+    return page(title, header(title, meta, m.description) + body)
+
+
+def write_report(plan, out_dir, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None,
+                 source: str | None = None) -> Path:
+    """Write ``out_dir/index.html`` atomically (``io.output.atomic_directory``): on failure nothing is
+    left behind. Returns the page's path."""
+    from ..io.output import atomic_directory
+    with atomic_directory(out_dir) as tmp:
+        page_text = build_report(plan, steps=steps, frames=frames, ranges=ranges, source=source)
+        (tmp / "index.html").write_text(page_text, encoding="utf-8")
+    return Path(out_dir) / "index.html"
