@@ -261,14 +261,14 @@ def part_a(args):
         agree.append((name, dmax, rel, bool(np.array_equal(np.isnan(a), np.isnan(b)))))
 
     # ---- timings ----
-    from assur.compiled_backend import path_objective
+    from assur.engine.planar.numba_backend import path_objective
     from assur.tolerances import DEFAULT
     params = ev.params(X)
     cycle = np.linspace(0.0, TWO_PI, 360, endpoint=False)
     engines = {
         "assur Evaluator (chunk 512, default)": lambda: ev(X),
         f"assur Evaluator (one chunk of {len(X)})": lambda: ev_one(X),
-        "assur kernel only (compiled_backend.path_objective)": lambda: path_objective(
+        "assur kernel only (numba_backend.path_objective)": lambda: path_objective(
             problem.plan, params, q[None, :], xy, t.point, cycle, DEFAULT.radicand),
         "pylinkage simulate_batch + objective": lambda: pl.batch_objective(X, steps, xy),
         "pylinkage PSO objective (per particle)": lambda: pl.pso_objective(Xp, fitness),
@@ -487,7 +487,7 @@ def report(args, A, B, walker, seconds):
         md.append("")
         ra = A["rates"]["assur Evaluator (chunk 512, default)"]
         r1 = A["rates"][f"assur Evaluator (one chunk of {len(A['X'])})"]
-        rk = A["rates"]["assur kernel only (compiled_backend.path_objective)"]
+        rk = A["rates"]["assur kernel only (numba_backend.path_objective)"]
         rb = A["rates"]["pylinkage simulate_batch + objective"]
         rp = A["rates"]["pylinkage PSO objective (per particle)"]
         md.append("| ratio (at min / at median) | value | target |")

@@ -136,7 +136,7 @@ speed = "20 mm/s"
 def test_layouts_designs_by_inputs_and_per_sample():
     """Designs × inputs (separable) runs compiled; one design per sample (not separable) falls back
     to numpy: both give the numpy backend's numbers."""
-    from assur.compiled_backend import separable
+    from assur.engine.planar.numba_backend import separable
     assert separable((40, 1), (97,), (40, 97)) == 1
     assert separable((), (97,), (97,)) == 0
     assert separable((97,), (97,), (97,)) is None

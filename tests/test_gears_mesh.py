@@ -65,6 +65,7 @@ def test_polygon_outlines_give_the_same_check(circular_pair):
     assert a["backlash_min"] == pytest.approx(b["backlash_min"], rel=0.02)
 
 
+@pytest.mark.slow
 def test_elliptic_pair_runs_with_the_law():
     a, e = 0.04, 0.3
     K = (1 + e) / (1 - e)
@@ -87,6 +88,7 @@ def test_elliptic_pair_runs_with_the_law():
 from hypothesis import given, settings, strategies as st
 
 
+@pytest.mark.slow
 @settings(max_examples=4, deadline=None)
 @given(z1=st.integers(18, 30), factor=st.integers(1, 3), backlash=st.floats(0.02, 0.1),
        alpha_deg=st.sampled_from([17.5, 20.0, 22.5, 25.0]))

@@ -235,6 +235,7 @@ def test_sector_outline_mirror_symmetry(outline):
         assert cKDTree(xy).query(mirrored)[0].max() < 1e-9
 
 
+@pytest.mark.slow
 def test_printed_scheme_interferes_near_the_step_ends(model, outline):
     """Spec B6.9: with relieved linking lines at L_p the rigid outlines of the printed scheme admit no driven
     position near |θ| ≈ 72–79° (asserted at θ = 75°, a 5° scan), and run with play at 60° and 90°. The colliding

@@ -63,6 +63,7 @@ def tooth_thickness_at(g, radius, z):
     return inside.sum() * (fine[1] - fine[0])
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None)
 @given(z=st.integers(18, 60), alpha_deg=st.floats(17.0, 25.0), backlash=st.floats(0.0, 0.1))
 def test_circular_tooth_thickness_and_symmetry(z, alpha_deg, backlash):

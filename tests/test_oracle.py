@@ -448,6 +448,7 @@ def test_triad_sixbar_is_decomposed_into_a_class_three_group():
     assert [st.kind for st in plan.steps] == ["frame", "crank", "newton"]
 
 
+@pytest.mark.slow
 def test_triad_sixbar_solution_satisfies_constraints_and_differences():
     m = assur.loads(m_triad())
     plan = assur.compile(m)

@@ -12,7 +12,7 @@ from assur.cli.main import main
 from browser import needs_browser, run_browser, screenshot_is_a_real_page
 
 ROOT = Path(__file__).resolve().parents[1]
-pytestmark = needs_browser
+pytestmark = [needs_browser, pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")

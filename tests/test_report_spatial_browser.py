@@ -18,7 +18,7 @@ from browser import needs_browser
 ROOT = Path(__file__).resolve().parents[1]
 JS_ERROR = re.compile(r"CONSOLE.*(Uncaught|TypeError|ReferenceError|SyntaxError|WebGL is not supported)")
 
-pytestmark = needs_browser
+pytestmark = [needs_browser, pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")

@@ -2,9 +2,12 @@
 import runpy
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.slow
 def test_reproduction_document_is_current():
     generate = runpy.run_path(str(ROOT / "docs" / "reproduction.py"))["generate"]
     assert (ROOT / "docs" / "reproduction.md").read_text(encoding="utf-8") == generate(), \

@@ -16,7 +16,7 @@ import assur
 from assur.analysis.spatial import analyze_spatial, dyads, rocker_angle
 from assur.errors import StructureError, UnbuildableError, UnbuildableWarning
 from assur.kernels import spatial as V
-from mechanisms import rssr
+from conftest import rssr
 
 ROOT = Path(__file__).resolve().parents[1]
 P003 = (ROOT / "examples" / "rssr.toml").read_text(encoding="utf-8")

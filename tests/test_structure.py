@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 import assur
-from mechanisms import rssr
+from conftest import rssr
 from assur import GroupKind
 from assur.structure import mobility_chebyshev, mobility_somov_malyshev
 

@@ -203,6 +203,7 @@ def _recheck(case, r):
     return f
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case,settings,threshold", [
     # §2.1: "a cheap seeded regression test uses the threshold f < 1e-6"
     ("C1", dict(seed=7, starts=4, budget=240_000, popsize=15, target=1e-20), 1e-6),

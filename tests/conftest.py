@@ -1,0 +1,46 @@
+"""Shared test data: the mechanism texts several test modules use, and fixtures for them.
+
+The texts are plain functions too (``from conftest import rssr``) because some modules build module-level
+constants from them.
+
+Markers (registered in pyproject.toml): ``slow`` marks the seeded optimiser threshold runs, the Dask cluster
+and headless-Chromium tests, the reproduction page and anything else over about 5 s; the quick loop is
+``pytest -m "not slow"``, ``make test`` runs everything.
+"""
+import pytest
+
+_RSSR_POINTS = {"A0": (0, 0, 0), "D0": (1, 0, 0.3), "A": (0.2, 0.1, 0), "B": (0.9, 0.7, 0.5)}
+
+
+def rssr(unit: str = "m", scale: float = 1.0, driver: bool = True) -> str:
+    """A spatial RSSR crank-rocker (revolutes at A0 and D0, spherical joints at A and B):
+    Somov–Malyshev W = 6·3 − 5·2 − 3·2 = 2 (one idle spin of the coupler). Coordinates are the points
+    above times ``scale``, written in ``unit``; ``driver`` adds the crank's rotary driver."""
+    pts = "\n".join(f"{n} = [{', '.join(f'{c * scale:g}' for c in xyz)}]" for n, xyz in _RSSR_POINTS.items())
+    text = f"""
+format = "assur/1"
+dimension = 3
+[units]
+length = "{unit}"
+angle = "deg"
+[points]
+{pts}
+[links]
+frame = ["A0", "D0"]
+crank = ["A0", "A"]
+coupler = ["A", "B"]
+rocker = ["D0", "B"]
+[joints]
+A = "spherical"
+B = "spherical"
+"""
+    if driver:
+        text += '[[drivers]]\nname = "crank"\nlink = "crank"\npivot = "A0"\narm = "A"\n'
+    return text
+
+
+@pytest.fixture
+def rssr_text():
+    """The :func:`rssr` text builder: ``rssr_text(unit="m", scale=1.0, driver=True) -> str``."""
+    return rssr
+
