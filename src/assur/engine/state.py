@@ -50,8 +50,40 @@ def _move_xy(a, n_extra):
     return out
 
 
+class StateBase:
+    """What planar and spatial states share: the batch shape, the singular samples and the views."""
+    __slots__ = ()
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The batch shape (...)."""
+        return self.valid.shape
+
+    # -- positions and analogues -----------------------------------------------------------------
+    @property
+    def singular(self) -> np.ndarray | None:
+        """(...) bool: assembled (``valid``) but at a singular position — a toggle or a change point,
+        where two assemblies meet — so the analogues, velocities and accelerations are not finite
+        there; None with order 0."""
+        d = self.dpos_dq
+        if d is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
+        return self.valid & ~finite
+
+    # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
+    def point(self, name: str) -> "PointView":
+        """Everything about one point: ``state.point('H').vel`` has shape (..., dim)."""
+        return PointView(self, self.plan.point_index(name))
+
+    def body(self, name: str) -> int:
+        """The index of a body (into the body axis of ``body_angle`` …)."""
+        return self.plan.body_names.index(name)
+
+
 @dataclass(frozen=True)
-class State:
+class State(StateBase):
     """The solved state of a planar batch (shapes in the module docstring)."""
     dimension = 2
     plan: object
@@ -78,12 +110,6 @@ class State:
     def _np(self) -> int:
         return len(self.plan.point_names)
 
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The batch shape (...)."""
-        return self.valid.shape
-
-    # -- positions and analogues -----------------------------------------------------------------
     @property
     def pos(self) -> np.ndarray:
         """(..., n_points, 2) positions (m)."""
@@ -154,19 +180,6 @@ class State:
             return None
         return _xy(self._rate(self._dz[..., : self._np, :], self._d2z[..., : self._np, :, :])[1])
 
-    @property
-    def singular(self) -> np.ndarray | None:
-        """(...) bool: assembled (``valid``) but at a singular position — a toggle or a change point,
-        where two assemblies meet — so the analogues, velocities and accelerations are not finite
-        there; None with order 0."""
-        d = self.dpos_dq
-        if d is None:
-            return None
-        with np.errstate(invalid="ignore"):
-            finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
-        return self.valid & ~finite
-
-    # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
     def _theta_jets(self):
         if self._complete is not None:
             return self._complete.get()._theta_jets()
@@ -208,17 +221,8 @@ class State:
                 + np.einsum("...bkl,...k,...l->...b", d2, self.qdot, self.qdot))
 
     # -- conveniences ------------------------------------------------------------------------------
-    def point(self, name: str) -> "PointView":
-        """Everything about one point: ``state.point('H').vel`` has shape (..., 2)."""
-        return PointView(self, self.plan.point_index(name))
-
-    def body(self, name: str) -> int:
-        """The index of a body (into the body axis of ``body_angle`` …)."""
-        return self.plan.body_names.index(name)
-
-
 @dataclass(frozen=True)
-class SpatialState:
+class SpatialState(StateBase):
     """The solved state of a spatial batch. Shapes: ``pos``, ``vel``, ``acc`` (..., n_points, 3);
     ``dpos_dq`` (..., n_points, 3, n_inputs); ``d2pos_dq2`` (..., n_points, 3, n_inputs, n_inputs);
     ``valid`` (...); ``body_frame`` (..., n_bodies, 3, 3) with columns the body's unit axes (NaN for
@@ -242,11 +246,6 @@ class SpatialState:
     status: dict = field(repr=False, default_factory=dict)
 
     @property
-    def shape(self):
-        """The batch shape (...)."""
-        return self.valid.shape
-
-    @property
     def vel(self):
         """(..., n_points, 3) velocities (m/s) at the input rates ``qdot``; None with order 0."""
         if self.dpos_dq is None:
@@ -260,18 +259,6 @@ class SpatialState:
             return None
         return (np.einsum("...k,...k->...", self.dpos_dq, self.qddot)
                 + np.einsum("...kl,...k,...l->...", self.d2pos_dq2, self.qdot, self.qdot))
-
-    @property
-    def singular(self) -> np.ndarray | None:
-        """(...) bool: assembled (``valid``) but at a singular position — a toggle or a change point,
-        where two assemblies meet — so the analogues, velocities and accelerations are not finite
-        there; None with order 0."""
-        d = self.dpos_dq
-        if d is None:
-            return None
-        with np.errstate(invalid="ignore"):
-            finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
-        return self.valid & ~finite
 
     def _frame_rate(self, d1, d2=None):
         R = self.body_frame
@@ -296,15 +283,6 @@ class SpatialState:
         d1 = np.einsum("...ijk,...k->...ij", self.dframe_dq, self.qddot)
         d2 = np.einsum("...ijkl,...k,...l->...ij", self.d2frame_dq2, self.qdot, self.qdot) + d1
         return self._frame_rate(None, d2)
-
-    def point(self, name: str) -> "PointView":
-        """Everything about one point: ``state.point('P3').vel`` has shape (..., 3)."""
-        return PointView(self, self.plan.point_index(name))
-
-    def body(self, name: str) -> int:
-        """The index of a body (into the body axis of ``body_angle`` …)."""
-        return self.plan.body_names.index(name)
-
 
 @dataclass(frozen=True)
 class PointView:

@@ -106,7 +106,6 @@ class Structure:
 
     def _formula(self, label, numbered: bool) -> str:
         """A driven actuator (cylinder + rod of given length) is one member, named once."""
-        roman = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}
         driven = {b: d.bodies[0] for d in self.drivers if d.kind == "linear" for b in d.bodies}
         bodies = self.graph.bodies
 
@@ -125,7 +124,7 @@ class Structure:
         for d in self.drivers:
             parts.append(f"I({', '.join([label(0)] + names(d.bodies))})")
         for g in self.groups:
-            parts.append(f"{roman.get(g.group_class, str(g.group_class))}({', '.join(names(g.bodies))})")
+            parts.append(f"{roman(g.group_class)}({', '.join(names(g.bodies))})")
         return " → ".join(parts)
 
     def describe(self) -> list[dict]:
@@ -137,6 +136,11 @@ class Structure:
                 "attaches_to": [self.body_label(b) for b in g.attaches_to],
             })
         return out
+
+
+def roman(n: int) -> str:
+    """The papers' class numeral of a group (I … VI; larger classes as digits)."""
+    return {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}.get(n, str(n))
 
 
 def mobility_chebyshev(n: int, p5: int, p4: int = 0) -> int:

@@ -92,22 +92,7 @@ def _rss(c: Context, st):
     c.status.append((Bp, status))
     Bv = Dv + V.scale(lr, e43)                               # (24), (25)
     c.pos[Bp] = Bv
-    u_r = V.ort(e43 - V.scale(V.dot(e43, e), e))
-    c.frames[st.body] = (u_r, V.cross(e, u_r), e)
-    c.place_extra(Dv, c.frames[st.body], r_extra)
-    kind = c.plan.body_frames[ci]
-    if kind[0] == "coupler":
-        _, U, other, pin_body, pin_local = kind
-        fr = c.frames[pin_body]
-        pin = V.scale(pin_local[0], fr[0]) + V.scale(pin_local[1], fr[1]) + V.scale(pin_local[2], fr[2])
-        ex = V.ort(c.pos[U] - c.pos[other])                  # (27)
-        ez = V.ort(V.cross(pin, ex))                         # (29), β1 = β2 = 90°, Wp = +1
-        ey = V.cross(ez, ex)                                 # (30)
-        c.frames[ci] = (ex, ey, ez)
-        c.place_extra(c.pos[U], c.frames[ci], c_extra)
-    else:
-        nan = np.full(3, np.nan)
-        c.frames[ci] = (nan, nan, nan)
+    _place_frames(c, st, Dv, e43, e, ci, r_extra, c_extra)
 
 
 EXECUTORS = {"frame": _frame, "crank": _crank, "RSS": _rss}
@@ -127,6 +112,28 @@ def run(plan, params, q, order, tol, steps=None, method="closed", seeds=None) ->
 
 
 # -- the Newton loop-closure oracle ---------------------------------------------------------------------
+def _place_frames(c: Context, st, Dv, e43, e, ci, r_extra, c_extra):
+    """The rocker's hinge frame from its unit arm ``e43`` and axis ``e``, and the coupler's frame of eqs.
+    (27)–(30) (a universal joint's pin fixed in the link on its other side; NaN for a coupler that spins
+    idly), with the further points of both."""
+    u_r = V.ort(e43 - V.scale(V.dot(e43, e), e))
+    c.frames[st.body] = (u_r, V.cross(e, u_r), e)
+    c.place_extra(Dv, c.frames[st.body], r_extra)
+    kind = c.plan.body_frames[ci]
+    if kind[0] == "coupler":
+        _, U, other, pin_body, pin_local = kind
+        fr = c.frames[pin_body]
+        pin = V.scale(pin_local[0], fr[0]) + V.scale(pin_local[1], fr[1]) + V.scale(pin_local[2], fr[2])
+        ex = V.ort(c.pos[U] - c.pos[other])                  # (27)
+        ez = V.ort(V.cross(pin, ex))                         # (29), β1 = β2 = 90°, Wp = +1
+        ey = V.cross(ez, ex)                                 # (30)
+        c.frames[ci] = (ex, ey, ez)
+        c.place_extra(c.pos[U], c.frames[ci], c_extra)
+    else:
+        nan = np.full(3, np.nan)
+        c.frames[ci] = (nan, nan, nan)
+
+
 def _rss_newton(c: Context, st, seeds):
     """B from the loop-closure equations (B − D)·e = h, |B − D|² = l_r², |B − A|² = l_c² by Newton,
     warm-started from ``seeds[B]`` (the previous continuation stage); its derivatives by implicit
@@ -161,22 +168,7 @@ def _rss_newton(c: Context, st, seeds):
     else:
         Bj = Bv
     c.pos[Bp] = Bj
-    e43 = V.scale(1.0 / lr, Bj - Dv)
-    u_r = V.ort(e43 - V.scale(V.dot(e43, e), e))
-    c.frames[st.body] = (u_r, V.cross(e, u_r), e)
-    c.place_extra(Dv, c.frames[st.body], r_extra)
-    kind = c.plan.body_frames[ci]
-    if kind[0] == "coupler":
-        _, U, other, pin_body, pin_local = kind
-        fr = c.frames[pin_body]
-        pin = V.scale(pin_local[0], fr[0]) + V.scale(pin_local[1], fr[1]) + V.scale(pin_local[2], fr[2])
-        ex = V.ort(c.pos[U] - c.pos[other])
-        ez = V.ort(V.cross(pin, ex))
-        c.frames[ci] = (ex, V.cross(ez, ex), ez)
-        c.place_extra(c.pos[U], c.frames[ci], c_extra)
-    else:
-        nan = np.full(3, np.nan)
-        c.frames[ci] = (nan, nan, nan)
+    _place_frames(c, st, Dv, V.scale(1.0 / lr, Bj - Dv), e, ci, r_extra, c_extra)
 
 
 def execute_newton(plan, params, q, order, tol) -> Context:
