@@ -1,0 +1,104 @@
+"""Seeded mutations of every shipped example file of every format (mechanism, gear pair, wheel-step, synthesis
+problem): the readers and the engine either accept the mutant or refuse it with an AssurError that says what
+and where. Never another exception (a traceback for the user), never a hang, never a finite answer from an
+unassemblable position."""
+import random
+import re
+import signal
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import assur
+from assur.errors import AssurError
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted(p for p in (ROOT / "examples").rglob("*.toml"))
+MUTANTS_PER_FILE = 25
+#: values substituted for a number, a string or a whole value
+WILD = ["-1", "0", "1e400", "-1e308", "1e-320", "nan", "inf", '"x"', '""', "[]", "[1, 2, 3]", "{ a = 1 }", "true",
+        '"1e400 rpm"', '"-5 mm"', "2e8", "-2e8", "[[1]]", '"O2"']
+NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
+
+
+def mutate(text: str, rng: random.Random) -> str:
+    """One seeded mutation: a number, a value or a line replaced, deleted, duplicated or truncated."""
+    lines = text.splitlines()
+    kind = rng.randrange(5)
+    i = rng.randrange(len(lines))
+    if kind == 0:                                         # a number → a wild value
+        nums = list(NUMBER.finditer(text))
+        if nums:
+            m = rng.choice(nums)
+            return text[:m.start()] + rng.choice(WILD) + text[m.end():]
+    if kind == 1 and "=" in lines[i] and not lines[i].lstrip().startswith("#"):   # a whole value → a wild value
+        key = lines[i].split("=", 1)[0]
+        lines[i] = f"{key}= {rng.choice(WILD)}"
+    elif kind == 2:                                       # a line deleted
+        del lines[i]
+    elif kind == 3:                                       # a line duplicated (a duplicate key, a repeated table)
+        lines.insert(i, lines[i])
+    else:                                                 # truncated
+        lines = lines[:i]
+    return "\n".join(lines) + "\n"
+
+
+@contextmanager
+def time_limit(seconds: int):
+    def fail(signum, frame):
+        raise TimeoutError(f"no answer within {seconds} s (a hang)")
+    old = signal.signal(signal.SIGALRM, fail)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def exercise(path: Path, text: str):
+    """Read the text the way its command would, and use the result a little."""
+    tmp = path.parent / f".fuzz-{path.name}"
+    if 'format = "assur/1"' in text:
+        plan = assur.compile(assur.loads(text))
+        one_crank = plan.n_inputs == 1 and plan.input_kinds[0] == "rotary"
+        q = np.linspace(0.0, 2 * np.pi, 24, endpoint=False) if one_crank else plan.sketch_inputs
+        st = assur.solve(plan, inputs=q, order=2)
+        assert not np.isfinite(st.pos[~st.valid]).any()  # no finite garbage from an unassemblable position
+        return
+    if "assur-synth/1" in text:
+        from assur.synthesis.problem import load_problem
+        tmp.write_text(text, encoding="utf-8")
+        try:
+            load_problem(tmp)
+        finally:
+            tmp.unlink()
+        return
+    from assur.gears.design import load_design
+    tmp.write_text(text, encoding="utf-8")
+    try:
+        load_design(tmp)
+    finally:
+        tmp.unlink()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: str(p.relative_to(ROOT / "examples")))
+def test_mutants_are_accepted_or_refused_with_an_assur_error(path):
+    text = path.read_text(encoding="utf-8")
+    exercise(path, text)                                   # the shipped file itself works
+    rng = random.Random(f"fuzz:{path.name}")
+    failures = []
+    for k in range(MUTANTS_PER_FILE):
+        mutant = mutate(text, rng)
+        try:
+            with time_limit(60):
+                exercise(path, mutant)
+        except AssurError:
+            pass
+        except Exception as exc:                           # noqa: BLE001 - any other exception is the finding
+            failures.append(f"mutant {k}: {type(exc).__name__}: {exc}\n--- diff: "
+                            + "; ".join(sorted(set(mutant.splitlines()) - set(text.splitlines())))[:300])
+    assert not failures, "\n".join(failures)
