@@ -14,6 +14,7 @@ import weakref
 import numpy as np
 
 from ...kernels import codegen
+from ..plan import PlanarPlan
 from .optable import slot_constants
 
 #: plan → {kernel key: loaded kernel}
@@ -26,7 +27,7 @@ MEMO_MAX_VALUES = 4096
 
 def covers(plan) -> bool:
     """True when the plan has an op table (the compiled backend can solve it)."""
-    return getattr(plan, "ops", None) is not None
+    return isinstance(plan, PlanarPlan) and plan.ops is not None
 
 
 def available() -> bool:
