@@ -90,3 +90,13 @@ def test_a_typo_in_a_parameter_name_gets_a_suggestion(tmp_path):
     with pytest.raises(SpecError, match=r"parameters\.crank\.lenght: not a parameter of the mechanism "
                                         r"\(did you mean 'crank\.length'\?\)"):
         _problem(tmp_path, "[targets]", '[parameters]\n"crank.lenght" = "100"\n\n[targets]')
+
+
+def test_a_length_that_disagrees_with_the_sketch_is_reported_with_both_numbers():
+    """crank_rocker.toml draws O4–B exactly 80 mm (|(133.880965996, 72.471236661) − (100, 0)| = 80.000 mm)."""
+    from assur.errors import SketchWarning
+    with pytest.warns(SketchWarning, match=r"links\.rocker\.length: 90 mm is used, but the sketch draws O4–B 80 mm long"):
+        assur.loads(BASE.replace("length = 80", "length = 90"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assur.loads(BASE)

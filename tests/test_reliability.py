@@ -156,3 +156,17 @@ def test_a_triad_sketch_off_its_dimensions_is_refused_with_the_joint_and_the_dis
     with pytest.raises(SpecError, match=r"points\.C: the sketch does not fit the dimensions of the group .*at C it is "
                                         r"0\.01454 m off"):
         assur.compile(assur.loads(bad))
+
+
+def test_a_point_drawn_on_another_point_of_its_link_is_refused():
+    """B drawn on O4 (both on the rocker): the sketch no longer tells which of the two assemblies is meant."""
+    text = (EXAMPLES / "crank_rocker.toml").read_text(encoding="utf-8")
+    bad = text.replace("B = [133.880965996, 72.471236661]", "B = [100, 0]")
+    assert bad != text
+    with pytest.warns(Warning), pytest.raises(SpecError, match=r"points\.B: the sketch puts B on O4, a point of the "
+                                                               r"same link: it cannot tell the assembly branch"):
+        assur.compile(assur.loads(bad))
+    hinted = bad + '\n[branches.B]\nside = "left"\nof = ["A", "O4"]\n'
+    with pytest.warns(Warning):
+        plan = assur.compile(assur.loads(hinted))            # a hint decides instead
+    assert plan.n_points == 5

@@ -48,6 +48,10 @@ class UnbuildableError(AssurError, ArithmeticError):
         return self.args[0]
 
 
+class SketchWarning(UserWarning):
+    """A mechanism file whose sketch disagrees with its given dimensions (the dimensions are used)."""
+
+
 class AssumedUnitsWarning(UserWarning):
     """A document without a ``[units]`` table: its numbers are read in the stated default units."""
 

@@ -46,6 +46,8 @@ class Tolerances:
     #: At compile time the drawn sketch must close the loop equations of every Newton-solved group to
     #: within this fraction of the length scale (the sketch seeds the solver and so fixes its branch).
     sketch_fit: float = 1e-3
+    #: A link ``length`` that differs from its sketch by more than this fraction is reported (SketchWarning).
+    sketch_length_mismatch: float = 0.01
     #: A direction vector in a file whose norm is 1 within this is taken as written (not divided by its norm).
     unit_norm: float = 1e-14
     #: Two directions in a file (gait.ground, gait.up) are perpendicular when their unit vectors' dot product

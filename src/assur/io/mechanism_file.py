@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
-from ..errors import SpecError
+from ..errors import SketchWarning, SpecError
 from ..model.mechanism import (FRAME, Actuator, BranchHint, Gait, Joint, LinearDriver, Link, Mechanism,
                                Placement, Prismatic, RotaryDriver, TimeTable, Units)
 from ..tolerances import DEFAULT as TOL
@@ -380,9 +381,25 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("description", f"must be a string: {desc!r}")
         desc = ""
     P.raise_if_any(source)
-    return Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
-                     actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
-                     joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
+    m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
+                  actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
+                  joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
+    _warn_lengths_off_the_sketch(m, L, source)
+    return m
+
+
+def _warn_lengths_off_the_sketch(m: Mechanism, factor: float, source) -> None:
+    """A SketchWarning for every ``length`` that differs from the sketch by more than
+    ``tolerances.sketch_length_mismatch`` (the length is used; the sketch only chooses the assembly)."""
+    for lk in m.links:
+        if lk.length is None or len(lk.points) < 2:
+            continue
+        drawn = math.dist(m.sketch(lk.points[0]), m.sketch(lk.points[1]))
+        if abs(drawn - lk.length) > TOL.sketch_length_mismatch * lk.length:
+            unit = m.units.length
+            warnings.warn(f"{source + ': ' if source else ''}links.{lk.name}.length: {lk.length / factor:.6g} {unit} "
+                          f"is used, but the sketch draws {lk.points[0]}–{lk.points[1]} {drawn / factor:.6g} {unit} "
+                          "long (the sketch only chooses the assembly branch)", SketchWarning, stacklevel=4)
 
 
 def _joint_axis(v, angle_factor, path, P):

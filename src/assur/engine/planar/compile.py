@@ -186,6 +186,21 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
     return replace(plan, ops=table[0], slots=table[1])
 
 
+def _check_key_point_drawn_apart(plan: PlanarPlan, st, tol) -> None:
+    """SpecError where the sketch puts a branched step's point on top of another point of its own bodies:
+    the sketch then cannot tell the assembly branch (it would be chosen arbitrarily)."""
+    m, g = plan.mechanism, plan.structure.graph
+    J = np.array(m.sketch(st.key_point)[:2], dtype=float)
+    for b in st.bodies:
+        for p in g.bodies[b].points:
+            if p != st.key_point and np.hypot(*(np.array(m.sketch(p)[:2], dtype=float) - J)) \
+                    <= tol.branch_separation * plan.length_scale:
+                raise SpecError([(f"points.{st.key_point}",
+                                  f"the sketch puts {st.key_point} on {p}, a point of the same link: it cannot tell "
+                                  f"the assembly branch; draw {st.key_point} where it belongs, or set "
+                                  f"[branches.{st.key_point}]")])
+
+
 def _check_sketch_closes(plan: PlanarPlan, params, q0, tol) -> None:
     """SpecError unless the drawn sketch closes the loop equations of every Newton-solved group (it seeds
     the solver, so a sketch off the dimensions could seed another assembly mode): names the joint or slide
@@ -330,6 +345,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
         if len(allowed) == 1:
             chosen = allowed[0][0]
         else:
+            _check_key_point_drawn_apart(plan, st, tol)
             group_points = {p for b in st.bodies for p in plan.structure.graph.bodies[b].points}
             dev = [sum(abs(c[1][p] - _c(m.sketch(p))) for p in group_points)
                    + scale * sum(abs(c[2][b] - sketch_e[b]) for b in st.bodies) for c in allowed]
