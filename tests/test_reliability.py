@@ -170,3 +170,12 @@ def test_a_point_drawn_on_another_point_of_its_link_is_refused():
     with pytest.warns(Warning):
         plan = assur.compile(assur.loads(hinted))            # a hint decides instead
     assert plan.n_points == 5
+
+
+def test_a_driven_actuator_between_two_frame_points_is_refused():
+    text = (EXAMPLES / "lever_manipulator.toml").read_text(encoding="utf-8")
+    bad = text.replace('[actuators.drive_rod]\nbetween = ["A", "B"]', '[actuators.drive_rod]\nbetween = ["O", "A"]')
+    assert bad != text
+    with pytest.raises(SpecError, match=r"drivers\[0\]\.actuator: the driven actuator drive_rod joins two frame "
+                                        r"points \(O, A\): its length cannot change"):
+        assur.compile(assur.loads(bad))

@@ -129,6 +129,12 @@ class _Builder:
 
 def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
     """Compile a planar mechanism into a solve plan. Raises StructureError / SpecError."""
+    frame_points = set(m.frame.points)
+    for k, d in enumerate(m.drivers):
+        ac = next((a for a in m.actuators if a.name == d.actuator), None) if d.kind == "linear" else None
+        if ac is not None and set(ac.between) <= frame_points:
+            raise SpecError([(f"drivers[{k}].actuator", f"the driven actuator {ac.name} joins two frame points "
+                                                        f"({', '.join(ac.between)}): its length cannot change")])
     s = analyse(m)
     n_drivers = len(m.drivers)
     if s.mobility != n_drivers:
