@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import assur
-from assur.errors import SpecError
+from assur.errors import SpecError, UnbuildableWarning
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -143,6 +143,8 @@ def test_a_change_point_is_flagged_singular():
     assert st.singular[0] and not st.singular[1:].any()
     assert not np.isfinite(st.vel[0]).all() and np.isfinite(st.vel[1:]).all()
     assert assur.solve(plan, inputs=q, order=0).singular is None
+    with pytest.warns(UnbuildableWarning, match="1 samples are at a singular position"):
+        assur.solve(plan, inputs=q, on_unbuildable="warn")
 
 
 # -- a sketch that does not fit a Newton-solved group ------------------------------------------------------------------

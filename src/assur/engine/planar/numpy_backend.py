@@ -2,8 +2,11 @@
 arrays into a :class:`~assur.engine.state.State`."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
+from ...errors import UnbuildableWarning
 from ...kernels.jet import Jet
 from ..options import input_rates, report_unbuildable
 from ..state import State, _Once
@@ -69,6 +72,13 @@ def finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_un
     n_bad = report_unbuildable(plan, inputs, valid, on_unbuildable, stacklevel=5)
     qdot, qddot = input_rates(plan, speeds, accels)
     full_inputs = inputs if inputs.shape[:-1] == shape else np.broadcast_to(inputs, shape + (n,))
-    return State(plan=plan, inputs=full_inputs, valid=valid, n_unbuildable=n_bad,
-                 qdot=qdot, qddot=qddot, params=params, _z=z, _dz=dz, _d2z=d2z,
-                 _complete=None if complete is None else _Once(complete), _xyz=xyz, _xyz_time=xyz_time)
+    state = State(plan=plan, inputs=full_inputs, valid=valid, n_unbuildable=n_bad,
+                  qdot=qdot, qddot=qddot, params=params, _z=z, _dz=dz, _d2z=d2z,
+                  _complete=None if complete is None else _Once(complete), _xyz=xyz, _xyz_time=xyz_time)
+    if on_unbuildable == "warn":
+        singular = state.singular
+        if singular is not None and singular.any():
+            warnings.warn(f"{int(np.count_nonzero(singular))} samples are at a singular position (a toggle or a "
+                          "change point, where two assemblies meet): their velocities are not finite "
+                          "(state.singular)", UnbuildableWarning, stacklevel=4)
+    return state
