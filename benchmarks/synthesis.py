@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Synthesis benchmark: candidate evaluations per second (assur vs pylinkage) and time to reach the
-published synthesis targets (paper 000, four-bar benchmarks C1-C3 of spec synthesis_benchmarks.md).
+published synthesis targets (paper 000, four-bar benchmarks C1-C3 of docs/papers/synthesis_benchmarks.md).
 
 Run with ``make bench`` (own venv ``.bench-venv``) or ``.bench-venv/bin/python benchmarks/synthesis.py``.
 This is a script, not a test: it prints Markdown and writes ``benchmarks/synthesis_results.md``.
@@ -20,7 +20,7 @@ All engines are first checked to agree on the objective (designs assembled on th
 
 Part B, time to reach the targets: ``synthesize`` on each case with N seeded runs (published designs are never
 used as starts); per run FE, wall time, f reached and the FE at which the run first met the target (from
-``result.history``); the best design re-checked with an independent closed form of spec §1.2 written here.
+``result.history``); the best design re-checked with an independent closed form of docs/papers/synthesis_benchmarks.md §1.2 written here.
 Plus one run of ``examples/synthesis/walker_fourbar_gait.toml``.
 """
 from __future__ import annotations
@@ -48,16 +48,16 @@ from assur.synthesis import Evaluator, load_problem, synthesize  # noqa: E402
 TWO_PI = 2.0 * math.pi
 PROBLEM_A = HERE / "fourbar_6targets.toml"
 EXAMPLES = ROOT / "examples" / "synthesis"
-#: the issue's arithmetic bound on candidate evaluations per second per core (issue item 7)
+#: an arithmetic bound on candidate evaluations per second per core (estimated in the results' note)
 BOUND = (1.1e6, 1.5e6)
 
 
 # ------------------------------------------------------------------------------------------------
-# independent closed form of spec synthesis_benchmarks.md §1.2 (no assur code)
+# independent closed form of docs/papers/synthesis_benchmarks.md §1.2 (no assur code)
 # ------------------------------------------------------------------------------------------------
 
 def discriminant(r1, r2, r3, r4, theta2):
-    """Δ = A² + B² − C² of spec §1.2; arguments broadcast (lengths (n, 1), theta2 (n, N))."""
+    """Δ = A² + B² − C² of docs/papers/synthesis_benchmarks.md §1.2; arguments broadcast (lengths (n, 1), theta2 (n, N))."""
     A = 2 * r3 * (r2 * np.cos(theta2) - r1)
     B = 2 * r3 * r2 * np.sin(theta2)
     C = r1 ** 2 + r2 ** 2 + r3 ** 2 - r4 ** 2 - 2 * r1 * r2 * np.cos(theta2)
@@ -66,7 +66,7 @@ def discriminant(r1, r2, r3, r4, theta2):
 
 def coupler_points(x, theta2):
     """Coupler point P (n, N, 2) of canonical vectors x (n, 9) = [r1, r2, r3, r4, rcx, rcy, x0, y0, θ0]
-    at crank angles theta2 (n, N) or (N,), "+" branch, by the geometric form of spec §1.2
+    at crank angles theta2 (n, N) or (N,), "+" branch, by the geometric form of docs/papers/synthesis_benchmarks.md §1.2
     (θ3 = atan2(−r2 sin θ2, r1 − r2 cos θ2) + arccos((r3² + d² − r4²)/(2 r3 d))). NaN where Δ < 0.
     Also returns Δ (n, N)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -307,7 +307,7 @@ def min_delta_interval(r, lo, hi):
 
 def recheck(case, x, spec):
     """Independent re-check of a canonical design vector x for case C1/C2/C3 under its default set:
-    f, every constraint violation (spec §1.4 measures), bounds after angle wrapping, min Δ at the targets."""
+    f, every constraint violation (docs/papers/synthesis_benchmarks.md §1.4 measures), bounds after angle wrapping, min Δ at the targets."""
     x = np.asarray(x, dtype=float)
     xy = np.asarray(spec["points"])
     angles = spec["angle_index"]
@@ -337,7 +337,7 @@ def recheck(case, x, spec):
 
 
 def c_specs():
-    """Case data of spec synthesis_benchmarks.md §2 (points, bounds, timing), for the re-check."""
+    """Case data of docs/papers/synthesis_benchmarks.md §2 (points, bounds, timing), for the re-check."""
     tw = [0, TWO_PI]
     c1 = dict(points=[[20, 20], [20, 25], [20, 30], [20, 35], [20, 40], [20, 45]],
               bounds=[[0, 60]] * 4 + [[-60, 60]] * 4 + [tw] * 7, angle_index=list(range(8, 15)),
@@ -354,7 +354,7 @@ def c_specs():
     return {"C1": c1, "C2": c2, "C3": c3}
 
 
-#: per case: problem file, target (f ≤), HCDJ per-run budget (spec §3.2), synthesize settings, runs
+#: per case: problem file, target (f ≤), HCDJ per-run budget (docs/papers/synthesis_benchmarks.md §3.2), synthesize settings, runs
 CASES = [
     dict(key="paper000", file="paper000_six_points.toml", target=172.47, strict=True, hcdj=None,
          label="paper 000 six points, eq. (5) Δ1 [mm]",
@@ -501,7 +501,7 @@ def report(args, A, B, walker, seconds):
         md.append(f"| fraction of the bound: Evaluator (one chunk) | {r1[0] / BOUND[1]:.0%}–{r1[0] / BOUND[0]:.0%} | |")
         md.append(f"| fraction of the bound: kernel only | {rk[0] / BOUND[1]:.0%}–{rk[0] / BOUND[0]:.0%} | |")
         md.append("")
-        md.append("The bound is the issue's figure (1.1–1.5 M candidate evaluations/s/core). As a check of its size: a "
+        md.append("The bound (1.1–1.5 M candidate evaluations/s/core) is an estimate of the arithmetic; as a check of its size: a "
                   "candidate costs 366 four-bar positions (360 cycle samples + 6 targets); one position (circle–"
                   "circle intersection from precomputed cos/sin of the input, coupler point, validity test) is "
                   "about 40 flops including a sqrt and a division, so ≈ 15 kflop per candidate, and 1.1–1.5 M "
@@ -515,7 +515,7 @@ def report(args, A, B, walker, seconds):
                   "constraint set of each problem file; no published design is used as a start (random "
                   "Latin-hypercube DE populations). FE counts every design evaluated (infeasible ones and the "
                   "polish included). \"FE to target\" is the evaluation count at which the run's best first met "
-                  "the target (from `result.history`). HCDJ budget: FE per run of the HCDJ paper (spec §3.2). "
+                  "the target (from `result.history`). HCDJ budget: FE per run of the HCDJ paper (docs/papers/synthesis_benchmarks.md §3.2). "
                   "`starts=K, target=F`: K independent starts (DE, then a least-squares polish; the budget split "
                   "between them), the run stopping at the first start that meets F — the same run as "
                   "`assur synth PROBLEM --seed s --starts K --budget N --target F`; every FE of every start is "
@@ -552,7 +552,7 @@ def report(args, A, B, walker, seconds):
                 md.append(f"| {it['case']['key']} | {ru['seed']} | {ru['fe']:,} | {ru['seconds']:.1f} | "
                           f"{fmt_f(ru['f'])} | {ru['stopped']} | {ru['starts_used']} | {ru['polishes']} | {hit} |")
         md.append("")
-        md.append("Best designs and their independent re-check (closed form of spec §1.2 written in "
+        md.append("Best designs and their independent re-check (closed form of docs/papers/synthesis_benchmarks.md §1.2 written in "
                   "`benchmarks/synthesis.py`, constraint measures of §1.4, bounds after angle wrapping):\n")
         for it in B:
             c, rc, bx = it["case"], it["recheck"], it["best"]["x"]

@@ -1,4 +1,4 @@
-"""Tables 1–3 of paper 001 as printed (Skoybeda & Zhukavets 2024), transcribed in spec 001 §E.
+"""Tables 1–3 of paper 001 as printed (Skoybeda & Zhukavets 2024), restated in docs/papers/001.md §E.
 
 Decimal commas written as points; angles in degrees, radii in mm. Table 1 columns: i, θ_i, r_i, r_bi, r_fi, r_ai,
 φ_i, r_Hi, r_Hbi, r_Hfi, r_Hai. Tables 2 and 3 columns: i, j, first-flank angle, second-flank angle, radius.

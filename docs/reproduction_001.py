@@ -1,7 +1,7 @@
 """Paper 001 section of docs/reproduction.md: ``section() -> str`` (included by docs/reproduction.py).
 
 Every "computed" number comes from the example files and the toolkit; only the "printed" column and the printed
-Tables 1–3 (docs/paper001_printed_tables.py, spec 001 §E) are typed in from the paper.
+Tables 1–3 (docs/paper001_printed_tables.py, docs/papers/001.md §E) are typed in from the paper.
 """
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def _rounding_misses(model_values, printed):
 
 def law_misses(shoe, T1):
     """Largest |θ(φ_i) − θ_i| (°) over Table 1 for candidate displacement laws X(φ), each scaled so that
-    θ(±45°) = ±90° (spec B2): the inferred crank part 3b·sin 2φ, the rolling part only, b·sin 2φ, linear."""
+    θ(±45°) = ±90° (docs/papers/001.md B2): the inferred crank part 3b·sin 2φ, the rolling part only, b·sin 2φ, linear."""
     a, b, c = shoe.a, shoe.b, shoe.c
     rolling = lambda p: (a - b + c) * p - 1.5 * b * np.sin(2 * p)  # noqa: E731
     laws = {"3b·sin 2φ (used)": lambda p: rolling(p) + 3 * b * np.sin(2 * p),
@@ -133,7 +133,7 @@ def rows():
          "3b·sin 2φ inferred (C.8): it alone fits within the rounding of φ_i"),
         ("Table 1 θ_i, φ_i (48 angles)", "0.01°",
          f"max deviation {np.abs(t1[:, ang] - T1[:, ang]).max():.4f}°; "
-         f"{int(miss1[:, ang].sum())} entries round differently", "reproduced (spec B3 sector model, s = "
+         f"{int(miss1[:, ang].sum())} entries round differently", "reproduced (sector model of docs/papers/001.md B3, s = "
          f"{model.arc * mm:.6f} mm, not printed)"),
         ("Table 1 radii (192 entries)", "0.01 mm",
          f"max deviation {np.abs(t1[:, rad] - T1[:, rad]).max():.4f} mm; {int(miss1[:, rad].sum())} entries round "
@@ -193,7 +193,7 @@ def rows():
          f"interference at |θ| = {scan_lp[0]} (depth up to {scan_lp[1]:.2f} mm); at L_ust: {scan_ust[0]} "
          f"(tightest position: clearance {scan_ust[1]:.3f} mm; contact tolerance "
          f"{2e-3 * model.arc / math.pi * mm:.3f} mm); straight linking lines at L_p: {scan_chord[0]}",
-         "interferes near the step ends without tip relief (spec B6.9; qualitative: the linking lines are "
+         "interferes near the step ends without tip relief (docs/papers/001.md B6.9; qualitative: the linking lines are "
          "undefined in the paper)"),
         ("constant mover speed", "\"provide constant speed\"",
          f"smooth law: exact; sector scheme: speed/nominal {f.speed_ripple_sector[0]:.4f}…"
@@ -222,9 +222,10 @@ def section() -> str:
              "`examples/gears_001.toml`)",
              "",
              "Printed data a = 0.06 m, b = 0.1 m, R_min = 0.02 m; gears at L_p = 143.5 mm, z = 48 / z_H = 96, 24 "
-             "sectors per hub step; m = 2 mm and j_n = 0.5 mm inferred (spec 001 B1). Law θ = π·X(φ)/X_01 with "
-             "X(φ) = (a − b + c)φ + 1.5b·sin 2φ (spec B2); sector model of spec B3; Tables 2/3 by eqs. (11)–(14). "
-             "Table comparisons are absolute, in the tables' units (° and mm).",
+             "sectors per hub step; m = 2 mm and j_n = 0.5 mm inferred (docs/papers/001.md B1). Law θ = π·X(φ)/X_01 "
+             "with X(φ) = (a − b + c)φ + 1.5b·sin 2φ (B2); sector model of B3; Tables 2/3 by eqs. (11)–(14). "
+             "Table comparisons are absolute, in the tables' units (° and mm). Sections (A…, B…) and errata (C.1 …) "
+             "are those of [`docs/papers/001.md`](papers/001.md).",
              "",
              _table(rows()),
              "",

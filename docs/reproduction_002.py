@@ -2,9 +2,9 @@
 
 ``section() -> str`` is included by docs/reproduction.py. Every number is computed here from
 examples/lever_manipulator.toml through the general engine (assur.solve, analysis.actuators) or
-from the closed form of spec 002 §3–§4 (analysis.lever, checked against the engine in
+from the closed form of docs/papers/002.md §3–§4 (analysis.lever, checked against the engine in
 tests/test_paper002.py). The paper prints no dimensions and no numerical results; the example is
-the spec's sharp check P002-1 (a = 0.6 m, α = β = 53.13°, γ = 0, V1 = 0.1 m/s).
+the sharp check P002-1 of docs/papers/002.md §8 (a = 0.6 m, α = β = 53.13°, γ = 0, V1 = 0.1 m/s).
 """
 from __future__ import annotations
 
@@ -86,7 +86,7 @@ def rows():
          f"K_ω = {_f(K['min'].value)} at s1 = 0, {_f(float(foot['K_omega'][0]))} at the foot of O (s1 = "
          f"{g.foot_stroke * 1000:.1f} mm, = 1 + a²/y_B0²), interior maximum {_f(k_top.value, 6)} at s1 = "
          f"{(k_top.q - g.l1) * 1000:.1f} mm, → h_O/h_A = {_f(g.area_ratio)} as s1 → ∞",
-         "false for every γ (E5, spec §6): K_ω = (h_O/h_A)·(L/b)²"),
+         "false for every γ (E5, docs/papers/002.md §6): K_ω = (h_O/h_A)·(L/b)²"),
         ("K_ω = 1 for the horizontal guide (Fig. 2)", "1",
          f"1 only where L = b (here at t = 0, l1 = b1); {_f(float(foot['K_omega'][0]))} at t = {t_foot:.3f} s",
          "false"),
@@ -97,7 +97,7 @@ def rows():
         ("what is constant", "—",
          f"the areal-velocity ratio (b²ω_φ)/(L²ω_ψ) = h_O/h_A: max deviation {areal_dev:.1e} over the stroke; "
          f"on γ = 75°, β = 60° (h_A < 0) relative deviation {dev2:.1e} while K_ω runs "
-         f"{_f(float(np.nanmin(k2)))} … {_f(float(np.nanmax(k2)))}", "the paper's idea, corrected (spec §6)"),
+         f"{_f(float(np.nanmin(k2)))} … {_f(float(np.nanmax(k2)))}", "the paper's idea, corrected (docs/papers/002.md §6)"),
         ("V2 = const, s2 = V2·t", "constant",
          f"V2 = {_f(float(v2[0]))} m/s at t = 0, 0 at t = {t_foot:.3f} s (the foot of O), "
          f"{_f(float(v2[-1]))} m/s at t = {t[-1]:g} s", "false (E2)"),
@@ -135,12 +135,12 @@ def rows():
 
 ERRATA = [
     "E1 — eq. (4) gives the guide slope k = tg γ, but the angle relations (6), (7) and A = sin(α + γ) need B to travel "
-    "along (−cos γ, sin γ), slope −tg γ; the spec, the toolkit and `examples/lever_manipulator.toml` follow (6)/(7).",
+    "along (−cos γ, sin γ), slope −tg γ; docs/papers/002.md, the toolkit and `examples/lever_manipulator.toml` follow (6)/(7).",
     "E7 — the paper's \"analogues\" (9), (12), (15), (16) contain V1 or V2: they are time derivatives. assur gives both: "
     "the analogues d/ds1, d²/ds1² (`dangle_dq`, `d2angle_dq2`, `dlength_dq`) and the time derivatives (`omega`, `alpha`, "
     "`rate`), with the chain rule for a programmed V1(t) (`analysis.timelaw`).",
     "Eq. (10) and the printed forms of (8), (15), (16) are lost in the OCR; (8), (15), (16) are rebuilt by "
-    "differentiation (spec §5). `analysis.lever.paper_formulas` evaluates them literally, for comparison only, and "
+    "differentiation (docs/papers/002.md §5). `analysis.lever.paper_formulas` evaluates them literally, for comparison only, and "
     "reports their singularities instead of numbers.",
 ]
 
@@ -150,10 +150,12 @@ def section() -> str:
     return "\n".join([
         "## Paper 002 — lever manipulator with linear actuators (`examples/lever_manipulator.toml`)",
         "",
-        "The paper prints no dimensions and no numerical results. The example is spec 002's sharp check P002-1 "
+        "The paper prints no dimensions and no numerical results. The example is the sharp check P002-1 of "
+        "docs/papers/002.md §8 "
         "(a = 600 mm, α = β = 53.13°, γ = 0, b1 = l1 = 500 mm, V1 = 0.1 m/s, stroke s1 = 0 … 500 mm), solved by the "
         "general engine as an ordinary mechanism file (a driven actuator A→B, a passive actuator O→B, B in a frame "
-        "guide); `tests/test_paper002.py` checks the spec's exact values to 1e-9.",
+        "guide); `tests/test_paper002.py` checks its exact values to 1e-9. Errata (E1 …) are those of "
+        "[`docs/papers/002.md`](papers/002.md).",
         "",
         table(rows()),
         "",

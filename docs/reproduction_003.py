@@ -1,7 +1,7 @@
 """Paper 003 (spatial RSSR crank–rocker by the vector method): its section of docs/reproduction.md.
 
 The paper prints no numerical results; its checkable content is its method. Every number below is
-computed here by the general engine (``examples/rssr.toml`` = spec 003 §9's P003-2,
+computed here by the general engine (``examples/rssr.toml`` = P003-2 of docs/papers/003.md §9,
 ``examples/rssr_tilted.toml``) and by the paper's literal p-formula kept in
 ``assur.kernels.spatial.unit_vector_literal``. ``docs/reproduction.py`` includes ``section()``.
 """
@@ -62,7 +62,7 @@ def rows():
     st = assur.solve(plan, None, f1, order=0)
     P3 = st.pos[:, plan.point_index("P3")] * 1e3
     dev = float(np.max(np.abs(P3 - _freudenstein(f1))))
-    out.append(("P003-2: P3 over a turn equals Freudenstein's planar solution (spec §9)", "— (exact closed form)",
+    out.append(("P003-2: P3 over a turn equals Freudenstein's planar solution (docs/papers/003.md §9)", "— (exact closed form)",
                 f"max deviation {dev:.1e} mm over 1441 angles", "reproduced"))
     s180 = assur.solve(plan, None, [math.pi], order=0).pos[0, plan.point_index("P3")] * 1e3
     out.append(("P003-2: P3 at f1 = 180°", "— ((0, −158/17, 1176/17) = (0, −9.2941176, 69.1764706) mm)",
@@ -204,15 +204,16 @@ ERRATA = [
     "The coupler guide of the text (one freedom of P2 removed) is modelled as a universal joint at P2 whose crank-side "
     "axis is the pin e_p1 (β1 = β2 = 90°); other β1, β2 are not supported.",
     "Velocities and accelerations (not in the paper) are exact (second-order jets through the vector method) and agree "
-    "with the Newton loop-closure oracle and with spec §6's linear systems to round-off (tests/test_spatial_solve.py).",
+    "with the Newton loop-closure oracle and with the linear systems of docs/papers/003.md §6 to round-off (tests/test_spatial_solve.py).",
 ]
 
 
 def section() -> str:
     parts = ["## Paper 003 — spatial RSSR crank–rocker (`examples/rssr.toml`)", "",
-             "The paper prints no numbers (spec 003); the checkable claims are its method. P003-2 is spec §9's "
-             "planar-equivalent check (crank 20, coupler 70, rocker 50 mm, P4 = (0, 36, 48) mm, rocker axis ∥ X, "
-             "branch s = +1); the general case is `examples/rssr_tilted.toml` (γ1 = 60°, γ2 = 20°).", "",
+             "The paper prints no numbers (docs/papers/003.md); the checkable claims are its method. P003-2 is the "
+             "planar-equivalent check of §9 there (crank 20, coupler 70, rocker 50 mm, P4 = (0, 36, 48) mm, rocker axis ∥ X, "
+             "branch s = +1); the general case is `examples/rssr_tilted.toml` (γ1 = 60°, γ2 = 20°). Errata (F1 …) "
+             "are those of [`docs/papers/003.md`](papers/003.md).", "",
              _table(rows()), ""]
     parts += [f"- {e}" for e in ERRATA]
     return "\n".join(parts) + "\n"

@@ -1,5 +1,5 @@
-"""Gait metrics against the exact closed forms of paper 000 (spec 000 §3 and §6) and the
-definitions of the contact arc (spec 000 §6), plus the walking-module bookkeeping."""
+"""Gait metrics against the exact closed forms of paper 000 (docs/papers/000.md §3 and §6; the § numbers
+below are that page's) and the definitions of the contact arc (§6), plus the walking-module bookkeeping."""
 import math
 
 import numpy as np
@@ -8,11 +8,11 @@ import pytest
 import assur
 from assur.analysis.gait import gait_curves, gait_metrics, module_metrics, module_timeline
 
-L1, L2, L5 = 165.0, 193.0, 175.0   # mm, paper 000's printed design (spec 000 §4)
+L1, L2, L5 = 165.0, 193.0, 175.0   # mm, paper 000's printed design (§4)
 
 
 def crank_slider_text(l1=L1, l2=L2, l5=L5, sketch_deg=30.0, omega="1 rad/s"):
-    """Paper 000's mechanism in the paper's frame (spec 000 §2): C = l5·(sin φ, cos φ)."""
+    """Paper 000's mechanism in the paper's frame (§2): C = l5·(sin φ, cos φ)."""
     f = math.radians(sketch_deg)
     cx, cy = l5 * math.sin(f), l5 * math.cos(f)
     yb = l5 * math.cos(f) + math.sqrt(l2 ** 2 - (l5 * math.sin(f)) ** 2)
@@ -65,7 +65,7 @@ def plan():
 
 
 def closed_forms(l1=L1, l2=L2, l5=L5):
-    """Spec 000 §6 closed forms, in metres (ω = 1 rad/s)."""
+    """§6 closed forms, in metres (ω = 1 rad/s)."""
     l1, l2, l5 = l1 / 1000, l2 / 1000, l5 / 1000
     k = 1 + l1 / l2
     d = l1 * l5 / l2
@@ -75,7 +75,7 @@ def closed_forms(l1=L1, l2=L2, l5=L5):
 
 
 def test_structure_is_crank_and_rrp(plan):
-    # spec 000 §2: n = 3 (crank, rod, slider block), p5 = 4, W = 1; crank → RRP dyad
+    # §2: n = 3 (crank, rod, slider block), p5 = 4, W = 1; crank → RRP dyad
     s = plan.structure
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (3, 4, 1)
     assert [g.kind for g in s.groups] == [assur.GroupKind.RRP]
@@ -83,7 +83,7 @@ def test_structure_is_crank_and_rrp(plan):
 
 def test_contact_arc_is_90_to_270(plan):
     g = gait_metrics(plan, steps=720)
-    # spec 000 §6: x_A ∝ −sin φ, so the contact arc is [90°, 270°] exactly and duty = 0.5
+    # §6: x_A ∝ −sin φ, so the contact arc is [90°, 270°] exactly and duty = 0.5
     assert g.contact_start == pytest.approx(math.pi / 2, abs=1e-7)
     assert g.contact_end == pytest.approx(3 * math.pi / 2, abs=1e-7)
     assert g.duty_factor == pytest.approx(0.5, abs=1e-8)
@@ -100,7 +100,7 @@ def test_step_lift_sag_closed_forms(plan):
 def test_support_speeds_closed_forms(plan):
     g = gait_metrics(plan, steps=720)
     ref = closed_forms()
-    # spec 000 §6: max |v| on the contact arc = l5·ω (at 90° and 270°); max |v_x| = d·ω, min 0
+    # §6: max |v| on the contact arc = l5·ω (at 90° and 270°); max |v_x| = d·ω, min 0
     assert g.support_speed.max == pytest.approx(ref["vmax"], rel=1e-9)
     assert g.support_vx.max == pytest.approx(ref["d"], rel=1e-9)
     assert g.support_vx.min == pytest.approx(0.0, abs=1e-9)
@@ -135,7 +135,7 @@ def test_body_path_mirrors_foot(plan):
 
 
 def test_unbuildable_crank_raises_clear_error():
-    # l2 < l5: the RRP radicand is negative for part of the turn (spec 000 §2)
+    # l2 < l5: the RRP radicand is negative for part of the turn (§2)
     p = assur.compile(assur.loads(crank_slider_text(l2=150.0, sketch_deg=10.0)))
     with pytest.raises(assur.UnbuildableError, match="cannot turn fully"):
         gait_metrics(p)
@@ -175,7 +175,7 @@ def test_legs_are_a_batch_axis(plan):
     assert np.allclose(s.pos[:, 1], single.pos, atol=1e-12)
     on = feet_on_ground(gait_metrics(plan), phases, q)
     foot = plan.point_index("A")
-    # a foot counted on the ground is on the low side: y within [y_min, y(180°)] (spec 000 §6)
+    # a foot counted on the ground is on the low side: y within [y_min, y(180°)] (§6)
     y = s.pos[..., foot, 1]
     assert np.all(y[on] <= (L1 + L2 - L5) / 1000 + 1e-9)
 

@@ -3,7 +3,8 @@
 Independent references: the elliptic pair (two equal ellipses about their foci, centre distance 2a,
 r(β) = a(1 − e²)/(1 − e cos β), law tan(θ/2) = ((1 + e)/(1 − e))·tan(φ/2), perimeter 4a·E(e²), curvature radius
 b²/a at the major vertices) from classical non-circular gear theory (Litvin, "Gear Geometry", elliptical gears);
-paper 001's law from spec 001 B2/B6 (closure, perimeter ratio 2, corners with jump 2·atan(|dr/dθ|/r)).
+paper 001's law from docs/papers/001.md B2/B6, the sections cited below (closure, perimeter ratio 2, corners with
+jump 2·atan(|dr/dθ|/r)).
 """
 import math
 import re
@@ -108,7 +109,7 @@ def test_interface_objects_built_directly_interpolate():
 
 
 def test_paper_pair_closes(paper_pair):
-    """Spec B6.1/B6.2: r + r_H = L; θ(4π) = 2π; driven perimeter exactly twice the driver's; rolling arcs equal."""
+    """B6.1/B6.2: r + r_H = L; θ(4π) = 2π; driven perimeter exactly twice the driver's; rolling arcs equal."""
     rep = closure_report(paper_pair)
     assert rep.law_end == pytest.approx(2 * np.pi, abs=1e-12)
     assert rep.centre_distance_error < 1e-15
@@ -118,7 +119,7 @@ def test_paper_pair_closes(paper_pair):
 
 
 def test_paper_pair_symmetries(paper_pair):
-    """Spec B2: the driver curve has period π (two halves), the driven curve period π/2 (four quarters)."""
+    """B2: the driver curve has period π (two halves), the driven curve period π/2 (four quarters)."""
     a = np.linspace(0, 2 * np.pi, 97)
     np.testing.assert_allclose(paper_pair.driving.radius_at(a + np.pi), paper_pair.driving.radius_at(a), rtol=1e-12)
     np.testing.assert_allclose(paper_pair.driven.radius_at(a + np.pi / 2), paper_pair.driven.radius_at(a),
@@ -127,7 +128,7 @@ def test_paper_pair_symmetries(paper_pair):
 
 
 def test_paper_law_ratio_closed_form(paper_pair):
-    """Spec B2: k = dθ_paper/dφ_paper = π(a − b + c + 3b cos 2φ)/X_01 (driver per hub), so this package's
+    """B2: k = dθ_paper/dφ_paper = π(a − b + c + 3b cos 2φ)/X_01 (driver per hub), so this package's
     ratio (hub per driver) is 1/k; r_driving = L/(1 + k) with k the paper's; mean of k over a step = 2."""
     a, b, c = 0.06, 0.1, 0.36
     x01 = (a - b + c) * np.pi / 2 + 3 * b
@@ -142,7 +143,7 @@ def test_paper_law_ratio_closed_form(paper_pair):
 
 
 def test_paper_corners(paper_pair):
-    """Spec B6.3: driver convex vertices at ±90°, driven re-entrant corners at ±45°, ±135°, with tangent jump
+    """B6.3: driver convex vertices at ±90°, driven re-entrant corners at ±45°, ±135°, with tangent jump
     2·atan(|dr/dθ|/r), dr/dθ = −L·k′/((1 + k)²·k), k′ = −6πb sin 2φ/X_01 one-sided at φ = π/4."""
     a, b, c = 0.06, 0.1, 0.36
     x01 = (a - b + c) * np.pi / 2 + 3 * b
@@ -226,7 +227,7 @@ def test_fourier_ratio_laws_roll_and_close(amp, n, L):
 
 
 def test_rounded_wheelstep_law_has_smooth_closed_pitch_curves():
-    """Spec B7.8 (round off the corner): with rounding δ the law stays closed and increasing, its rate is the
+    """B7.8 (round off the corner): with rounding δ the law stays closed and increasing, its rate is the
     derivative of its angle (central differences), the pitch curves have no corners, and the mover speed is exactly
     nominal outside the rounded zones and lower inside them (the cost of smoothing)."""
     shoe = Shoe(0.06, 0.1, 0.36)

@@ -1,6 +1,7 @@
-"""The paper-001 sector method (spec 001 B3/B4): Table 1 and Tables 2–3 regenerated, every entry compared.
+"""The paper-001 sector method (docs/papers/001.md B3/B4): Table 1 and Tables 2–3 regenerated, every entry
+compared. Section references (B1…, C.3, D, §E) are to docs/papers/001.md.
 
-Printed tables: spec 001 §E (docs/paper001_printed_tables.py). Tolerances and the named rounding cases: spec B5.
+Printed tables: §E (docs/paper001_printed_tables.py). Tolerances and the named rounding cases: B5.
 """
 import math
 import runpy
@@ -19,9 +20,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PRINTED = runpy.run_path(str(ROOT / "docs" / "paper001_printed_tables.py"))
 TABLE1, TABLE2, TABLE3 = (PRINTED["parse"](PRINTED[k]) for k in ("TABLE1", "TABLE2", "TABLE3"))
 
-L_P = 0.1435        # spec B1: design centre distance 143.5 mm
-MODULE = 0.002      # spec B1: m = 2 mm (inferred)
-BACKLASH = 0.0005   # spec B1: j_n = 0.25 m
+L_P = 0.1435        # B1: design centre distance 143.5 mm
+MODULE = 0.002      # B1: m = 2 mm (inferred)
+BACKLASH = 0.0005   # B1: j_n = 0.25 m
 LAW = WheelStepLaw(Shoe(0.06, 0.1, 0.36), driving_turns=2)
 
 
@@ -31,12 +32,12 @@ def model():
 
 
 def test_arc_regression_value(model):
-    """Spec B3: s = 6.212273 mm at L_p = 143.5 mm (the toolkit's deterministic root find, pinned to 1e-6 mm)."""
+    """B3: s = 6.212273 mm at L_p = 143.5 mm (the toolkit's deterministic root find, pinned to 1e-6 mm)."""
     assert model.arc * 1e3 == pytest.approx(6.212273, abs=1e-6)
 
 
 def test_sectors_tile_the_step_and_lie_on_the_law(model):
-    """Spec B3: φ_1 = −45°, φ_25 = 45°, θ_1 = −90°, θ_25 = 90°, every sector end on θ(φ), equal arcs s."""
+    """B3: φ_1 = −45°, φ_25 = 45°, θ_1 = −90°, θ_25 = 90°, every sector end on θ(φ), equal arcs s."""
     assert model.driven_angle[0] == -math.pi / 4 and model.driven_angle[-1] == math.pi / 4
     np.testing.assert_allclose(model.driving_angle[[0, -1]], [-math.pi / 2, math.pi / 2], atol=1e-15)
     np.testing.assert_allclose(model.driving_angle, LAW.phi_of(model.driven_angle), atol=1e-15)
@@ -47,12 +48,12 @@ def test_sectors_tile_the_step_and_lie_on_the_law(model):
 
 
 def test_mirror_symmetry(model):
-    """Spec B3: sectors 13–24 are exact mirror images of sectors 12–1."""
+    """B3: sectors 13–24 are exact mirror images of sectors 12–1."""
     assert S.mirrored(model)
 
 
 def test_partition_does_not_depend_on_centre_distance(model):
-    """Spec B3: the angular partition is independent of L; s and the radii scale with L."""
+    """B3: the angular partition is independent of L; s and the radii scale with L."""
     other = S.paper_sector_model(LAW, 2 * L_P, sectors=24)
     np.testing.assert_allclose(other.driven_angle, model.driven_angle, atol=1e-12)
     assert other.arc == pytest.approx(2 * model.arc, rel=1e-10)
@@ -60,15 +61,15 @@ def test_partition_does_not_depend_on_centre_distance(model):
 
 
 def test_table1_every_entry(model):
-    """Spec B5: every Table 1 entry within 0.006 (absolute, ° or mm) of the printed value."""
+    """B5: every Table 1 entry within 0.006 (absolute, ° or mm) of the printed value."""
     table = S.table1(model, MODULE)
     assert table.data.shape == TABLE1.shape == (24, 11)
     np.testing.assert_allclose(table.data, TABLE1, rtol=0, atol=0.006)
-    assert np.abs(table.data - TABLE1).max() == pytest.approx(0.0054, abs=0.0002)   # spec B5: largest 0.0054
+    assert np.abs(table.data - TABLE1).max() == pytest.approx(0.0054, abs=0.0002)   # B5: largest 0.0054
 
 
 def test_table1_rounding_cases_are_exactly_the_named_ones(model):
-    """Spec B5 / erratum C.3: only rows 10 and 15 fail to round to the printed value, in r, r_b, r_f, r_a and r_H,
+    """B5 / erratum C.3: only rows 10 and 15 fail to round to the printed value, in r, r_b, r_f, r_a and r_H,
     r_Hb, r_Hf, r_Ha; the model value lies less than 0.001 mm beyond the rounding half-unit (not a misprint).
     (The model values are deterministic to ~1e-12, far inside these margins.)"""
     data = S.table1(model, MODULE).data
@@ -77,12 +78,12 @@ def test_table1_rounding_cases_are_exactly_the_named_ones(model):
     assert set(zip(rows + 1, cols)) == {(i, c) for i in (10, 15) for c in (2, 3, 4, 5, 7, 8, 9, 10)}
     past_half_unit = np.abs(data[off] - TABLE1[off]) - 0.005
     assert np.all((past_half_unit > 0) & (past_half_unit < 0.001))
-    # the direction named by the spec: model r one unit higher than 42.56, r_H one unit lower than 100.94
+    # the direction named in B5: model r one unit higher than 42.56, r_H one unit lower than 100.94
     assert round(data[9, 2], 2) == pytest.approx(42.57) and round(data[9, 7], 2) == pytest.approx(100.93)
 
 
 def test_table2_and_table3_every_entry_from_the_model(model):
-    """Spec B5: Tables 2/3 from the unrounded model within 0.006 of every printed entry (largest 0.0056)."""
+    """B5: Tables 2/3 from the unrounded model within 0.006 of every printed entry (largest 0.0056)."""
     t2 = S.table2(model, MODULE, BACKLASH).data
     t3 = S.table3(model, MODULE, BACKLASH).data
     assert t2.shape == TABLE2.shape == (60, 5) and t3.shape == TABLE3.shape == (60, 5)
@@ -93,7 +94,7 @@ def test_table2_and_table3_every_entry_from_the_model(model):
 
 
 def test_table2_and_table3_rounding_cases(model):
-    """Spec B5: 18 entries do not round to the printed value, each within 0.0006 of the rounding boundary: the 10
+    """B5: 18 entries do not round to the printed value, each within 0.0006 of the rounding boundary: the 10
     sector-10 radius entries, 7 angle entries of Table 2 and 1 of Table 3."""
     t2 = S.table2(model, MODULE, BACKLASH).data
     t3 = S.table3(model, MODULE, BACKLASH).data
@@ -107,7 +108,7 @@ def test_table2_and_table3_rounding_cases(model):
 
 
 def test_tables_2_3_from_the_printed_table1_are_within_0_01():
-    """Spec B5: built from the printed, rounded Table 1 the flank tables agree within about 0.01."""
+    """B5: built from the printed, rounded Table 1 the flank tables agree within about 0.01."""
     p = TABLE1
     printed = S.SectorModel(driving_angle=np.radians(np.append(p[:, 1], 90.0)),
                             driven_angle=np.radians(np.append(p[:, 6], 45.0)),
@@ -132,14 +133,14 @@ def test_flanks_follow_eqs_11_to_14_independently(model):
 
 
 def test_mirror_of_the_flanks(model):
-    """Spec B4: θ_{25−i,j} = −θ_{s,i,j} and θ_{s,25−i,j} = −θ_{i,j}; the same for φ."""
+    """B4: θ_{25−i,j} = −θ_{s,i,j} and θ_{s,25−i,j} = −θ_{i,j}; the same for φ."""
     for fl in (S.driving_flanks(model, MODULE, BACKLASH), S.driven_flanks(model, MODULE, BACKLASH)):
         np.testing.assert_allclose(fl.first[::-1], -fl.second, atol=1e-12)
         np.testing.assert_allclose(fl.radius[::-1], fl.radius, atol=1e-15)
 
 
 def test_tooth_and_space_widths_at_the_pitch_radius(model):
-    """Spec B4 reading: at j = 3 the driver tooth spans Δθ/2 − 2ΔΩ, the driven space Δφ/2 + 2ΔΩ_H."""
+    """B4 reading: at j = 3 the driver tooth spans Δθ/2 − 2ΔΩ, the driven space Δφ/2 + 2ΔΩ_H."""
     d = S.driving_flanks(model, MODULE, BACKLASH)
     h = S.driven_flanks(model, MODULE, BACKLASH)
     np.testing.assert_allclose(d.second[:, 2] - d.first[:, 2], model.driving_pitch / 2 - 2 * d.correction, atol=1e-14)
@@ -150,7 +151,7 @@ def test_tooth_and_space_widths_at_the_pitch_radius(model):
 @settings(max_examples=12, deadline=None)
 @given(st.integers(2, 40))
 def test_any_sector_count_gives_equal_arcs(n):
-    """Spec D: the B3 algorithm for any N: equal arcs, tiling the step, mirror-symmetric."""
+    """D: the B3 algorithm for any N: equal arcs, tiling the step, mirror-symmetric."""
     m = S.paper_sector_model(LAW, L_P, sectors=n)
     np.testing.assert_allclose(m.driving_radius * m.driving_pitch, m.arc, rtol=1e-10)
     assert m.driven_angle[-1] == math.pi / 4
@@ -159,7 +160,7 @@ def test_any_sector_count_gives_equal_arcs(n):
 
 
 def test_findings_b6(model):
-    """Spec B6.4 (steps 1–2 and 23–24 exceed 2m: printed 61.30 − 57.13 = 4.17 > 4 mm), B6.5 (working pressure
+    """B6.4 (steps 1–2 and 23–24 exceed 2m: printed 61.30 − 57.13 = 4.17 > 4 mm), B6.5 (working pressure
     angle arccos((L − 2m)/L); involute ratio larger by up to a few %), B6.8 (ripple of several %)."""
     f = S.sector_findings(model, LAW, MODULE)
     assert (1, 2) in f.steps_exceeding and (23, 24) in f.steps_exceeding
@@ -187,7 +188,7 @@ def outline(model):
 
 @pytest.mark.parametrize("linking", ["relieved", "chord"])
 def test_sector_outline_is_a_closed_star_shaped_polygon(model, linking):
-    """Spec B7.9: one closed, non-self-intersecting polyline per wheel. Star-shaped about the centre (polar angle
+    """B7.9: one closed, non-self-intersecting polyline per wheel. Star-shaped about the centre (polar angle
     never decreasing, one turn), counter-clockwise (positive area), radii within [min root, max tip] of Table 1."""
     o = S.sector_outline(model, MODULE, BACKLASH, linking=linking)
     assert o.teeth == (48, 96)
@@ -228,7 +229,7 @@ def test_sector_outline_contains_the_printed_flank_points(model, outline):
 
 
 def test_sector_outline_mirror_symmetry(outline):
-    """Spec B7.5: the driver is symmetric about θ = 0 and the driven wheel about φ = 0 (vertex sets mirror)."""
+    """B7.5: the driver is symmetric about θ = 0 and the driven wheel about φ = 0 (vertex sets mirror)."""
     from scipy.spatial import cKDTree
     for xy, axis_angle in ((outline.driving, 0.0), (outline.driven, np.pi)):
         mirrored = xy * [1, -1]            # reflection about the x axis: a → −a (driver), β → −β (driven: π + φ)
@@ -237,7 +238,7 @@ def test_sector_outline_mirror_symmetry(outline):
 
 @pytest.mark.slow
 def test_printed_scheme_interferes_near_the_step_ends(model, outline):
-    """Spec B6.9: with relieved linking lines at L_p the rigid outlines of the printed scheme admit no driven
+    """B6.9: with relieved linking lines at L_p the rigid outlines of the printed scheme admit no driven
     position near |θ| ≈ 72–79° (asserted at θ = 75°, a 5° scan), and run with play at 60° and 90°. The colliding
     features lie more than a pitch from the pitch point, so the check looks 3 pitches either side."""
     from assur.gears import pitch_pair

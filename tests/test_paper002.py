@@ -1,11 +1,12 @@
-"""Paper 002 (lever manipulator with two linear actuators in a straight guide), spec 002.
+"""Paper 002 (lever manipulator with two linear actuators in a straight guide); references (§N, EN) are
+sections of docs/papers/002.md.
 
-The sharp check P002-1 (spec §8) through the general engine (examples/lever_manipulator.toml) and
-through the closed form of spec §3–§4 (assur.analysis.lever); the closed form against the general
+The sharp check P002-1 (§8) through the general engine (examples/lever_manipulator.toml) and
+through the closed form of §3–§4 (assur.analysis.lever); the closed form against the general
 solver and against central differences for random geometries (hypothesis), including γ < 0, γ = 90°
-and β < γ; the exact invariant of spec §6 (the areal-velocity ratio h_O/h_A); the status of the
-paper's own formulas (spec §5): (8), (9), (15) exact, (11) only before the foot of O, (12) and (16)
-singular where the spec says; the validation of spec §2/§9.
+and β < γ; the exact invariant of §6 (the areal-velocity ratio h_O/h_A); the status of the
+paper's own formulas (§5): (8), (9), (15) exact, (11) only before the foot of O, (12) and (16)
+singular where §5 says; the validation of §2/§9.
 """
 from __future__ import annotations
 
@@ -24,10 +25,10 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "lever_manipulator.
 REL = 1e-9
 DEG = math.radians(1e-9)
 
-# P002-1 (spec §8): O = (0, 0), A = (0.6, 0), B0 = (0.3, 0.4), γ = 0, V1 = 0.1 m/s, evaluated where B
+# P002-1 (§8): O = (0, 0), A = (0.6, 0), B0 = (0.3, 0.4), γ = 0, V1 = 0.1 m/s, evaluated where B
 # reaches the foot of the perpendicular from O, s1 = √0.52 − 0.5.
 S1_FOOT = math.sqrt(0.52) - 0.5
-P002_1 = {   # spec §8 table: exact values
+P002_1 = {   # §8 table: exact values
     "sigma": 0.3, "b": 0.4, "s2": 0.1, "phi": math.atan(3 / 4), "psi": math.atan(4 / 3) - math.atan(2 / 3),
     "V2": 0.0, "v_B": math.sqrt(0.52) / 6, "omega_phi": math.sqrt(0.52) / 2.4, "omega_psi": math.sqrt(0.52) / 7.8,
     "K_omega": 13 / 4, "eps_psi": -11 / 351, "eps_phi": -1 / 54, "a2": -13 / 360, "areal_ratio": 1.0,
@@ -45,10 +46,10 @@ def close(actual, expected, rel=REL, abs_=1e-12):
 # -- P002-1 -------------------------------------------------------------------------------------------------
 def test_p002_1_geometry():
     g = p002_1()
-    close([g.a, g.b1, g.l1, g.h_O, g.h_A, g.e_O, g.d_A], [0.6, 0.5, 0.5, 0.4, 0.4, 0.3, 0.3])   # spec §8
+    close([g.a, g.b1, g.l1, g.h_O, g.h_A, g.e_O, g.d_A], [0.6, 0.5, 0.5, 0.4, 0.4, 0.3, 0.3])   # §8
     close([g.alpha, g.beta], [math.atan(4 / 3)] * 2)
     assert abs(g.gamma) < 1e-15 and not g.mirrored
-    close(g.foot_stroke, S1_FOOT)        # spec §8b: s1* = sqrt(h_A² + (e_O + d_A)²) − l1
+    close(g.foot_stroke, S1_FOOT)        # §8b: s1* = sqrt(h_A² + (e_O + d_A)²) − l1
 
 
 def test_p002_1_closed_form():
@@ -58,7 +59,7 @@ def test_p002_1_closed_form():
 
 
 def test_p002_1_general_engine_on_the_example_file():
-    """The example file solved by the batched engine reproduces every value of the spec §8 table."""
+    """The example file solved by the batched engine reproduces every value of the §8 table."""
     plan = assur.compile(assur.load(EXAMPLE))
     st_ = assur.solve(plan, inputs=np.array([0.5 + S1_FOOT]), speeds=[0.1])
     mot = actuator_motions(st_)
@@ -92,7 +93,7 @@ def test_example_file_is_the_p002_1_layout():
 
 
 def test_k_omega_maximum_of_p002_1():
-    """Spec §8b: K_ω has an interior maximum 4.0 at s1 ≈ 0.394 m. Derivation (γ = 0, h_O = h_A = 0.4,
+    """§8b: K_ω has an interior maximum 4.0 at s1 ≈ 0.394 m. Derivation (γ = 0, h_O = h_A = 0.4,
     e_O = d_A = 0.3): K = L²/b² = (0.16 + (σ+0.3)²)/(0.16 + (σ−0.3)²); dK/dσ = 0 ⇔ (σ+0.3)(σ−0.3) = 0.16,
     σ = 0.5, L = √0.8, K = 0.8/0.2 = 4, s1 = √0.8 − 0.5."""
     from assur.analysis.actuators import stroke_envelope
@@ -104,7 +105,7 @@ def test_k_omega_maximum_of_p002_1():
     close(top.value, 4.0)
     assert abs(top.q - 0.5 - (math.sqrt(0.8) - 0.5)) < 1e-7
     s2 = env.extremes[("driven_rod", "extension")]
-    (low,) = s2["interior"]                   # spec §8b: s2_max = b1 − h_O at s1*
+    (low,) = s2["interior"]                   # §8b: s2_max = b1 − h_O at s1*
     close(-low.value, 0.1)
     assert abs(low.q - 0.5 - S1_FOOT) < 1e-7
     assert abs(env.past_foot["drive_rod/driven_rod"] - 0.5 - S1_FOOT) < 1e-9
@@ -116,7 +117,7 @@ ANGLE = st.floats(min_value=math.radians(15), max_value=math.radians(140))
 
 @st.composite
 def geometries(draw):
-    """(a, α, β, γ) with −80° < β − γ < 80°, |sin(α+γ)|, |sin(β−γ)| ≥ 0.1 (spec §2 validity)."""
+    """(a, α, β, γ) with −80° < β − γ < 80°, |sin(α+γ)|, |sin(β−γ)| ≥ 0.1 (§2 validity)."""
     a = draw(st.floats(min_value=0.05, max_value=2.0))
     alpha = draw(ANGLE)
     beta = draw(st.floats(min_value=math.radians(15), max_value=math.radians(165) - alpha))
@@ -135,7 +136,7 @@ def strokes(g, n=7, seed=0):
 @settings(max_examples=40, deadline=None)
 @given(geometries(), st.integers(0, 2**16))
 def test_closed_form_equals_the_general_engine(g, seed):
-    """Spec §3–§4 against the batched Assur-group solver on the equivalent mechanism file."""
+    """§3–§4 against the batched Assur-group solver on the equivalent mechanism file."""
     plan = assur.compile(assur.loads(assur.dumps(g.mechanism(speed=0.1))))
     s1 = strokes(g, seed=seed)
     ex = g.exact(s1, 0.1)
@@ -173,7 +174,7 @@ def test_closed_form_analogues_equal_central_differences(g):
 @settings(max_examples=60, deadline=None)
 @given(geometries(), st.integers(0, 2**16))
 def test_areal_velocity_ratio_is_the_constant_h_o_over_h_a(g, seed):
-    """Spec §6: (b²·ω_φ)/(L²·ω_ψ) = h_O/h_A = S_BOB1/S_BAB1 for every s1 — computed by the engine's
+    """§6: (b²·ω_φ)/(L²·ω_ψ) = h_O/h_A = S_BOB1/S_BAB1 for every s1 — computed by the engine's
     rod pairs (from positions and analogues only), against the closed-form constant."""
     plan = assur.compile(g.mechanism(speed=0.1))
     s1 = strokes(g, seed=seed) + 1e-3 * g.l1
@@ -182,13 +183,13 @@ def test_areal_velocity_ratio_is_the_constant_h_o_over_h_a(g, seed):
     want = g.b1 * math.sin(g.alpha + g.gamma) / (g.l1 * math.sin(g.beta - g.gamma))
     close(pair.areal_ratio, want, rel=1e-9)
     close(pair.area_ratio, want, rel=1e-7)          # the swept triangles share the base BB1
-    # K_ω itself varies: K_ω = (h_O/h_A)·(L/b)² (spec §6)
+    # K_ω itself varies: K_ω = (h_O/h_A)·(L/b)² (§6)
     b = actuator_motions(state)["driven_rod"].length
     close(pair.K_omega, want * ((g.l1 + s1) / b) ** 2, rel=1e-9)
 
 
 def test_special_cases_gamma_90_and_beta_below_gamma():
-    """Fig. 3's vertical guide (γ = 90°, β < γ): h_A < 0, the driving rod turns clockwise (spec §2)."""
+    """Fig. 3's vertical guide (γ = 90°, β < γ): h_A < 0, the driving rod turns clockwise (§2)."""
     g = LeverManipulator(0.3, math.radians(70), math.radians(75), math.pi / 2)
     assert g.h_A < 0 and g.beta < g.gamma
     ex = g.exact(np.linspace(0.01, 0.5, 5), 0.1)
@@ -197,7 +198,7 @@ def test_special_cases_gamma_90_and_beta_below_gamma():
     assert np.all(ex["s2"] < 0)
 
 
-# -- the paper's formulas (spec §5) -----------------------------------------------------------------------
+# -- the paper's formulas (§5) -----------------------------------------------------------------------
 @settings(max_examples=40, deadline=None)
 @given(geometries(), st.floats(min_value=0.01, max_value=0.5))
 def test_paper_eqs_8_9_15_equal_the_exact_model(g, V1):
@@ -213,7 +214,7 @@ def test_paper_eqs_8_9_15_equal_the_exact_model(g, V1):
 @settings(max_examples=40, deadline=None)
 @given(geometries())
 def test_paper_eq_11_holds_only_before_the_foot_of_o(g):
-    """Spec E3: with the true s2, φ = arcsin(b1·A/b) − (α+γ) holds while α + γ + φ ≤ 90° (σ ≤ e_O);
+    """E3: with the true s2, φ = arcsin(b1·A/b) − (α+γ) holds while α + γ + φ ≤ 90° (σ ≤ e_O);
     past the foot it is on the wrong branch (180° − arcsin(...) − (α+γ) is right)."""
     assume(g.foot_stroke > 0.05 * g.l1)
     V1 = 0.1
@@ -232,7 +233,7 @@ def test_paper_eq_11_holds_only_before_the_foot_of_o(g):
 
 
 def test_paper_eq_11_is_wrong_at_t0_for_a_vertical_guide():
-    """Spec E3: γ = 90°, α + γ = 100° gives φ(0) = arcsin(sin 100°) − 100° = −20° instead of 0."""
+    """E3: γ = 90°, α + γ = 100° gives φ(0) = arcsin(sin 100°) − 100° = −20° instead of 0."""
     g = LeverManipulator(1.0, math.radians(10), math.radians(120), math.pi / 2)
     lit = paper_formulas(g, np.array([0.0]), 0.1)
     assert abs(math.degrees(lit.values["phi (11)"][0]) + 20.0) < 1e-9
@@ -240,7 +241,7 @@ def test_paper_eq_11_is_wrong_at_t0_for_a_vertical_guide():
 
 
 def test_paper_eq_12_singularities_are_reported_not_evaluated():
-    """Spec §8: at the foot of O the chain-rule reading of (12) has sqrt(b² − b1²A²) = 0 (true ω_φ is
+    """§8: at the foot of O the chain-rule reading of (12) has sqrt(b² − b1²A²) = 0 (true ω_φ is
     finite); with V2 frozen at its start value the root's argument turns negative after b1 − V2·t < h_O.
     Both are flagged (NaN + singular), never a number."""
     g = p002_1()
@@ -264,7 +265,7 @@ def test_paper_eq_12_singularities_are_reported_not_evaluated():
 
 
 def test_paper_eq_16_has_the_wrong_sign_at_t0():
-    """Spec §8b: α = β = 60°, γ = 0, a = 1 m, V1 = 0.1 m/s: true ε_φ(0) = −0.01732 rad/s² against
+    """§8b: α = β = 60°, γ = 0, a = 1 m, V1 = 0.1 m/s: true ε_φ(0) = −0.01732 rad/s² against
     (16) = +0.0866 (V2 frozen at V2(0)); the condition is sin³β > sin 2α·cos β."""
     g = LeverManipulator(1.0, math.radians(60), math.radians(60), 0.0)
     ex = g.exact(np.array([0.0]), 0.1)
@@ -275,7 +276,7 @@ def test_paper_eq_16_has_the_wrong_sign_at_t0():
 
 
 def test_paper_eq_14_is_not_the_driven_rod_speed():
-    """Spec E4: (14) mixes metres and m/s; it is not V2 = V1·ds2/ds1, not even in sign."""
+    """E4: (14) mixes metres and m/s; it is not V2 = V1·ds2/ds1, not even in sign."""
     g = p002_1()
     t = np.array([1.0, 3.0])
     lit = paper_formulas(g, t, 0.1)
@@ -296,7 +297,7 @@ def test_limits_of_spec_3():
     close(far["K_omega"][0], lim["K_omega"], rel=1e-5)
 
 
-# -- other parametrisations and validation (spec §2, §9) ---------------------------------------------------
+# -- other parametrisations and validation (§2, §9) ---------------------------------------------------
 def test_triangle_and_points_parametrisations_agree():
     g = LeverManipulator(0.5, math.radians(55), math.radians(65), math.radians(-20))
     t = LeverManipulator.from_triangle(g.b1, g.l1, g.alpha + g.gamma, math.pi - (g.beta - g.gamma))
@@ -333,7 +334,7 @@ def test_degenerate_points_are_rejected():
 
 
 def test_omega_phi_has_an_interior_maximum_in_some_geometries_only():
-    """Spec §8b: ω_φ has an interior maximum in some geometries (P002-1: d²φ/ds1² changes sign) and not
+    """§8b: ω_φ has an interior maximum in some geometries (P002-1: d²φ/ds1² changes sign) and not
     in others (α = β = 60°, γ = 0: d²φ/ds1² < 0 along the whole stroke, here up to s1 = 20·l1)."""
     s = np.linspace(0.0, 20.0, 20001)
     g60 = LeverManipulator(1.0, math.radians(60), math.radians(60), 0.0)
@@ -344,7 +345,7 @@ def test_omega_phi_has_an_interior_maximum_in_some_geometries_only():
 
 
 def test_a_mirrored_file_reports_angles_in_its_own_frame():
-    """Spec §2: B0 below O → A mirrors the paper's frame; ψ and φ keep their sizes and flip their senses."""
+    """§2: B0 below O → A mirrors the paper's frame; ψ and φ keep their sizes and flip their senses."""
     text = EXAMPLE.read_text(encoding="utf-8").replace("G = [0, 400]", "G = [0, -400]").replace(
         "B = [300, 400]", "B = [300, -400]")
     plan = assur.compile(assur.loads(text))

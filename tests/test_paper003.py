@@ -1,10 +1,10 @@
 """Paper 003 (Dvorzhak, spatial RSSR crank–rocker by the vector method): the sharp check P003-2 of
-spec 003 §9 (the planar-equivalent RSSR against Freudenstein's closed form and the exact values
-printed there), the constraints of §4 at every sample, the coupler frame (27)–(30), the branch and
+docs/papers/003.md §9 (the planar-equivalent RSSR against Freudenstein's closed form and the exact values
+given there), the constraints of §4 at every sample, the coupler frame (27)–(30), the branch and
 the paper's W (§5, §7), and random valid RSSRs keeping their link lengths over a full turn.
 
-The paper prints no numerical results (spec 003 header); every expected value below is an exact
-closed form from spec §9 or an identity computed in the test."""
+The paper prints no numerical results (docs/papers/003.md); every expected value below is an exact
+closed form from §9 or an identity computed in the test. Section numbers are those of docs/papers/003.md."""
 from __future__ import annotations
 
 import math
@@ -34,7 +34,7 @@ def tilted():
 
 
 def freudenstein_p3(f1):
-    """Spec §9: P3 of the planar crank–rocker a = 20, b = 70, c = 50, d = 60 in (Y, Z) coordinates (mm)."""
+    """§9: P3 of the planar crank–rocker a = 20, b = 70, c = 50, d = 60 in (Y, Z) coordinates (mm)."""
     a, b, c, d = 20.0, 70.0, 50.0, 60.0
     g = math.atan2(48, 36)
     t2 = f1 - g
@@ -57,7 +57,7 @@ def test_p003_2_matches_freudenstein_at_every_crank_angle(plan):
 
 
 def test_p003_2_exact_positions(plan):
-    """Spec §9: f1 = 180° → P3 = (0, −158/17, 1176/17); folded dead centre f1 = atan2(4,3) + acos(3/5) + 180°
+    """§9: f1 = 180° → P3 = (0, −158/17, 1176/17); folded dead centre f1 = atan2(4,3) + acos(3/5) + 180°
     → P2 = (0, 5.6, −19.2), P3 = (0, −14, 48), θ4 = −90°; extended f1 = atan2(4,3) + acos(23/27) → |P1P3| = 90."""
     folded = math.atan2(4, 3) + math.acos(3 / 5) + math.pi
     extended = math.atan2(4, 3) + math.acos(23 / 27)
@@ -77,7 +77,7 @@ def test_p003_2_exact_positions(plan):
 
 
 def test_p003_2_dead_centres_swing_and_transmission(plan):
-    """Spec §9: dead centres root-solved to 1e-6°, swing acos(−1/3) − acos(3/5) = 56.3411183°,
+    """§9: dead centres root-solved to 1e-6°, swing acos(−1/3) − acos(3/5) = 56.3411183°,
     θ4 ∈ [−146.3411183°, −90°], μ_int ∈ [acos(29/35), acos(1/7)] at f1 = atan2(4, 3) and +180°, μ_T = μ_int here."""
     (s,) = dyad_summaries(plan, steps=720)
     assert s.branch_s == 1
@@ -108,7 +108,7 @@ def test_p003_2_dead_centres_swing_and_transmission(plan):
 
 
 def _constraints(plan, s, params=None):
-    """Residuals (relative to the link lengths) of spec §4's constraints at every sample."""
+    """Residuals (relative to the link lengths) of the constraints of §4 at every sample."""
     params = plan.defaults if params is None else params
     g = dyads(plan, s, params)[0]
     crank_len = params[..., plan.param_index("crank.length")]
@@ -151,7 +151,7 @@ def test_coupler_frame_is_right_handed_and_follows_27_to_30(name, request):
 
 
 def test_paper_literal_solver_is_singular_for_p003_2_and_for_the_typical_pin(plan):
-    """Erratum F1 (spec §7 item 1): with the rocker axis parallel to X, V3_X ≡ 0 and the literal p(·) is
+    """Erratum F1 (§7 item 1): with the rocker axis parallel to X, V3_X ≡ 0 and the literal p(·) is
     singular at every crank angle; the typical pin e_p1 = −e_X makes (29) singular for every coupler
     direction. The literal solver reports it (NaN) instead of returning garbage."""
     s = assur.solve(plan, None, np.linspace(0, 2 * math.pi, 73), order=0)

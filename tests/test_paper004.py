@@ -1,10 +1,10 @@
 """Paper 004 (four-bar and six-bar walking legs): structure, the closed forms (3)–(13) with the accepted
 signs and corrections, loop closure, velocities, and the β1 feasibility scan.
 
-References: spec 004 (/work/shared/spec/004_walking_linkages.md) sections and the paper's equation
+References: sections (§N) of docs/papers/004.md and the paper's equation
 numbers. Files: (a) walker_fourbar.toml, (b) walker_fourbar_adjustable.toml, (c) walker_sixbar.toml
 (β1 = 0, documented assumption) and walker_sixbar_beta1_60.toml (β1 = 60°, crank.N.angle = −β1).
-The file's y is the paper's z (z up, spec 004 §1).
+The file's y is the paper's z (z up, §1).
 """
 from __future__ import annotations
 
@@ -23,17 +23,17 @@ EX = Path(__file__).resolve().parent.parent / "examples"
 FOURBAR, ADJUSTABLE = EX / "walker_fourbar.toml", EX / "walker_fourbar_adjustable.toml"
 SIXBAR, SIXBAR60 = EX / "walker_sixbar.toml", EX / "walker_sixbar_beta1_60.toml"
 
-# printed dimensions, spec 004 §5 (Fig. 4 and Fig. 5 tables), metres and degrees
+# printed dimensions, §5 (Fig. 4 and Fig. 5 tables), metres and degrees
 FB = dict(l1=0.27, l2=0.638, l3=0.65, l4=0.654, beta=math.radians(70.8))
 SB = dict(l_OB=0.2, l_ON=0.2, l_BM=0.755, l_O1M=0.61, l_MD=0.38, l_DA=0.558, l_AH=0.355, l_NA=0.895,
           beta2=math.radians(135.0), beta3=math.radians(135.0))
 O1 = np.array([0.567, 0.615])
-OMEGA = 2 * math.pi * 27 / 60          # 27 rpm = 2.8274 rad/s (spec 004 §1, §5)
+OMEGA = 2 * math.pi * 27 / 60          # 27 rpm = 2.8274 rad/s (§1, §5)
 PHI = np.linspace(0.0, 2 * math.pi, 721)
 
 
 def e(a):
-    """e(a) = (cos a, sin a) as a complex number (spec README, Notation)."""
+    """e(a) = (cos a, sin a) as a complex number (docs/papers/README.md, Notation)."""
     return np.exp(1j * a)
 
 
@@ -55,12 +55,12 @@ def half_angle(num, den):
         return 2 * np.arctan(num / den)
 
 
-# -- structure, spec 004 §2 ------------------------------------------------------------------------------
+# -- structure, §2 ------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("path, n, p5, W", [(FOURBAR, 3, 4, 1), (ADJUSTABLE, 4, 5, 2), (SIXBAR, 5, 7, 1),
                                               (SIXBAR60, 5, 7, 1)])
 def test_mobility(path, n, p5, W):
-    """Printed counts and W = 3n − 2p5 of mechanisms a, b, c (spec 004 §2, eq. 1)."""
+    """Printed counts and W = 3n − 2p5 of mechanisms a, b, c (§2, eq. 1)."""
     s = assur.analyse(assur.load(path))
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (n, p5, W)
     assert W == 3 * n - 2 * p5
@@ -74,7 +74,7 @@ def _with_free_foot(m):
 
 @pytest.mark.parametrize("path", [FOURBAR, ADJUSTABLE, SIXBAR, SIXBAR60], ids=lambda p: p.stem)
 def test_free_foot_adds_one_freedom(path):
-    """The foot hinged at H adds one uncontrolled freedom: n + 1, p5 + 1, W + 1 (spec 004 §2), counted on the
+    """The foot hinged at H adds one uncontrolled freedom: n + 1, p5 + 1, W + 1 (§2), counted on the
     structure graph with Chebyshev's formula (1)."""
     from assur.structure.assur import mobility_chebyshev
     from assur.structure.graph import build_graph
@@ -89,7 +89,7 @@ def test_free_foot_adds_one_freedom(path):
 def test_analyse_reports_mobility_of_the_free_foot_model():
     m = assur.load(FOURBAR)
     free = assur.analyse(_with_free_foot(m))
-    assert free.mobility == 2                      # spec 004 §2: the hinged foot adds one freedom
+    assert free.mobility == 2                      # §2: the hinged foot adds one freedom
     assert "foot" in " ".join(free.undetermined)   # ... which no driver determines
     bare = assur.analyse(dataclasses.replace(m, drivers=()))
     assert bare.mobility == 1 and set(bare.undetermined) == {"coupler", "crank", "rocker"}
@@ -98,7 +98,7 @@ def test_analyse_reports_mobility_of_the_free_foot_model():
 
 
 def test_fourbar_structure():
-    """I(frame 0, crank 1) → II(coupler 3, rocker 2) (spec 004 §2, eq. 2)."""
+    """I(frame 0, crank 1) → II(coupler 3, rocker 2) (§2, eq. 2)."""
     s = _plan(FOURBAR).structure
     assert len(s.drivers) == 1 and len(s.groups) == 1
     g = s.describe()[0]
@@ -108,7 +108,7 @@ def test_fourbar_structure():
 @pytest.mark.parametrize("path", [SIXBAR, SIXBAR60])
 def test_sixbar_structural_formula_is_a_chain(path):
     """Derived formula: I(0, 1) → II(B–M, O1–M–D) → II(N–A, D–A–H), the last group attached to the crank and to
-    the first group's rocker (spec 004 §2: the printed brace hides that dependency)."""
+    the first group's rocker (§2: the printed brace hides that dependency)."""
     s = _plan(path).structure
     assert s.structural_formula.count("→") == 2
     assert s.structural_formula.startswith("I(frame, crank) → II(")
@@ -136,7 +136,7 @@ def test_adjustable_default_is_mechanism_a():
     assert np.linalg.norm(moved.pos[0, pb.point_index("O1")] - O1) > 0.01
 
 
-# -- four-bar, eqs. (3)–(6), spec 004 §3 ------------------------------------------------------------------
+# -- four-bar, eqs. (3)–(6), §3 ------------------------------------------------------------------
 
 def fourbar_eq5(phi, s2, s3, l1=FB["l1"], l2=FB["l2"], l3=FB["l3"]):
     """γ2, γ3 of eq. (5) as printed, with the root signs s2, s3, and K of eq. (3)."""
@@ -169,11 +169,11 @@ def test_fourbar_dimensions_in_file(fourbar):
                     ("O1.y", O1[1]), ("O.x", 0.0), ("O.y", 0.0)]:
         assert p[plan.param_index(name)] == pytest.approx(v, abs=1e-15), name
     assert plan.speeds[0] == pytest.approx(OMEGA, rel=1e-15)
-    assert OMEGA == pytest.approx(2.8274, abs=5e-5)       # printed rate, spec 004 §1
+    assert OMEGA == pytest.approx(2.8274, abs=5e-5)       # printed rate, §1
 
 
 def test_fourbar_eq5_accepted_signs_equal_solver(fourbar):
-    """(s2, s3) = (+1, −1) closes the loop and equals the circle–circle solution for all φ (spec 004 §3)."""
+    """(s2, s3) = (+1, −1) closes the loop and equals the circle–circle solution for all φ (§3)."""
     plan, st = fourbar
     assert st.valid.all()
     Lc, Lr, _, _ = fourbar_L_both_sides(PHI, +1, -1)
@@ -190,12 +190,12 @@ def test_fourbar_eq6_foot(fourbar):
     H = _pt(plan, st, "H")
     np.testing.assert_allclose(Lc - FB["l4"] * e(g3 + FB["beta"]), H, atol=1e-12)
     np.testing.assert_allclose(_c(O1) - FB["l2"] * e(g2) - FB["l4"] * e(g3 + FB["beta"]), H, atol=1e-12)
-    # the accepted reading puts the foot loop below the crank axis (spec 004 §3, "Why this reading")
+    # the accepted reading puts the foot loop below the crank axis (§3, "Why this reading")
     assert np.all(H.imag < 0)
 
 
 def test_fourbar_printed_signs_do_not_close():
-    """The printed (+1, +1) mixes two assembly modes: L from the two sides differ (spec 004 §3, §8)."""
+    """The printed (+1, +1) mixes two assembly modes: L from the two sides differ (§3, §8)."""
     Lc, Lr, _, _ = fourbar_L_both_sides(PHI, +1, +1)
     assert np.max(np.abs(Lc - Lr)) > 0.1
     assert np.mean(np.abs(Lc - Lr) > 1e-6) > 0.5        # open over most of the turn
@@ -213,12 +213,12 @@ def test_fourbar_L_is_right_of_K_O1(fourbar):
 
 
 def test_fourbar_assembly_condition():
-    """|l2 − l3| ≤ |K O1| ≤ l2 + l3 with |K O1| ∈ |O O1| ± l1: the crank turns fully (spec 004 §3)."""
+    """|l2 − l3| ≤ |K O1| ≤ l2 + l3 with |K O1| ∈ |O O1| ± l1: the crank turns fully (§3)."""
     oo1 = float(np.hypot(*O1))
     assert abs(FB["l2"] - FB["l3"]) <= oo1 - FB["l1"] and oo1 + FB["l1"] <= FB["l2"] + FB["l3"]
 
 
-# -- six-bar, eqs. (7)–(13), spec 004 §4 --------------------------------------------------------------------
+# -- six-bar, eqs. (7)–(13), §4 --------------------------------------------------------------------
 
 def sixbar_closed_form(phi, beta1, s1=-1, s2=+1, s3=+1, s4=+1, printed_den=False):
     """Eqs. (7)–(13) with the accepted signs (λ1 '−', λ2 '+', λ3 '+', λ4 '+') and the corrected λ4 denominator.
@@ -291,7 +291,7 @@ def test_sixbar_closed_forms_equal_solver(sixbar):
 
 
 def test_sixbar_branches(sixbar):
-    """M on the clockwise side of B → O1, A on the clockwise side of N → D (spec 004 §4)."""
+    """M on the clockwise side of B → O1, A on the clockwise side of N → D (§4)."""
     plan, st, beta1 = sixbar
     B, M, D, A = (_pt(plan, st, p) for p in "BMDA")
     N = sixbar_closed_form(PHI, beta1)["N"]
@@ -306,7 +306,7 @@ def test_sixbar_printed_signs_of_eq9_do_not_close():
 
 
 def test_sixbar_printed_eq12_denominator_does_not_close():
-    """With the printed λ4 denominator no root pair closes the loop (spec 004 §4, §8); with the correction,
+    """With the printed λ4 denominator no root pair closes the loop (§4, §8); with the correction,
     (+, +) and (−, −) close."""
     for beta1 in (0.0, math.radians(60)):
         for s3, s4 in itertools.product((+1, -1), repeat=2):
@@ -379,7 +379,7 @@ def test_velocities_against_central_differences(path):
     np.testing.assert_allclose(st.acc, OMEGA ** 2 * st.d2pos_dq2[..., 0, 0], atol=1e-14)
 
 
-# -- β1 feasibility scan, spec 004 §4 ---------------------------------------------------------------------------
+# -- β1 feasibility scan, §4 ---------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
 def beta1_scan():
@@ -393,17 +393,17 @@ def beta1_scan():
 
 
 def test_beta1_feasibility_intervals(beta1_scan):
-    """Full rotation exactly for β1 ∈ 0…116° and 253…359° on a 1° grid (spec 004 §4)."""
+    """Full rotation exactly for β1 ∈ 0…116° and 253…359° on a 1° grid (§4)."""
     plan, beta1, st = beta1_scan
     full = st.valid.all(axis=-1)
     expected = (beta1 <= 116) | (beta1 >= 253)
     assert np.array_equal(full, expected), np.flatnonzero(full != expected)
-    for b in (135, 180, 225):                     # the "natural" guesses cannot turn fully (spec 004 §4)
+    for b in (135, 180, 225):                     # the "natural" guesses cannot turn fully (§4)
         assert not full[b]
 
 
 def test_beta1_feasibility_from_the_ND_condition(beta1_scan):
-    """Independent check: the N–A–D dyad needs 0.337 ≤ |ND| ≤ 1.453 m at every φ (spec 004 §4), with D from
+    """Independent check: the N–A–D dyad needs 0.337 ≤ |ND| ≤ 1.453 m at every φ (§4), with D from
     the first dyad (independent of β1) and N from eq. (7); 135°, 180°, 225° violate the upper bound."""
     plan, beta1, st = beta1_scan
     lo, hi = SB["l_NA"] - SB["l_DA"], SB["l_NA"] + SB["l_DA"]

@@ -1,8 +1,8 @@
-"""Spatial vector kernels of paper 003 (spec 003 §2–§3, §7): primitive identities, the robust
-unit-vector solver p(·) and the paper's literal closed form kept as a reference.
+"""Spatial vector kernels of paper 003 (docs/papers/003.md §2–§3, §7; the sections cited below): primitive
+identities, the robust unit-vector solver p(·) and the paper's literal closed form kept as a reference.
 
 Reference values are identities checked in the test itself (rotation matrices against Turn, the
-e_Z2 formula (8) against the matrix product, the defining equations of p) or the spec's stated
+e_Z2 formula (8) against the matrix product, the defining equations of p) or the page's stated
 special cases (§3.2: a1 = a2 = 90° gives p = s·Ort(V1 × V2); §7: V3_X = 0, negative
 discriminant, V1 ∥ V2)."""
 from __future__ import annotations
@@ -26,7 +26,7 @@ EX, EY, EZ = np.eye(3)
 # -- primitives --------------------------------------------------------------------------------------
 @given(angle)
 def test_turn_matches_the_rotation_matrices(f):
-    """Spec §2: T_X(f)·e_Y = Turn(e_Y, e_X, f, 1), and likewise about Y and Z."""
+    """§2: T_X(f)·e_Y = Turn(e_Y, e_X, f, 1), and likewise about Y and Z."""
     np.testing.assert_allclose(V.turn(EY, EX, f, 1.0), V.t_x(f) @ EY, atol=1e-14)
     np.testing.assert_allclose(V.turn(EZ, EY, f, 1.0), V.t_y(f) @ EZ, atol=1e-14)
     np.testing.assert_allclose(V.turn(EX, EZ, f, 1.0), V.t_z(f) @ EX, atol=1e-14)
@@ -58,7 +58,7 @@ def test_proj_and_norm_split_a_vector(v, v0):
 
 @given(angle, angle)
 def test_e_z2_formula_is_the_matrix_product(g1, g2):
-    """Spec (8): e_Z2 = T_Y(γ1)·T_X(γ2)·e_Z = (sin γ1 cos γ2, −sin γ2, cos γ1 cos γ2); the frame is a rotation."""
+    """Eq. (8): e_Z2 = T_Y(γ1)·T_X(γ2)·e_Z = (sin γ1 cos γ2, −sin γ2, cos γ1 cos γ2); the frame is a rotation."""
     E = V.axis_frame(g1, g2)
     np.testing.assert_allclose(E @ EZ, V.e_z2(g1, g2), atol=1e-15)
     np.testing.assert_allclose(V.e_z2(g1, g2), [math.sin(g1) * math.cos(g2), -math.sin(g2),
@@ -71,7 +71,7 @@ def test_e_z2_formula_is_the_matrix_product(g1, g2):
 
 
 def test_axis_frame_of_the_planar_equivalent_check():
-    """Spec §9: γ1 = 90°, γ2 = 0 gives e_Z2 = e_X, e_X2 = (0, 0, −1), e_Y2 = (0, 1, 0)."""
+    """§9: γ1 = 90°, γ2 = 0 gives e_Z2 = e_X, e_X2 = (0, 0, −1), e_Y2 = (0, 1, 0)."""
     E = V.axis_frame(math.pi / 2, 0.0)
     np.testing.assert_allclose(E.T, [[0, 0, -1], [0, 1, 0], [1, 0, 0]], atol=1e-15)
 

@@ -1,7 +1,7 @@
 """Spatial mechanisms in the general engine (``assur.compile`` / ``assur.solve`` on dimension-3 files):
 the solve contract (shapes, broadcasting, NaN + valid), exact velocities and accelerations against
-central differences and against the batched Newton loop-closure oracle (spec 003 §6), body angular
-velocities, and bad input (spec 003 §7, located SpecErrors, unbuildable ranges named)."""
+central differences and against the batched Newton loop-closure oracle (docs/papers/003.md §6), body angular
+velocities, and bad input (docs/papers/003.md §7, located SpecErrors, unbuildable ranges named)."""
 from __future__ import annotations
 
 import math
@@ -94,8 +94,8 @@ def test_velocities_and_accelerations_against_central_differences(name, request)
 
 @pytest.mark.parametrize("name", ["plan", "tilted"])
 def test_closed_form_equals_the_newton_loop_closure_oracle(name, request):
-    """Spec §10: the same mechanism solved by Newton on the loop-closure equations (continued from the
-    sketch, derivatives by §6's linear systems) equals the closed form with jets."""
+    """docs/papers/003.md §10: the same mechanism solved by Newton on the loop-closure equations (continued
+    from the sketch, derivatives by §6's linear systems) equals the closed form with jets."""
     plan = request.getfixturevalue(name)
     q = np.linspace(0, 2 * math.pi, 49)
     a = assur.solve(plan, None, q)

@@ -1,6 +1,6 @@
-"""The four-bar path-synthesis benchmarks C1–C3 (shared spec synthesis_benchmarks.md).
+"""The four-bar path-synthesis benchmarks C1–C3 (docs/papers/synthesis_benchmarks.md).
 
-Every published design vector of the spec's data blocks (§2.1–2.3) is re-evaluated through the shipped
+Every published design vector of that page's data blocks (§2.1–2.3) is re-evaluated through the shipped
 problem files (the general engine) and must reproduce its f_ref and feasibility flags (§3.1); an
 independent closed form of §1.2, written here, checks the engine's coupler points (§3.1 item 6).
 """
@@ -17,7 +17,7 @@ from assur.synthesis import Evaluator, load_problem, problem_from_dict
 from assur.synthesis import fourbar as fb
 
 ROOT = Path(__file__).resolve().parents[1]
-SPEC = ROOT.parent / "shared" / "spec" / "synthesis_benchmarks.md"
+SPEC = ROOT / "docs" / "papers" / "synthesis_benchmarks.md"
 FILES = {"C1": "c1_six_points_line", "C2": "c2_five_points_timed", "C3": "c3_eighteen_points_closed"}
 
 
@@ -41,7 +41,7 @@ def problem(case, constraints=None):
 
 
 def closed_form(x, case):
-    """Spec §1.2, geometric form (stable everywhere d > 0): coupler points (N, 2) and Δ (N,)."""
+    """§1.2, geometric form (stable everywhere d > 0): coupler points (N, 2) and Δ (N,)."""
     b = BLOCKS[case]
     r1, r2, r3, r4, rcx, rcy = x[:6]
     if case == "C2":
@@ -161,7 +161,7 @@ def test_discriminant_is_the_spec_definition():
 def test_continuous_motion_catches_a_gap_between_samples():
     """§1.3: the C3 example has Δ ≥ 0 at the 18 targets, but its crank cannot pass 174.6°–185.4°.
 
-    The spec says it also passes Grashof; as printed (6 digits) it misses by s + l − p − q = 4.0e-5
+    §1.3 says it also passes Grashof; as printed (6 digits) it misses by s + l − p − q = 4.0e-5
     (0.49341 + 12.5270 against 0.49447 + 12.5259), so the check is shown here without Grashof."""
     x = np.array([12.5270, 0.49447, 12.5259, 0.49341, 5.60588, -0.32564, 3.02375, 5.54398, 4.22783, 2.93945])
     e = Evaluator(problem("C3"))(x[None, :])
@@ -171,7 +171,7 @@ def test_continuous_motion_catches_a_gap_between_samples():
     # the gap, from Δ(θ) itself on a fine grid (θ measured from the ground line)
     theta = np.radians(np.arange(0, 360, 0.01))
     bad = theta[fb.discriminant(x[None, :4], theta[None, :])[0] < 0]
-    # printed to 0.1°; the spec quotes 174.6°–185.4°, the grid gives 174.54°–185.46°
+    # printed to 0.1°; §1.3 quotes 174.6°–185.4°, the grid gives 174.54°–185.46°
     assert np.degrees(bad.min()) == pytest.approx(174.6, abs=0.1) and np.degrees(bad.max()) == pytest.approx(185.4, abs=0.1)
     # without continuous_motion (and Grashof) the same design counts as feasible: the check is what rejects it
     assert Evaluator(problem("C3", ["assembly", "nondegenerate"]))(x[None, :]).feasible[0]
@@ -195,7 +195,7 @@ def test_fused_reduction_equals_the_general_route():
 
 
 def _recheck(case, r):
-    """Independent re-check of a result (spec §3.2): f from the closed form here, Δ ≥ 0 at every target angle."""
+    """Independent re-check of a result (§3.2): f from the closed form here, Δ ≥ 0 at every target angle."""
     pts, disc = closed_form(np.array(r.x_file), case)
     f = float(((pts - np.array(BLOCKS[case]["points"])) ** 2).sum())
     assert disc.min() >= 0

@@ -1,6 +1,7 @@
 """Wheel-step mover of paper 001: shoe profile (eqs. 1–3), curvature (eqs. 7–9), displacements (eqs. 4–6, 10).
 
-Printed values are from the paper's worked example as restated in spec 001 §A4; exact identities from spec §A3.
+Printed values are from the paper's worked example as restated in docs/papers/001.md §A4; exact identities from
+§A3 (section references below are to that page).
 """
 import math
 
@@ -12,7 +13,7 @@ from hypothesis import strategies as st
 from assur.errors import SpecError
 from assur.wheelstep import STEP_HALF_ANGLE, Shoe, bar_length_for
 
-PAPER = Shoe.from_r_min(0.06, 0.1, 0.02)     # spec A1: a = 0.06 m, b = 0.1 m, R_min = 0.02 m
+PAPER = Shoe.from_r_min(0.06, 0.1, 0.02)     # A1: a = 0.06 m, b = 0.1 m, R_min = 0.02 m
 STEP = np.linspace(-math.pi / 4, math.pi / 4, 2001)
 
 # shoes with R_min > 0: a, b, and R_min drawn; c from the design rule
@@ -24,7 +25,7 @@ def half_unit(printed_digits):
 
 
 def test_worked_numbers_match_the_printed_digits():
-    """Spec A4 table: c = 0.36 m, X_I = 0.6 m, X_II = 0.2027 m, X_01 = 0.8027 m, share 25.25 %."""
+    """A4 table: c = 0.36 m, X_I = 0.6 m, X_II = 0.2027 m, X_01 = 0.8027 m, share 25.25 %."""
     b = PAPER.budget
     assert PAPER.c == pytest.approx(0.36, abs=half_unit(2))
     assert b.crank == pytest.approx(0.6, abs=half_unit(1))
@@ -35,7 +36,7 @@ def test_worked_numbers_match_the_printed_digits():
 
 
 def test_budget_equals_the_closed_forms_to_round_off():
-    """Spec A4: X_II = (a − b + c)π/2 − 3b (corrected eq. 6) = eq. (10); X_01 = (a − b + c)π/2 + 3b (eq. 4)."""
+    """A4: X_II = (a − b + c)π/2 − 3b (corrected eq. 6) = eq. (10); X_01 = (a − b + c)π/2 + 3b (eq. 4)."""
     a, b, c = PAPER.a, PAPER.b, PAPER.c
     assert PAPER.budget.rolling == pytest.approx((a - b + c) * math.pi / 2 - 3 * b, rel=1e-15)
     assert PAPER.rolling_eq10() == pytest.approx(PAPER.budget.rolling, rel=1e-14)
@@ -52,7 +53,7 @@ def test_design_rule_inverts_eq9():
 
 
 def test_profile_at_zero_is_the_bar_end():
-    """Spec A2: at φ = 0 the profile point is (0, c), so ρ(0) = c and α(0) = 0."""
+    """A2: at φ = 0 the profile point is (0, c), so ρ(0) = c and α(0) = 0."""
     xy = PAPER.profile(0.0)
     assert xy == pytest.approx([0.0, PAPER.c], abs=1e-15)
     rho, alpha = PAPER.profile_polar(0.0)
@@ -62,7 +63,7 @@ def test_profile_at_zero_is_the_bar_end():
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_polar_form_reconstructs_the_profile(shoe):
-    """ρ·(sin α, cos α) = (X, Y), since α is measured from the OY axis (spec A2)."""
+    """ρ·(sin α, cos α) = (X, Y), since α is measured from the OY axis (A2)."""
     rho, alpha = shoe.profile_polar(STEP)
     xy = shoe.profile(STEP)
     np.testing.assert_allclose(np.stack([rho * np.sin(alpha), rho * np.cos(alpha)], -1), xy, atol=1e-14)
@@ -71,7 +72,7 @@ def test_polar_form_reconstructs_the_profile(shoe):
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_profile_symmetry(shoe):
-    """X is odd and Y even in φ (spec A2)."""
+    """X is odd and Y even in φ (A2)."""
     p, m = shoe.profile(STEP), shoe.profile(-STEP)
     np.testing.assert_allclose(p[:, 0], -m[:, 0], atol=1e-15)
     np.testing.assert_allclose(p[:, 1], m[:, 1], atol=1e-15)
@@ -80,7 +81,7 @@ def test_profile_symmetry(shoe):
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_eq7_equals_eq8(shoe):
-    """Spec A3: eq. (7) = eq. (8) identically."""
+    """A3: eq. (7) = eq. (8) identically."""
     np.testing.assert_allclose(shoe.curvature_radius_eq7(STEP), shoe.curvature_radius(STEP), rtol=1e-12,
                                atol=1e-15)
 
@@ -88,7 +89,7 @@ def test_eq7_equals_eq8(shoe):
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_tangent_turns_with_phi(shoe):
-    """Spec A3: (dX/dφ, dY/dφ) = R·(cos φ, −sin φ); and the analytic tangent equals a central difference."""
+    """A3: (dX/dφ, dY/dφ) = R·(cos φ, −sin φ); and the analytic tangent equals a central difference."""
     t = shoe.profile_tangent(STEP)
     R = shoe.curvature_radius(STEP)
     np.testing.assert_allclose(t, R[:, None] * np.stack([np.cos(STEP), -np.sin(STEP)], -1), atol=1e-13)
@@ -109,7 +110,7 @@ def test_curvature_radius_matches_a_numerical_curvature_of_the_profile():
 
 
 def test_profile_is_convex_and_polar_angle_monotonic():
-    """Spec A3: R > 0 on the step for the printed data; α(φ) monotonic; R ranges from R_min to a + c − b."""
+    """A3: R > 0 on the step for the printed data; α(φ) monotonic; R ranges from R_min to a + c − b."""
     R = PAPER.curvature_radius(STEP)
     assert R.min() == pytest.approx(PAPER.r_min) and R.min() > 0
     assert R.max() == pytest.approx(PAPER.r_step_end)
@@ -121,7 +122,7 @@ def test_profile_is_convex_and_polar_angle_monotonic():
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_arc_length_equals_rolling_displacement(shoe):
-    """Spec A3: the profile's arc length over a step equals X_II (polyline of eq. (1) vs the closed form)."""
+    """A3: the profile's arc length over a step equals X_II (polyline of eq. (1) vs the closed form)."""
     phi = np.linspace(-math.pi / 4, math.pi / 4, 20001)
     arc = np.linalg.norm(np.diff(shoe.profile(phi), axis=0), axis=1).sum()
     assert arc == pytest.approx(shoe.budget.rolling, rel=1e-7)
@@ -132,7 +133,7 @@ def test_arc_length_equals_rolling_displacement(shoe):
 @settings(max_examples=50, deadline=None)
 @given(shoes)
 def test_displacement_splits_into_rolling_and_crank(shoe):
-    """Spec B2: X(φ) = ∫₀^φ R + 3b sin 2φ; X(±π/4) = ±X_01/2; the crank part totals X_I = 6b; dX/dφ = rate."""
+    """B2: X(φ) = ∫₀^φ R + 3b sin 2φ; X(±π/4) = ±X_01/2; the crank part totals X_I = 6b; dX/dφ = rate."""
     X = shoe.displacement(STEP)
     np.testing.assert_allclose(X, shoe.rolling_displacement(STEP) + shoe.crank_displacement(STEP), atol=1e-14)
     assert shoe.displacement(math.pi / 4) == pytest.approx(shoe.budget.total / 2, rel=1e-14)

@@ -2,12 +2,12 @@
 
 Two linear actuators share the joint B, which runs in a straight frame guide: the driving rod
 l = A→B (length L = l1 + s1, the input) and the driven rod b = O→B (length b = b1 − s2). The frame
-of spec 002 §2: O = (0, 0), A = (a, 0), B0 above the x axis with interior angles α at O and β at A,
+of docs/papers/002.md §2: O = (0, 0), A = (a, 0), B0 above the x axis with interior angles α at O and β at A,
 the guide B(σ) = B0 + σ·u with u = (−cos γ, sin γ). :class:`LeverManipulator` holds (a, α, β, γ),
-validates them (spec §2, §9), gives the exact closed form of spec §3–§4 on arrays, and builds the
-equivalent mechanism for the general engine (:meth:`LeverManipulator.mechanism`). The paper's own
-formulas (eqs. 8–16, as reconstructed in spec §5) are in :func:`paper_formulas`, clearly apart: they
-are a comparison, never an answer. SI units (m, rad, s) throughout.
+validates them (§2, §9), gives the exact closed form of §3–§4 on arrays, and builds the equivalent
+mechanism for the general engine (:meth:`LeverManipulator.mechanism`). The paper's own formulas (eqs.
+8–16, as reconstructed in §5) are in :func:`paper_formulas`, clearly apart: they are a comparison,
+never an answer. SI units (m, rad, s) throughout.
 """
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def _deg(x: float) -> str:
 class LeverManipulator:
     """The manipulator of paper 002 by (a, α, β, γ) (m, rad); see the module docstring.
 
-    Derived quantities (spec §2): ``b1``, ``l1`` (start lengths of the driven and driving rods),
+    Derived quantities (docs/papers/002.md §2): ``b1``, ``l1`` (start lengths of the driven and driving rods),
     ``A_c = sin(α+γ)``, ``C_c = sin(β−γ)``, ``h_O``, ``h_A`` (signed distances of O and A from the
     guide), ``e_O`` (guide coordinate of the foot of the perpendicular from O), ``d_A`` (the foot
     from A is at σ = −d_A). Construction validates and raises one located :class:`SpecError`.
@@ -68,7 +68,7 @@ class LeverManipulator:
         if problems:
             raise SpecError(problems)
 
-    # -- other parametrisations (spec §2, §9) ----------------------------------------------------
+    # -- other parametrisations (docs/papers/002.md §2, §9) ----------------------------------------------------
     @classmethod
     def from_triangle(cls, b1: float, l1: float, angle_OBB1: float, angle_ABB1: float) -> "LeverManipulator":
         """From the start lengths b1 = |O B0|, l1 = |A B0| and the angles at B0 between the guide
@@ -78,7 +78,7 @@ class LeverManipulator:
             problems.append(("b1", f"must be a positive length: {b1!r}"))
         if not (l1 > 0 and math.isfinite(l1)):
             problems.append(("l1", f"must be a positive length: {l1!r}"))
-        at_b = angle_ABB1 - angle_OBB1          # the interior angle O B0 A (signed, spec §2)
+        at_b = angle_ABB1 - angle_OBB1          # the interior angle O B0 A (signed, docs/papers/002.md §2)
         if not 0 < at_b < math.pi:
             problems.append(("angle_ABB1 - angle_OBB1", f"the angle O B0 A must lie in (0°, 180°): {_deg(at_b)}"))
         if problems:
@@ -117,7 +117,7 @@ class LeverManipulator:
         gamma = math.atan2(w[1], -w[0])
         return cls(a, alpha, beta, gamma, mirrored)
 
-    # -- derived geometry (spec §2) --------------------------------------------------------------
+    # -- derived geometry (docs/papers/002.md §2) --------------------------------------------------------------
     @property
     def b1(self) -> float:
         return self.a * math.sin(self.beta) / math.sin(self.alpha + self.beta)
@@ -160,23 +160,24 @@ class LeverManipulator:
 
     @property
     def area_ratio(self) -> float:
-        """S_BOB1 / S_BAB1 = h_O / h_A: the exact, constant ratio of the rods' areal velocities (spec §6)."""
+        """S_BOB1 / S_BAB1 = h_O / h_A: the exact, constant ratio of the rods' areal velocities
+        (docs/papers/002.md §6)."""
         return self.h_O / self.h_A
 
     @property
     def foot_stroke(self) -> float:
-        """s1* where B passes the foot of the perpendicular from O (s2 is largest there, spec §8b);
+        """s1* where B passes the foot of the perpendicular from O (s2 is largest there, docs/papers/002.md §8b);
         negative when B starts past it (e_O < 0)."""
         return math.hypot(self.h_A, self.e_O + self.d_A) - self.l1
 
     @property
     def limits(self) -> dict:
-        """ψ, φ and K_ω as s1 → ∞ (spec §3, §8b)."""
+        """ψ, φ and K_ω as s1 → ∞ (docs/papers/002.md §3, §8b)."""
         return {"psi": self.beta - self.gamma,
                 "phi": math.atan2(self.A_c, -math.cos(self.alpha + self.gamma)),
                 "K_omega": self.h_O / self.h_A}
 
-    # -- the exact closed form (spec §3, §4) -------------------------------------------------------
+    # -- the exact closed form (docs/papers/002.md §3, §4) -------------------------------------------------------
     def exact(self, s1, V1=None, dV1=0.0) -> dict:
         """Positions and analogues at the strokes ``s1 (...)`` (m); with ``V1`` (m/s, scalar or (...))
         and ``dV1`` (m/s²) also the time derivatives by the chain rule. Keys: sigma, L, b, s2, psi,
@@ -308,10 +309,10 @@ def lever_layout(plan, params=None, *, strict: bool = False) -> LeverLayout | No
     return None
 
 
-# -- the paper's formulas (spec §5), for comparison only ------------------------------------------------
+# -- the paper's formulas (docs/papers/002.md §5), for comparison only ------------------------------------------------
 @dataclass(frozen=True)
 class PaperFormulas:
-    """The paper's eqs. (8), (9), (11)–(16) as reconstructed in spec §5, evaluated literally.
+    """The paper's eqs. (8), (9), (11)–(16) as reconstructed in docs/papers/002.md §5, evaluated literally.
 
     ``values[name]`` (...,) arrays, NaN where the formula is singular; ``singular[name]`` boolean
     masks of those samples (a square-root argument within ``LITERAL_TOLERANCE`` of zero or below it,

@@ -6,8 +6,9 @@ of the driven gear, so over one driving turn θ advances 2π/n, and the law cont
 θ(φ + 2π) = θ(φ) + 2π/n. That periodicity is what makes the driving pitch curve close after one of its turns;
 the driven curve then closes after n driving turns.
 
-Laws: :class:`WheelStepLaw` (the paper-001 constant-mover-speed law, spec B2, built in), :func:`law_from_callable`
-(θ(φ) vectorised), :func:`law_from_table` (φ_i, θ_i over one driving turn), :func:`law_from_ratio` (k(φ) = dθ/dφ).
+Laws: :class:`WheelStepLaw` (the paper-001 constant-mover-speed law, docs/papers/001.md B2, built in),
+:func:`law_from_callable` (θ(φ) vectorised), :func:`law_from_table` (φ_i, θ_i over one driving turn),
+:func:`law_from_ratio` (k(φ) = dθ/dφ).
 The three generic ones are periodic cubic splines of the excess e(φ) = θ(φ) − φ/n over one driving turn.
 """
 from __future__ import annotations
@@ -100,7 +101,7 @@ class TransmissionLaw:
 
 
 class WheelStepLaw(TransmissionLaw):
-    """The paper-001 law (spec B2): the mover runs at constant speed when the driving gear does.
+    """The paper-001 law (docs/papers/001.md B2): the mover runs at constant speed when the driving gear does.
 
     In the paper's symbols the driving-gear angle is θ and the driven (hub) angle φ; here, following the gear
     package, the driving angle is ``phi`` and the driven angle ``theta``. With X(·) the mover displacement over a
@@ -114,14 +115,14 @@ class WheelStepLaw(TransmissionLaw):
     (driver minimum radius, driven maximum radius).
 
     ``rounding`` = δ (rad of hub angle, default 0 = the paper's law) smooths the law's kink at the step ends
-    (spec B6.3/B7.8), which otherwise gives the pitch curves corners: within δ of a step end the rate
+    (docs/papers/001.md B6.3/B7.8), which otherwise gives the pitch curves corners: within δ of a step end the rate
     X′ = A + 3b·sin 2w (A = a − b + c, w = distance of the hub angle from the step end) is replaced by
     A + 3b·sin 2s(w) with s(w) = (w²/δ + δ)/2, which joins |w| with equal value and slope at w = ±δ, so k is C¹ and
     the pitch curves are smooth. The per-step total is renormalised so the curves still close; the mover speed is
     then constant only outside the rounded zones (:meth:`mover_speed_ratio`).
     """
 
-    description = "wheel-step constant-speed law (paper 001, spec B2)"
+    description = "wheel-step constant-speed law (paper 001, docs/papers/001.md B2)"
 
     def __init__(self, shoe: Shoe, driving_turns: int = 2, rounding: float = 0.0):
         if driving_turns not in (1, 2, 4):
@@ -137,8 +138,8 @@ class WheelStepLaw(TransmissionLaw):
         self._step_total = 2.0 * self._half_step(STEP_HALF_ANGLE) if rounding > 0 else shoe.budget.total
         self._scale = self.driving_turns * math.pi / 2.0 / self._step_total   # driving rad per metre (law)
         if rounding > 0:
-            self.description = (f"wheel-step constant-speed law (paper 001, spec B2), step ends rounded over "
-                                f"±{math.degrees(rounding):.4g}° of hub angle")
+            self.description = (f"wheel-step constant-speed law (paper 001, docs/papers/001.md B2), step ends "
+                                f"rounded over ±{math.degrees(rounding):.4g}° of hub angle")
 
     def __repr__(self):
         return (f"WheelStepLaw(a={self.shoe.a!r}, b={self.shoe.b!r}, c={self.shoe.c!r}, "

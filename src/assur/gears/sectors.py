@@ -1,17 +1,19 @@
-"""The sector method of paper 001 (spec B3/B4): circular-arc sectors and involute flank points, Tables 1–3.
+"""The sector method of paper 001 (docs/papers/001.md B3/B4): circular-arc sectors and involute flank points,
+Tables 1–3.
 
 Notation of this module follows the paper: the **driving** gear's angle is θ, the **driven** gear's φ (the
 opposite of :mod:`assur.gears.pitch`, whose ``phi`` is the driving rotation). A law is used through
 ``law.phi_of`` (driving angle as a function of driven angle), which for the paper's law is explicit.
 
-Sector model (spec B3): the driven range [φ_1, φ_{N+1}] is cut into N sectors; sector i is a pair of concentric
-circular arcs in rolling contact on the line of centres, radii r_i (driving) and r_Hi (driven), with
+Sector model (docs/papers/001.md B3): the driven range [φ_1, φ_{N+1}] is cut into N sectors; sector i is a pair of
+concentric circular arcs in rolling contact on the line of centres, radii r_i (driving) and r_Hi (driven), with
 
     r_i + r_Hi = L,   r_i·Δθ_i = r_Hi·Δφ_i = s    ⇒   r_i = L·Δφ_i/(Δφ_i + Δθ_i),  r_Hi = L·Δθ_i/(Δφ_i + Δθ_i)
 
 the same arc s for every sector, and the sector ends on the law θ(φ). s is found by an outer root find so that the
-N-th sector ends at φ_{N+1}. Flank points (spec B4, eqs. 11–14): involutes from the circle r − m ("base circle" of
-the paper) at radii r + m·f for fractions f (the paper's five: −1, −0.5, 0, 0.5, 1), with backlash j_n.
+N-th sector ends at φ_{N+1}. Flank points (docs/papers/001.md B4, eqs. 11–14): involutes from the circle r − m
+("base circle" of the paper) at radii r + m·f for fractions f (the paper's five: −1, −0.5, 0, 0.5, 1), with backlash
+j_n.
 
 All inputs and outputs are SI (m, rad) except the ``table*`` functions, which return the paper's tables in its
 units (mm, degrees) for export.
@@ -27,13 +29,13 @@ from ..errors import GearError
 from ..tolerances import DEFAULT as TOL
 from .law import TransmissionLaw
 
-#: the paper's five flank radii, as fractions of the module from the pitch radius (spec B4)
+#: the paper's five flank radii, as fractions of the module from the pitch radius (docs/papers/001.md B4)
 PAPER_FRACTIONS = (-1.0, -0.5, 0.0, 0.5, 1.0)
 
 
 @dataclass(frozen=True, slots=True, eq=False)   # array fields: compare by identity
 class SectorModel:
-    """N concentric-arc sectors of a gear pair (spec B3), SI units.
+    """N concentric-arc sectors of a gear pair (docs/papers/001.md B3), SI units.
 
     driving_angle: (N+1,) θ_i, sector start angles of the driving gear, plus the end θ_{N+1}, rad
     driven_angle: (N+1,) φ_i, the same for the driven gear, rad
@@ -88,12 +90,13 @@ def _march(law: TransmissionLaw, s: float, L: float, phi0: float, n: int, span: 
 
 def sector_model(law: TransmissionLaw, centre_distance: float, *, driven_start: float, driven_end: float,
                  sectors: int) -> SectorModel:
-    """Spec B3: ``sectors`` equal-arc concentric-arc sectors covering the driven range [driven_start, driven_end].
+    """``sectors`` equal-arc concentric-arc sectors covering the driven range [driven_start, driven_end]
+    (paper 001, docs/papers/001.md B3).
 
     law: a TransmissionLaw (its ``phi_of`` gives the driving angle of a driven angle; the paper's
     :class:`~assur.gears.law.WheelStepLaw`); centre_distance L, m; angles in rad. Root-finder tolerances are at
-    round-off (spec B3 asks for 1e-12 rad or tighter). The partition does not depend on L; s and the radii scale
-    with L."""
+    round-off (docs/papers/001.md B3 asks for 1e-12 rad or tighter). The partition does not depend on L; s and the
+    radii scale with L."""
     from scipy.optimize import brentq
     if not (np.isfinite(centre_distance) and centre_distance > 0):
         raise GearError(f"the centre distance must be a finite length > 0 m: {centre_distance!r}")
@@ -140,7 +143,8 @@ def involute_function(alpha):
 
 @dataclass(frozen=True, slots=True, eq=False)   # array fields: compare by identity
 class Flanks:
-    """Involute flank points of every sector (spec B4), SI units; shapes (N, F) for N sectors, F fractions.
+    """Involute flank points of every sector (docs/papers/001.md B4), SI units; shapes (N, F) for N sectors,
+    F fractions.
 
     radius: r_i + m·f_j (driving) or r_Hi + m·f_j (driven), m; first / second: polar angles of the first and second
     flank, rad. On the driving gear they bound tooth i, on the driven gear tooth space i."""
@@ -247,11 +251,11 @@ def table3(model: SectorModel, module: float, backlash: float, sectors=None) -> 
                         ("phi", "phi_s", "r_H"), driven_flanks(model, module, backlash), sectors)
 
 
-# ---- mesh findings of spec B6 that follow from the sector data ------------------------------------------------
+# ---- mesh findings of docs/papers/001.md B6 that follow from the sector data ---------------------------------
 
 @dataclass(frozen=True, slots=True, eq=False)   # array fields: compare by identity
 class SectorFindings:
-    """Spec B6.4–B6.8 for a sector model with module m and centre distance L (SI)."""
+    """The findings of docs/papers/001.md B6.4–B6.8 for a sector model with module m and centre distance L (SI)."""
     radial_steps: np.ndarray          #: (N−1,) r_i − r_{i+1} of the driving gear, m
     driven_radial_steps: np.ndarray   #: (N−1,) r_Hi − r_H,i+1, m
     working_depth: float              #: 2m, m
@@ -265,7 +269,7 @@ class SectorFindings:
 
 
 def sector_findings(model: SectorModel, law: TransmissionLaw, module: float, samples: int = 201) -> SectorFindings:
-    """Radial steps vs 2m, pressure angles, involute-pair ratios and the speed ripple (spec B6.4–B6.8).
+    """Radial steps vs 2m, pressure angles, involute-pair ratios and the speed ripple (docs/papers/001.md B6.4–B6.8).
 
     Speed ripple: with the driving gear at constant speed, within sector i the driven angle advances at 1/k_i
     (sector) or (r_i − m)/(r_Hi − m) (involute pair) per driving radian, while constant mover speed needs 1/k(φ),
@@ -300,7 +304,7 @@ class SectorOutline:
 
     driving: (M, 2) counter-clockwise polygon of the whole driving gear (first point not repeated), centre at the
     origin; body angle a = −θ of the paper's driver angle θ. driven: (K, 2) the same for the driven gear, body
-    angle β = π + φ of the paper's driven angle φ (spec B4 placement mirrored so that the driver turns
+    angle β = π + φ of the paper's driven angle φ (docs/papers/001.md B4 placement mirrored so that the driver turns
     counter-clockwise). teeth: (driving teeth, driven teeth); linking: "relieved" or "chord"."""
     driving: np.ndarray
     driven: np.ndarray
@@ -327,7 +331,8 @@ def _flank(start, pitch, radius, m, jn, sign, first, f_hi, n):
 def sector_outline(model: SectorModel, module: float, backlash: float, *, linking: str = "relieved",
                    dedendum: float = 1.25, steps_per_turn: int | None = None, flank_points: int = 33,
                    arc_step: float = math.radians(0.1)) -> SectorOutline:
-    """Closed tooth outlines of the paper's scheme (spec B6.9 set-up, B7.1–B7.5), analytic flanks, dense.
+    """Closed tooth outlines of the paper's scheme (docs/papers/001.md B6.9 set-up, B7.1–B7.5), analytic flanks,
+    dense.
 
     Driving gear, per sector i (angles θ increasing): radial segment at θ_i1 from the root r_i − dedendum·m up to
     r_i − m; first flank eq. (12) from r_i − m to r_i + m; tip arc at r_i + m; second flank down to r_i − m; radial
@@ -341,8 +346,9 @@ def sector_outline(model: SectorModel, module: float, backlash: float, *, linkin
     cut off at that radius (if that radius lies below its circle r − m, the cut falls on its radial segment);
     "chord" = a straight chord between the two tip corners.
 
-    Assembly (spec B7.5): the N sectors of one hub step are repeated ``steps_per_turn`` times per gear turn by
-    rotation (driver: 2 for the paper, i.e. 180°; driven: 4, i.e. 90°); default: from the model's angle spans.
+    Assembly (docs/papers/001.md B7.5): the N sectors of one hub step are repeated ``steps_per_turn`` times per gear
+    turn by rotation (driver: 2 for the paper, i.e. 180°; driven: 4, i.e. 90°); default: from the model's angle
+    spans.
     """
     if linking not in ("relieved", "chord"):
         raise GearError(f"linking must be 'relieved' or 'chord': {linking!r}")

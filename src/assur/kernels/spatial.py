@@ -4,13 +4,13 @@ Every function takes plain arrays (batch axes first, coordinates last) or second
 (:class:`~assur.kernels.jet.Jet` whose ``v``, ``d``, ``dd`` are ``(..., 3)`` vectors or ``(...)``
 scalars), so closed forms written with them give exact first and second derivatives.
 
-Primitives (paper 003 eqs. (1)–(3), (8), (9), (23), spec 003 §2):
+Primitives (paper 003 eqs. (1)–(3), (8), (9), (23), docs/papers/003.md §2):
 ``ort`` (unit vector), ``proj``, ``norm_part`` (the paper's Norm: the component normal to V0),
 ``turn`` (Rodrigues' rotation about V0 by a, right-hand rule, rescaled to length r), ``t_x``,
 ``t_y``, ``t_z`` (active right-hand rotation matrices), ``axis_frame``/``e_z2`` (the rocker-axis
 frame T_Y(γ1)·T_X(γ2)), ``tcos`` (the angle between sides l1, l2 of a triangle with third side l3).
 
-The unit-vector solver p(V1, V2, a1, a2, s) (spec 003 §3.2): the unit vector p with
+The unit-vector solver p(V1, V2, a1, a2, s) (docs/papers/003.md §3.2): the unit vector p with
 angle(V1, p) = a1 and angle(V2, p) = a2 on the side ``s = sign det[V1, V2, p]`` of the plane of
 V1 and V2. Coordinate-free (a 2×2 Gram system), it never divides by a coordinate, and the branch
 sign s is geometric, so it never jumps. :func:`unit_vector_literal` is the paper's program (10)
@@ -200,7 +200,7 @@ def tcos(l1, l2, l3):
 
 # -- the unit-vector solver --------------------------------------------------------------------------
 def unit_vector(v1, v2, cos_a1, cos_a2, s, *, parallel_tol: float = 1e-12, disc_tol: float = 1e-12):
-    """The robust p-solver of spec 003 §3.2, on cosines: the unit p with V1·p = |V1| cos a1 and
+    """The robust p-solver of docs/papers/003.md §3.2, on cosines: the unit p with V1·p = |V1| cos a1 and
     V2·p = |V2| cos a2 on the side s = sign det[V1, V2, p] (±1, scalar or (...)).
 
     v1, v2: (..., 3) arrays or jets; cos_a1, cos_a2: (...) arrays or jets.

@@ -180,7 +180,7 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
         if abs(design.installation_distance - design.centre_distance) > TOL.distinct_distance:
             distances.append(design.installation_distance)
         # the step boundaries (the driving curve's corners) are where the scheme is tight: scan ±12° around
-        # each at 0.25° besides the coarse cycle (spec B6.9)
+        # each at 0.25° besides the coarse cycle (docs/papers/001.md B6.9)
         phi_c = np.unique(np.round(np.mod([-c["angle"] for c in curv["driving"]["corners"]], 2 * math.pi), 9))
         fine = (phi_c[:, None] + np.radians(np.arange(-12.0, 12.01, 0.25))[None, :]).ravel()
         for L in distances:

@@ -1,4 +1,4 @@
-"""Four-bar constraint measures of the path-synthesis literature (spec ``synthesis_benchmarks.md`` §1.3–1.4).
+"""Four-bar constraint measures of the path-synthesis literature (docs/papers/synthesis_benchmarks.md §1.3–1.4).
 
 Lengths are ``(n, 4)`` arrays ``[r1 ground, r2 crank, r3 coupler, r4 rocker]``; every measure is a
 violation ``V ≥ 0`` (n,) with ``V = 0`` exactly when the constraint holds.
@@ -73,7 +73,8 @@ def cidetec_order(lengths):
 
 
 def continuous_motion(lengths, start, width):
-    """max(0, −min Δ over the interval) / L̄⁴ (the spec's C2 measure, exact here for any interval)."""
+    """max(0, −min Δ over the interval) / L̄⁴ (the C2 measure of docs/papers/synthesis_benchmarks.md §1.4, exact
+    here for any interval)."""
     lbar = mean_length(lengths)
     return np.maximum(0.0, -min_discriminant(lengths, start, width)) / lbar ** 4
 
@@ -109,7 +110,8 @@ __all__ = ["ascending", "assembly", "cidetec_order", "continuous_motion", "crank
 
 def from_cidetec_order(x) -> np.ndarray:
     """A design vector in the CIDETEC order ``[r1, r2, r3, r4, rcx, rcy, θ0, x0, y0, θ2…]`` (ECA,
-    HNMED) → the canonical order ``[r1, r2, r3, r4, rcx, rcy, x0, y0, θ0, θ2…]`` (spec §1.1)."""
+    HNMED) → the canonical order ``[r1, r2, r3, r4, rcx, rcy, x0, y0, θ0, θ2…]``
+    (docs/papers/synthesis_benchmarks.md §1.1)."""
     x = np.array(x, dtype=float, copy=True)
     x[..., [6, 7, 8]] = x[..., [7, 8, 6]]
     return x

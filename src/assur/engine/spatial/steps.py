@@ -137,8 +137,8 @@ def _place_frames(c: Context, st, Dv, e43, e, ci, r_extra, c_extra):
 def _rss_newton(c: Context, st, seeds):
     """B from the loop-closure equations (B − D)·e = h, |B − D|² = l_r², |B − A|² = l_c² by Newton,
     warm-started from ``seeds[B]`` (the previous continuation stage); its derivatives by implicit
-    differentiation (spec 003 §6): J·B' = (0, 0, (B − A)·A'), J·B'' = (0, −|B'|², (B − A)·A'' − |B' − A'|²),
-    J = [eᵀ; (B − D)ᵀ; (B − A)ᵀ]."""
+    differentiation (docs/papers/003.md §6): J·B' = (0, 0, (B − A)·A'),
+    J·B'' = (0, −|B'|², (B − A)·A'' − |B' − A'|²), J = [eᵀ; (B − D)ᵀ; (B − A)ᵀ]."""
     D, Ap, Bp, ci, ilr, ihr, ilc, r_extra, c_extra = _rss_fields(st)
     E = c.frame_of(D)
     e = E[..., :, 2]
