@@ -3,8 +3,9 @@ buildable parts of a stroke (a guide out of the driving rod's reach), and their 
 ``assur analyze`` and the report.
 
 Reference values: the rods' lengths and angles from the solved positions (recomputed here), central
-differences, the closed form of spec 002 §3–§4 (assur.analysis.lever, itself checked in
-tests/test_paper002.py), and the guide's reach |h_A| = l1·sin(β − γ) (spec 002 §2).
+differences, the closed form of docs/papers/002.md §3–§4 (assur.analysis.lever, itself checked in
+tests/test_paper002.py), and the guide's reach |h_A| = l1·sin(β − γ) (§2; § numbers in
+this file are those of docs/papers/002.md).
 """
 from __future__ import annotations
 
@@ -122,7 +123,7 @@ def test_envelope_of_another_design_is_its_closed_form():
     env = stroke_envelope(plan, driver_law(plan), params=p, steps=80)
     assert abs(env.past_foot["drive_rod/driven_rod"] - (g.l1 + g.foot_stroke)) < 1e-9
     (low,) = env.extremes[("driven_rod", "extension")]["interior"]
-    # s2_max = b1 − h_O (spec 002 §8b): the driven rod's length change there is −(b1 − h_O)
+    # s2_max = b1 − h_O (§8b): the driven rod's length change there is −(b1 − h_O)
     np.testing.assert_allclose(low.value, -(g.b1 - g.h_O), rtol=1e-9)
     k = env.samples[("drive_rod/driven_rod", "K_omega")]
     np.testing.assert_allclose(k, g.exact(env.q - 0.5)["K_omega"], rtol=1e-9)
@@ -132,10 +133,10 @@ def test_envelope_v2_crosses_zero_at_the_foot():
     plan = assur.compile(assur.load(EXAMPLE))
     env = stroke_envelope(plan, driver_law(plan), steps=101)
     v2 = -env.samples[("driven_rod", "rate")]
-    s_foot = math.sqrt(0.52) - 0.5          # spec 002 §8
+    s_foot = math.sqrt(0.52) - 0.5          # §8
     before, after = env.q - 0.5 < s_foot - 1e-6, env.q - 0.5 > s_foot + 1e-6
     assert np.all(v2[before] > 0) and np.all(v2[after] < 0)
-    assert np.all(np.diff(v2) < 0)           # spec 002 §8b: V2 falls monotonically
+    assert np.all(np.diff(v2) < 0)           # §8b: V2 falls monotonically
 
 
 # -- a guide out of the driving rod's reach -------------------------------------------------------------------
@@ -147,7 +148,7 @@ def reach_file(tmp_path, start_mm=300, stop_mm=700):
 
 
 def test_stroke_ranges_name_the_unreachable_part():
-    """Below L = |h_A| = 0.4 m the driving rod cannot reach the guide (spec 002 §2: h_A = l1·sin(β − γ))."""
+    """Below L = |h_A| = 0.4 m the driving rod cannot reach the guide (§2: h_A = l1·sin(β − γ))."""
     plan = assur.compile(assur.load(EXAMPLE))
     r = stroke_ranges(plan, 0.3, 0.7, steps=50)
     ((a, b),) = r["unbuildable"]
@@ -202,7 +203,7 @@ def test_stroke_summary_without_speed_uses_analogues():
     s = stroke_summary(plan, steps=40)
     assert s["stroke"]["analogues"] and "analogues" in s["stroke"]["law"]
     om = s["rods"]["drive_rod"]["quantities"]["omega"]["max"]
-    # dψ/ds1 at s1 = 0: h_A / (l1·sqrt(l1² − h_A²)) = 0.4 / (0.5·0.3) (spec 002 §4)
+    # dψ/ds1 at s1 = 0: h_A / (l1·sqrt(l1² − h_A²)) = 0.4 / (0.5·0.3) (§4)
     assert om["value"] == pytest.approx(0.4 / 0.15, rel=1e-12) and om["q"] == 0.5
 
 
@@ -241,7 +242,7 @@ def test_report_of_the_example(tmp_path, capsys):
 
 @pytest.mark.parametrize("gamma_deg, beta_deg", [(0, 53), (-30, 40), (90, 75), (20, 100)])
 def test_reach_of_the_guide_is_the_distance_of_a(gamma_deg, beta_deg):
-    """The driving rod reaches the guide exactly from L = |h_A| = l1·|sin(β − γ)| on (spec 002 §2, §3:
+    """The driving rod reaches the guide exactly from L = |h_A| = l1·|sin(β − γ)| on (§2, §3:
     σ = sqrt(L² − h_A²) − d_A), for guides with γ < 0, γ = 90° and β < γ."""
     g = LeverManipulator(0.4, math.radians(60), math.radians(beta_deg), math.radians(gamma_deg))
     plan = assur.compile(g.mechanism(speed=0.1))

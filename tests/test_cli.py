@@ -340,7 +340,7 @@ def test_solve_csv_matches_solve(fourbar, tmp_path, capsys):
     assert header[2:14] == ["O.x [m]", "O.y [m]", "O.vx [m/s]", "O.vy [m/s]", "O.ax [m/s^2]", "O.ay [m/s^2]",
                             "O.dx_dq [m/rad]", "O.dy_dq [m/rad]", "O.d2x_dq2 [m/rad^2]", "O.d2y_dq2 [m/rad^2]",
                             "O1.x [m]", "O1.y [m]"]
-    assert len(header) == 2 + 10 * len(names)
+    assert len(header) == 2 + 10 * len(names) + 3 * (plan.n_bodies - 1)   # then θ, ω, α per moving link
     assert data.shape == (24, len(header))
     # independent computation
     q = 2 * math.pi * np.arange(24) / 24

@@ -1,7 +1,7 @@
 """The command line on spatial (dimension = 3) files: validate, info, solve, analyze, plot, animate
-and report on examples/rssr.toml (spec 003 §9, P003-2) and examples/rssr_tilted.toml; bad input gives
+and report on examples/rssr.toml (docs/papers/003.md §9, P003-2) and examples/rssr_tilted.toml; bad input gives
 ``error: ...`` with exit status 1 and leaves no output behind. Expected numbers are P003-2's closed
-forms (spec 003 §9) or the library's own solve of the same file."""
+forms (§9 of that page) or the library's own solve of the same file."""
 from __future__ import annotations
 
 import csv
@@ -56,7 +56,7 @@ def test_solve_csv_equals_the_library(tmp_path, capsys):
 
 
 def test_analyze_prints_the_sharp_check_values(capsys):
-    """P003-2 (spec §9): swing 56.3411183°, θ4 ∈ [−146.3411°, −90°], μ_int ∈ [34.048°, 81.787°], dead centres at
+    """P003-2 (§9): swing 56.3411183°, θ4 ∈ [−146.3411°, −90°], μ_int ∈ [34.048°, 81.787°], dead centres at
     84.716440° (extended) and 286.260205° (folded); the paper's W undefined (V3_X ≡ 0)."""
     code, out, _ = run(["analyze", RSSR], capsys)
     assert code == 0
@@ -81,7 +81,7 @@ def test_analyze_names_the_buildable_range(tmp_path, capsys):
     f = tmp_path / "short.toml"
     f.write_text(text, encoding="utf-8")
     code, out, _ = run(["analyze", f, "--steps", "360"], capsys)
-    lo = math.degrees(math.atan2(4, 3) + math.acos(-0.375))          # 165.15°: |P2 P4| = 70 (spec §9 frame)
+    lo = math.degrees(math.atan2(4, 3) + math.acos(-0.375))          # 165.15°: |P2 P4| = 70 (§9 frame)
     hi = math.degrees(math.atan2(4, 3) + 2 * math.pi - math.acos(-0.375))
     assert code == 0 and "the crank cannot turn fully" in out
     assert f"buildable {hi:.1f}°…{lo:.1f}°" in out

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import SpecError, UnbuildableError
 from .gait import GaitCurves, GaitMetrics, gait_metrics_and_curves, module_metrics
+from .links import link_motions, output_link
 from .overview import finite_or_none, structure_summary, summary_header
 from .sampling import CYCLE_STEPS, Cycle, cycle_source
 from .spatial import analyze_spatial
@@ -34,6 +35,10 @@ class Analysis:
     gait: GaitMetrics | None = None
     gait_curves: GaitCurves | None = None
 
+    def _repr_html_(self) -> str:
+        from ..model.display import html_table
+        return html_table("Analysis (SI)", self.summary.items())
+
 
 def summarize(plan, params=None, steps: int = CYCLE_STEPS) -> Analysis:
     """The :class:`Analysis` of a compiled mechanism, planar or spatial, from one solved turn.
@@ -44,7 +49,10 @@ def summarize(plan, params=None, steps: int = CYCLE_STEPS) -> Analysis:
     plan, params, steps = cycle_source(source, params, steps)
     cycle = (Cycle.of(source, params, steps) if plan.n_inputs == 1 and plan.input_kinds[0] == "rotary" else None)
     if plan.dimension == 3:
-        return Analysis(analyze_spatial(cycle or plan, params, steps), cycle)
+        out = analyze_spatial(cycle or plan, params, steps)
+        if cycle is not None:
+            out["links"] = link_motions(cycle)
+        return Analysis(out, cycle)
     out = summary_header(plan, params, steps)
     if plan.n_inputs != 1:
         return Analysis(out)
@@ -62,6 +70,8 @@ def summarize(plan, params=None, steps: int = CYCLE_STEPS) -> Analysis:
         k: {"min": finite_or_none(np.nanmin(v)), "max": finite_or_none(np.nanmax(v)),
             "worst_deviation_from_90": finite_or_none(np.nanmax(np.abs(v - math.pi / 2)))} for k, v in mu.items()}
     out["dead_centres"] = [{"angle": d.angle, "kind": d.kind, "link": d.link} for d in dead_centres(cycle)]
+    out["links"] = link_motions(cycle)
+    out["output_link"] = output_link(cycle)
     g = plan.mechanism.gait
     if g is None:
         return Analysis(out, cycle)

@@ -1,27 +1,57 @@
 """Writing mechanism files (TOML, ``format = "assur/1"``): numbers back in the file's units, each with the
-fewest digits that load back to exactly the same SI value.
+fewest digits that load back to exactly the same SI value. With ``clean=True`` (the designs ``assur synth -o``
+writes) rounding noise — a length below 1e-9 of the sketch's size, an angle below 1e-9 rad — is written as 0.
 """
 from __future__ import annotations
 
+import math
+
 from ..model.mechanism import Mechanism
+from ..tolerances import DEFAULT as TOL
 from . import units as U
 from .output import atomic_file
 from .toml_writer import dumps as write_toml
 
 
-def _out(si: float, factor: float = 1.0) -> float | int:
-    """``si / factor`` in file units with the fewest digits that load back to exactly ``si``."""
+def _out(si: float, factor: float = 1.0, scale: float | None = None) -> float | int:
+    """``si / factor`` in file units with the fewest digits that load back to exactly ``si``; 0 for rounding
+    noise, |si| at most :attr:`~assur.tolerances.Tolerances.rounding_noise` times ``scale`` (SI)."""
+    if scale is not None and abs(si) <= TOL.rounding_noise * abs(scale):
+        return 0
     x = si / factor
-    for digits in (15, 16, 17):
+    y = x
+    for digits in range(1, 18):
         y = float(f"{x:.{digits}g}")
-        if y * factor == si or y == x and digits == 17:
+        if y * factor == si:
             break
+    else:
+        y = x
     return int(y) if y.is_integer() and abs(y) < 2**53 else y
 
 
-def as_dict(m: Mechanism) -> dict:
-    """The mechanism as a document dict (file units), ready for the TOML writer."""
+def _length_scale(m: Mechanism) -> float:
+    """The size of the sketch's bounding box (m), the scale of the rounding noise of its lengths."""
+    coords = [xy for _, xy in m.points]
+    if not coords:
+        return 1.0
+    span = max(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(len(coords[0])))
+    return span if span > 0 else max(1.0, max(abs(v) for c in coords for v in c))
+
+
+def as_dict(m: Mechanism, clean: bool = False) -> dict:
+    """The mechanism as a document dict (file units), ready for the TOML writer; ``clean``: rounding noise of
+    lengths and angles as 0 (else every value loads back exactly)."""
     L, A = U.LENGTH[m.units.length], U.ANGLE[m.units.angle]
+    sL = _length_scale(m) if clean else None
+
+    def ln(v):   # a length
+        return _out(v, L, sL)
+
+    def an(v):   # an angle
+        return _out(v, A, math.pi if clean else None)
+
+    def unit(v):   # a component of a direction: exact (a file's axis angles load to these components)
+        return _out(v)
     d: dict = {"format": m.format}
     if m.name:
         d["name"] = m.name
@@ -30,7 +60,7 @@ def as_dict(m: Mechanism) -> dict:
     if m.dimension != 2:
         d["dimension"] = m.dimension
     d["units"] = {"length": m.units.length, "angle": m.units.angle}
-    d["points"] = {n: [_out(c, L) for c in xy] for n, xy in m.points}
+    d["points"] = {n: [ln(c) for c in xy] for n, xy in m.points}
     links = {}
     for lk in m.links:
         if lk.length is None and not lk.place:
@@ -38,18 +68,18 @@ def as_dict(m: Mechanism) -> dict:
         else:
             t: dict = {"points": list(lk.points)}
             if lk.length is not None:
-                t["length"] = _out(lk.length, L)
+                t["length"] = ln(lk.length)
             if lk.place:
-                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": _out(p.distance, L),
-                                   "angle": _out(p.angle, A)} for pn, p in lk.place}
+                t["place"] = {pn: {"from": p.origin, "toward": p.toward, "distance": ln(p.distance),
+                                   "angle": an(p.angle)} for pn, p in lk.place}
             links[lk.name] = t
     d["links"] = links
     if m.prismatic:
         out = []
         for pr in m.prismatic:
-            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": _out(pr.angle, A)}
+            t = {"name": pr.name, "guide": pr.guide, "through": pr.through, "angle": an(pr.angle)}
             if pr.offset:
-                t["offset"] = _out(pr.offset, L)
+                t["offset"] = ln(pr.offset)
             if pr.point is not None:
                 t["point"] = pr.point
             else:
@@ -63,15 +93,15 @@ def as_dict(m: Mechanism) -> dict:
         for dr in m.drivers:
             if dr.kind == "rotary":
                 out.append({"name": dr.name, "kind": "rotary", "link": dr.link, "pivot": dr.pivot, "arm": dr.arm,
-                            "zero": _out(dr.zero, A), "sense": "cw" if dr.sense < 0 else "ccw",
+                            "zero": an(dr.zero), "sense": "cw" if dr.sense < 0 else "ccw",
                             "speed": U.format_speed(dr.speed, "rotary", m.units)})
             else:
                 t = {"name": dr.name, "kind": "linear", "actuator": dr.actuator,
                      "speed": U.format_speed(dr.speed, "linear", m.units)}
                 if dr.range is not None:
-                    t["range"] = [_out(v, L) for v in dr.range]
+                    t["range"] = [ln(v) for v in dr.range]
                 if dr.law is not None:
-                    t["law"] = {"time": [_out(v) for v in dr.law.times], "length": [_out(v, L) for v in dr.law.values],
+                    t["law"] = {"time": [_out(v) for v in dr.law.times], "length": [ln(v) for v in dr.law.values],
                                 "interpolation": dr.law.interpolation}
                 out.append(t)
         d["drivers"] = out
@@ -79,25 +109,25 @@ def as_dict(m: Mechanism) -> dict:
         d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
     if m.joints:
         with_axes = any(j.axis is not None for j in m.joints)   # then all as tables: the writer keeps their order
-        d["joints"] = {j.point: ({"kind": j.kind} | ({} if j.axis is None else {"axis": [_out(c) for c in j.axis]})
+        d["joints"] = {j.point: ({"kind": j.kind} | ({} if j.axis is None else {"axis": [unit(c) for c in j.axis]})
                                  if with_axes else j.kind) for j in m.joints}
     if m.gait is not None:
-        g = {"foot": m.gait.foot, "ground": [_out(c) for c in m.gait.ground]}
+        g = {"foot": m.gait.foot, "ground": [unit(c) for c in m.gait.ground]}
         if m.gait.up is not None:
-            g["up"] = [_out(c) for c in m.gait.up]
-        g["phases"] = [_out(p, A) for p in m.gait.phases]
+            g["up"] = [unit(c) for c in m.gait.up]
+        g["phases"] = [an(p) for p in m.gait.phases]
         d["gait"] = g
     return d
 
 
-def dumps(m: Mechanism) -> str:
-    """The mechanism as TOML text."""
-    return write_toml(as_dict(m))
+def dumps(m: Mechanism, clean: bool = False) -> str:
+    """The mechanism as TOML text (``clean``: rounding noise as 0, see :func:`as_dict`)."""
+    return write_toml(as_dict(m, clean))
 
 
-def dump(m: Mechanism, path=None) -> str:
+def dump(m: Mechanism, path=None, clean: bool = False) -> str:
     """The mechanism as TOML text; written to ``path`` (atomically) when given."""
-    text = dumps(m)
+    text = dumps(m, clean)
     if path is not None:
         with atomic_file(path) as tmp:
             tmp.write_text(text, encoding="utf-8")

@@ -4,8 +4,8 @@ path while a foot is planted, and the feet on the ground of a walking module.
 A figure draws a solved run of the plan (a :class:`Sweep`): sampled here, or handed in already solved
 (:meth:`Sweep.of_cycle`: the turn an analysis solved), so that one command solves one turn. matplotlib
 is imported lazily inside the functions (``import assur`` stays light) and always with the
-non-interactive "Agg" backend. Geometry is drawn in the file's length unit; velocities in m/s and
-accelerations in m/s²; crank angles in degrees.
+non-interactive "Agg" backend. Geometry, velocities and accelerations are drawn in the file's length unit
+(mm, mm/s, mm/s² for a mm file; ``units="si"``: m, m/s, m/s²); crank angles in degrees.
 """
 from __future__ import annotations
 
@@ -94,6 +94,12 @@ def _shade_contact(ax, axis, contact, color="tab:green", alpha=0.10, label=None)
         label = None
 
 
+def default_positions(plan) -> int:
+    """Positions drawn in a kinematic diagram by default: 6 for a mechanism of up to four moving links, 3 for
+    more (the overlapping drawings of Jansen's or Klann's linkage are unreadable at 6)."""
+    return 6 if plan.n_bodies - 1 <= 4 else 3
+
+
 def diagram_indices(sweep: Sweep, positions: int = 6) -> list[int]:
     """Up to ``positions`` sample indices, evenly spread over the valid samples."""
     ok = np.nonzero(sweep.state.valid)[0]
@@ -107,19 +113,20 @@ def diagram_indices(sweep: Sweep, positions: int = 6) -> list[int]:
 
 
 # -- the figure ------------------------------------------------------------------------------------
-def mechanism_figure(plan, steps: int = CYCLE_STEPS, *, params=None, ranges=None, positions: int = 6, sweep=None,
-                     gait=None, figsize=None, dpi: int = 100):
+def mechanism_figure(plan, steps: int = CYCLE_STEPS, *, params=None, ranges=None, positions: int | None = None,
+                     sweep=None, gait=None, figsize=None, dpi: int = 100, units: str = "file"):
     """One figure: (a) point paths, (b) kinematic diagram in several positions, (c) velocity and
     (d) acceleration of the foot (or of the last point) against the input, and for a walking leg
     (e) the frame pivot's path while the foot is planted. ``sweep``: the solved run to draw (default:
     :func:`sample` of ``steps`` over one turn or ``ranges``); ``gait``: the GaitCurves of that run (default:
-    :func:`gait_curves_of`). Returns a matplotlib Figure."""
+    :func:`gait_curves_of`); ``positions``: of the diagram (default :func:`default_positions`); ``units``:
+    'file' (the file's length unit) or 'si'. Returns a matplotlib Figure."""
     _, plt = mpl()
     from matplotlib.gridspec import GridSpec
     sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
     st = sw.state
-    k = file_scale(plan)
-    unit = plan.mechanism.units.length
+    k, unit = (file_scale(plan), plan.mechanism.units.length) if units != "si" else (1.0, "m")
+    positions = default_positions(plan) if positions is None else positions
     foot = tracked_point(plan)
     fi = plan.point_index(foot)
     gc = gait if gait is not None else gait_curves_of(sw, params)
@@ -175,13 +182,13 @@ def mechanism_figure(plan, steps: int = CYCLE_STEPS, *, params=None, ranges=None
     # (b) the diagram in several positions
     idx = diagram_indices(sw, positions)
     cmap = plt.get_cmap("viridis")
-    frame_guides(ax_b, plan, st.pos, params=params)
+    frame_guides(ax_b, plan, st.pos, params=params, scale=k)
     ax_b.plot(fxy[:, 0], fxy[:, 1], color="0.6", linewidth=1.0, linestyle="--", zorder=1)
     shown = []
     for n_, i in enumerate(idx):
         col = cmap(0.9 * n_ / max(len(idx) - 1, 1))
         draw_mechanism(ax_b, plan, st.pos[i], params=params, color=col, alpha=0.95, linewidth=1.8,
-                       labels=(n_ == 0), pivots=(n_ == 0), frame_guide=False, foot=foot)
+                       labels=(n_ == 0), pivots=(n_ == 0), frame_guide=False, foot=foot, scale=k)
         ax_b.annotate(str(n_ + 1), pos[i, fi], xytext=(6, -12), textcoords="offset points", fontsize=9,
                       color=col, fontweight="bold")
         shown.append(f"{sw.axis[i]:.0f}" if plan.input_kinds[sw.moving] == "rotary" else f"{sw.axis[i]:.4g}")
@@ -198,8 +205,8 @@ def mechanism_figure(plan, steps: int = CYCLE_STEPS, *, params=None, ranges=None
     set_limits(ax_b, pos.reshape(-1, 2))
     # (c) velocity, (d) acceleration of the foot
     x = sw.axis
-    vel, acc = st.vel[:, fi], st.acc[:, fi]
-    for ax, val, name, u_ in ((ax_c, vel, "v", "m/s"), (ax_d, acc, "a", "m/s²")):
+    vel, acc = st.vel[:, fi] * k, st.acc[:, fi] * k
+    for ax, val, name, u_ in ((ax_c, vel, "v", f"{unit}/s"), (ax_d, acc, "a", f"{unit}/s²")):
         ax.plot(x, np.hypot(val[:, 0], val[:, 1]), color="k", linewidth=1.8, label=f"|{name}|")
         ax.plot(x, val[:, 0], color="tab:red", linewidth=1.2, label=f"{name}x")
         ax.plot(x, val[:, 1], color="tab:blue", linewidth=1.2, label=f"{name}y")

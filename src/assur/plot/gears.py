@@ -33,7 +33,7 @@ def pitch_figure(pair, *, title: str = "", dpi: int = 100):
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.legend(loc="upper center", fontsize=8, bbox_to_anchor=(0.5, -0.13), ncol=1)
+    ax.legend(loc="best", fontsize=8)   # inside the axes: never clipped by the figure
     ax.set_title(title or f"pitch curves, L = {L * MM:.2f} mm")
     phi = np.linspace(0.0, TWO_PI * pair.driving_turns, 1441)
     r1, r2 = pair.contact_radii(phi)

@@ -11,15 +11,15 @@ place, so a failure leaves nothing behind.
 """
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 from ..analysis.sampling import CYCLE_STEPS
 from ..analysis.summary import summarize
 from ..errors import SpecError
-from ..io.units import LENGTH
 from .page import escape, header, page, png_tag, section, table
-from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, gait_rows, parameter_rows, phases_text,
-                   roman, speed_text)
+from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, gait_rows, length_display, link_rows,
+                   on_arc, output_link_lines, parameter_rows, phases_text, roman, speed_text)
 
 __all__ = ["build_report", "write_report"]
 
@@ -64,12 +64,13 @@ def drivers_html(plan) -> str:
     return table(["driver", "kind", "", "speed"], rows)
 
 
-def analysis_html(summary: dict, plan) -> str:
-    """The analysis of a summary: a stroke, or buildability, transmission angles, dead centres and gait."""
+def analysis_html(summary: dict, plan, units: str = "file") -> str:
+    """The analysis of a summary: a stroke, or buildability, transmission angles, dead centres, the links'
+    motion, the output link and gait; lengths, speeds and accelerations in the file's unit (``units`` 'file')
+    or in SI ('si')."""
     s = summary
-    u = plan.mechanism.units
-    kL = 1.0 / LENGTH[u.length]
-    Lu = u.length
+    Lf, Lu = length_display(plan.mechanism.units, units)
+    kL = 1.0 / Lf
     parts = []
     if s.get("note"):
         parts.append(f'<p class="note">{escape(s["note"])}</p>')
@@ -101,6 +102,15 @@ def analysis_html(summary: dict, plan) -> str:
                            num_cols=(0,)))
     else:
         parts.append('<p class="note">none found</p>')
+    lr = link_rows(s)
+    if lr:
+        parts.append("<h3>Links</h3>")
+        parts.append(table(["link", "angle over the turn", "swing", "largest |ω| [rad/s]", "largest |α| [rad/s²]"],
+                           lr, num_cols=(2, 3, 4)))
+    ol = output_link_lines(s)
+    if ol:
+        parts.append(f"<h3>Output link {escape(s['output_link']['link'])}</h3>")
+        parts.append("<ul>" + "".join(f"<li>{escape(line.strip())}</li>" for line in ol) + "</ul>")
     g = s.get("gait")
     if g:
         parts.append(f"<h3>Gait of foot {escape(g['foot'])}</h3>")
@@ -155,52 +165,52 @@ def module_html(summary: dict, plan, gait, steps: int) -> str:
     return "\n".join(out)
 
 
-def positions_html(plan, n: int = 12, ranges=None) -> str:
+def positions_html(plan, n: int = 12, ranges=None, units: str = "file") -> str:
     """A table of the positions of every point at ``n`` inputs (12 crank angles: every 30°)."""
     from ..plot.figures import sample
     try:
         sw = sample(plan, n, ranges=ranges)
     except SpecError as exc:
         return f'<p class="note">{escape(exc)}</p>'
-    u = plan.mechanism.units
-    kL = 1.0 / LENGTH[u.length]
+    Lf, Lu = length_display(plan.mechanism.units, units)
+    kL = 1.0 / Lf
     axes = "xyz"[:plan.dimension]
-    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{u.length}]" for p in plan.point_names for c in axes]
+    head = [sw.axis_label, "valid"] + [f"{p}.{c} [{Lu}]" for p in plan.point_names for c in axes]
     rows = []
     for i in range(sw.n):
         r = [f"{sw.axis[i]:.4g}", "yes" if sw.state.valid[i] else "no"]
-        r += [format_number(v * kL, 6) for v in sw.state.pos[i].reshape(-1)]
+        r += [format_number(v * kL, 6, plan.length_scale * kL) for v in sw.state.pos[i].reshape(-1)]
         rows.append(r)
     return '<div class="scroll">' + table(head, rows, num_cols=tuple(range(2, len(head))) + (0,)) + "</div>"
 
 
 # -- the planar page -------------------------------------------------------------------------------
-def _planar_figures(plan, run, gait, frames: int, ranges) -> tuple[str, str]:
+def _planar_figures(plan, run, gait, frames: int, ranges, units: str = "file", progress=None) -> tuple[str, str]:
     """(figure panels, embedded animation) of the solved run ``run`` (``gait``: its GaitCurves) as HTML."""
     from ..plot.animation import animation, jshtml
     from ..plot.draw import close, figure_png
     from ..plot.figures import mechanism_figure
-    fig = mechanism_figure(plan, sweep=run, gait=gait)
+    fig = mechanism_figure(plan, sweep=run, gait=gait, units=units)
     panels = png_tag(figure_png(fig, dpi=90), "paths, kinematic diagram, velocity and acceleration")
     close(fig)
     fig, anim = animation(plan, frames, fps=12, ranges=ranges, figsize=(5.6, 5.6), dpi=72, path=run)
     import matplotlib
     with matplotlib.rc_context({"animation.embed_limit": 60.0}):
-        js = jshtml(anim, fps=12)
+        js = jshtml(anim, fps=12, progress=progress)
     close(fig)
     return panels, js
 
 
-def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges) -> list[str]:
+def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges, units: str = "file") -> list[str]:
     summary = an.summary
     out = [section("Structure", structure_html(summary)),
            section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
-           section("Analysis", analysis_html(summary, plan))]
+           section("Analysis", analysis_html(summary, plan, units))]
     mod = module_html(summary, plan, an.gait, steps)
     if mod:
         out.append(section("Walking module", mod))
     return out + [section("Plots", panels), section("Animation", anim),
-                  section("Positions", positions_html(plan, 12, ranges))]
+                  section("Positions", positions_html(plan, 12, ranges, units))]
 
 
 # -- the spatial page -------------------------------------------------------------------------------
@@ -208,7 +218,7 @@ def joints_html(plan) -> str:
     """The joints of a spatial mechanism with their axes."""
     rows = []
     for j in plan.mechanism.joints:
-        ax = "" if j.axis is None else "[" + ", ".join(format_number(c, 6) for c in j.axis) + "]"
+        ax = "" if j.axis is None else "[" + ", ".join(format_number(c, 6, 1.0) for c in j.axis) + "]"
         rows.append((j.point, j.kind, ax))
     return table(["point", "joint", "axis (revolute; pin of a universal joint)"], rows)
 
@@ -228,7 +238,8 @@ def dyads_html(summary: dict) -> str:
                  f"{deg_text(s['mu_int_min'], 3)} … {deg_text(s['mu_int_max'], 3)}"),
                 ("effective transmission angle μ_T min … max",
                  f"{deg_text(s['mu_t_min'], 3)} … {deg_text(s['mu_t_max'], 3)}")]
-        rows += [(f"dead centre ({c['kind']})", f"crank {deg_text(c['angle'], 6)}, θ4 = {deg_text(c['rocker_angle'], 4)}")
+        rows += [(f"dead centre ({c['kind']})", f"crank {deg_text(c['angle'], 6)}, θ4 = "
+                  f"{deg_text(on_arc(c['rocker_angle'], s['rocker_angle_min']), 4)}")
                  for c in s["dead_centres"]]
         parts.append(f"<h3>Dyad solving {escape(s['point'])} (rocker {escape(s['rocker'])}, coupler "
                      f"{escape(s['coupler'])})</h3>")
@@ -236,7 +247,7 @@ def dyads_html(summary: dict) -> str:
     return "\n".join(parts)
 
 
-def _spatial_figures(plan, run, gait, frames: int, ranges) -> tuple[str, str]:
+def _spatial_figures(plan, run, gait, frames: int, ranges, units: str = "file") -> tuple[str, str]:
     """(static figure as PNG, interactive 3D view with its animation) of the solved run ``run`` as HTML."""
     from ..plot import spatial as view
     from ..plot.draw import close, figure_png
@@ -247,23 +258,26 @@ def _spatial_figures(plan, run, gait, frames: int, ranges) -> tuple[str, str]:
     return panels, view.html_fragment(pfig, include_plotlyjs=True, div_id="view3d")
 
 
-def _spatial_sections(plan, an, panels: str, view: str, steps: int, ranges) -> list[str]:
+def _spatial_sections(plan, an, panels: str, view: str, steps: int, ranges, units: str = "file") -> list[str]:
     summary = an.summary
     return [section("Structure", structure_html(summary) + "\n" + joints_html(plan)),
             section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
-            section("Analysis", analysis_html(summary, plan) + "\n" + dyads_html(summary)),
+            section("Analysis", analysis_html(summary, plan, units) + "\n" + dyads_html(summary)),
             section("3D view and animation", '<p class="note">Drag to rotate, scroll to zoom; ▶ play animates '
                                              "the mechanism. Dotted: the paths projected on the coordinate "
                                              "planes (paper 003, Fig. 2–3).</p>\n" + view),
             section("Plots", panels),
-            section("Positions", positions_html(plan, 12, ranges))]
+            section("Positions", positions_html(plan, 12, ranges, units))]
 
 
 # -- the page ---------------------------------------------------------------------------------------
-def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None, source: str | None = None) -> str:
+def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None, source: str | None = None,
+                 units: str = "file", progress=None) -> str:
     """The report page of a compiled mechanism (planar or spatial) as one HTML string. ``steps``: samples
     of the turn (or of ``ranges``, one (start, stop) per input, SI) that the analysis, the figures and the
-    animation's path share; ``frames``: positions of the animation."""
+    animation's path share; ``frames``: positions of the animation; ``units``: lengths, speeds and
+    accelerations in the file's length unit ('file') or in SI ('si'); ``progress(i, n)``: called per frame of
+    a planar animation drawn."""
     from .. import __version__
     from ..plot.figures import Sweep, sample
     spatial = plan.dimension == 3
@@ -271,12 +285,12 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
     shared = an.cycle is not None and ranges is None      # the figures draw the analysed turn
     try:
         run = Sweep.of_cycle(an.cycle) if shared else sample(plan, steps, ranges=ranges)
-        figures = (_spatial_figures if spatial else _planar_figures)(plan, run, an.gait_curves if shared else None,
-                                                                      frames, ranges)
+        draw = _spatial_figures if spatial else partial(_planar_figures, progress=progress)
+        figures = draw(plan, run, an.gait_curves if shared else None, frames, ranges, units)
     except SpecError as exc:    # nothing to draw (a linear input without a stroke, no position assembles)
         note = f'<p class="note">no figures: {escape(exc)}</p>'
         figures = (note, note)
-    body = (_spatial_sections if spatial else _planar_sections)(plan, an, *figures, steps, ranges)
+    body = (_spatial_sections if spatial else _planar_sections)(plan, an, *figures, steps, ranges, units)
     m = plan.mechanism
     title = m.name or (Path(source).stem if source else "mechanism")
     kind = " — spatial (dimension = 3)" if spatial else ""
@@ -286,11 +300,12 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
 
 
 def write_report(plan, out_dir, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None,
-                 source: str | None = None) -> Path:
+                 source: str | None = None, units: str = "file", progress=None) -> Path:
     """Write ``out_dir/index.html`` atomically (``io.output.atomic_directory``): on failure nothing is
-    left behind. Returns the page's path."""
+    left behind. Returns the page's path. ``progress(i, n)``: called per animation frame drawn."""
     from ..io.output import atomic_directory
     with atomic_directory(out_dir) as tmp:
-        page_text = build_report(plan, steps=steps, frames=frames, ranges=ranges, source=source)
+        page_text = build_report(plan, steps=steps, frames=frames, ranges=ranges, source=source, units=units,
+                                 progress=progress)
         (tmp / "index.html").write_text(page_text, encoding="utf-8")
     return Path(out_dir) / "index.html"

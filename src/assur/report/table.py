@@ -14,7 +14,9 @@ from ..io.units import LENGTH
 def solve_columns(plan, file_units: bool):
     """Column names of the solve CSV, the length factor kL (SI → output) and the factor of each input
     ``ik (n_inputs,)``. Per point: coordinates, velocities, accelerations (x, y[, z]), then the first and
-    second analogues by each input (pair)."""
+    second analogues by each input (pair). Then per moving link (after every point's columns): a planar link's
+    angle (in (−180°, 180°], or (−π, π]), angular velocity and acceleration (``.theta``, ``.omega``,
+    ``.alpha``); a spatial link's angular velocity and acceleration vectors (``.omega_x`` …, ``.alpha_x`` …)."""
     u = plan.mechanism.units
     L = u.length if file_units else "m"
     kL = 1.0 / LENGTH[u.length] if file_units else 1.0
@@ -39,6 +41,11 @@ def solve_columns(plan, file_units: bool):
                     den = f"{iu[i]}^2" if iu[i] == iu[j] else f"({iu[i]}·{iu[j]})"
                     cols += [f"{p}.d2{c}_dq_{plan.input_names[i]}_dq_{plan.input_names[j]} [{L}/{den}]"
                              for c in axes]
+    for b in plan.body_names[1:]:
+        if plan.dimension == 2:
+            cols += [f"{b}.theta [{A}]", f"{b}.omega [{A}/s]", f"{b}.alpha [{A}/s^2]"]
+        else:
+            cols += [f"{b}.omega_{c} [{A}/s]" for c in axes] + [f"{b}.alpha_{c} [{A}/s^2]" for c in axes]
     return cols, kL, ik
 
 
@@ -58,6 +65,13 @@ def solve_table(plan, q, state, file_units: bool) -> np.ndarray:
         for i in range(n):
             for j in range(i, n):
                 blocks.append(d2[:, pi, :, i, j] * kL / (ik[i] * ik[j]))
+    kA = 180.0 / math.pi if file_units else 1.0
+    if plan.dimension == 2:
+        blocks += [np.stack([state.body_angle[:, b], state.body_omega[:, b], state.body_alpha[:, b]], axis=-1) * kA
+                   for b in range(1, plan.n_bodies)]
+    else:
+        blocks += [np.concatenate([state.body_omega[:, b], state.body_alpha[:, b]], axis=-1) * kA
+                   for b in range(1, plan.n_bodies)]
     out = np.concatenate([np.asarray(b, dtype=float).reshape(rows, -1) for b in blocks], axis=1)
     out[~state.valid, n + 1:] = np.nan
     return out

@@ -14,16 +14,37 @@ from ..tolerances import DEFAULT as TOL
 MM = 1e3
 
 
-def format_number(v, digits: int = 6) -> str:
-    """A number for people: ``digits`` significant digits, '—' for a missing or non-finite value."""
+def shown_value(v, scale=None):
+    """``v`` with rounding noise removed: 0 when |v| is at most :attr:`~assur.tolerances.Tolerances.rounding_noise`
+    times ``scale`` (the magnitude of the quantity in the mechanism: its length scale, the largest speed …, in
+    the unit of ``v``); ``v`` unchanged without a scale. The one rule by which every page and terminal line
+    prints noise as 0."""
+    if v is None or scale is None:
+        return v
+    v = float(v)
+    return 0.0 if math.isfinite(v) and abs(v) <= TOL.rounding_noise * abs(float(scale)) else v
+
+
+def format_number(v, digits: int = 6, scale=None) -> str:
+    """A number for people: ``digits`` significant digits, '—' for a missing or non-finite value, 0 for
+    rounding noise relative to ``scale`` (:func:`shown_value`)."""
     if v is None:
         return "—"
-    v = float(v)
+    v = float(shown_value(v, scale))
     if not math.isfinite(v):
         return "—"
     if v == 0:
         return "0"
     return f"{v:.{digits}g}"
+
+
+def length_display(units, system: str = "file") -> tuple[float, str]:
+    """(factor, unit) in which lengths are shown: a value in metres divided by the factor is in the unit.
+    ``system`` 'file' (the default): the file's length unit, so a mm file shows mm, mm/s and mm/s²;
+    'si': metres."""
+    if system == "si":
+        return 1.0, "m"
+    return LENGTH[units.length], units.length
 
 
 def deg_text(v, digits: int = 2) -> str:
@@ -89,7 +110,9 @@ def parameter_rows(plan) -> list[tuple[str, str, str, str, str]]:
     for name, v in zip(plan.param_names, plan.defaults):
         f, unit = param_unit(name, u)
         si = "m" if unit == u.length else ("rad" if unit else "")
-        rows.append((name, format_number(v * f, 8), unit, format_number(v, 8), si))
+        scale = plan.length_scale if si == "m" else (math.pi if si == "rad" else None)   # noise shows as 0
+        rows.append((name, format_number(v * f, 8, None if scale is None else scale * f), unit,
+                     format_number(v, 8, scale), si))
     return rows
 
 
@@ -118,7 +141,7 @@ def joints_line(m, axes: bool = True) -> str:
     joints."""
     parts = []
     for j in {j.point: j for j in m.joints}.values():
-        ax = "" if not axes or j.axis is None else f" axis [{', '.join(format_number(c, 6) for c in j.axis)}]"
+        ax = "" if not axes or j.axis is None else f" axis [{', '.join(format_number(c, 6, 1.0) for c in j.axis)}]"
         parts.append(f"{j.point} {j.kind}{ax}")
     return "joints: " + ", ".join(parts) if parts else ""
 
@@ -165,7 +188,8 @@ def point_lines(m) -> list[str]:
     """The sketch points of a spatial mechanism in the file's length unit."""
     u = m.units
     w = max(len(n) for n in m.point_names)
-    return ["points:"] + [f"  {name:<{w}} = [{', '.join(format_number(c / LENGTH[u.length]) for c in xyz)}] "
+    scale = max((abs(c) for _, xyz in m.points for c in xyz), default=1.0) / LENGTH[u.length]
+    return ["points:"] + [f"  {name:<{w}} = [{', '.join(format_number(c / LENGTH[u.length], 6, scale) for c in xyz)}] "
                           f"{u.length}" for name, xyz in m.points]
 
 
@@ -204,9 +228,14 @@ def gait_lines(m) -> list[str]:
 
 
 def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> list[tuple[str, str, str]]:
-    """The gait metrics of an ``analyze`` summary as (quantity, value, unit) rows; lengths are shown
-    divided by ``length_factor`` (the file's unit), speeds in m/s. Shared by the CLI and the report."""
+    """The gait metrics of an ``analyze`` summary as (quantity, value, unit) rows; lengths, speeds and
+    accelerations are shown divided by ``length_factor`` (in ``length_unit``, ``length_unit``/s, /s²;
+    :func:`length_display`), rounding noise as 0. Shared by the CLI and the report."""
     n = format_number
+    Lf, Lu = length_factor, length_unit
+    vscale = max((abs(g[k][s]) for k in ("support_speed", "support_vx") for s in ("max", "min")
+                  if g[k][s] is not None), default=None)
+    ascale = max((abs(v) for v in (g["support_ax"]["min"], g["support_ax"]["max"]) if v is not None), default=None)
     rows = [
         ("support definition", g["support"], ""),
         ("contact arc", f"{math.degrees(g['contact_start']) % 360:.2f} … {math.degrees(g['contact_end']) % 360:.2f}", "°"),
@@ -218,16 +247,19 @@ def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> li
     ]
     for key, label in (("support_speed", "support speed |v|"), ("support_vx", "support speed |vx|")):
         for stat in ("max", "min", "mean", "midrange"):
-            rows.append((f"{label} {stat}", n(g[key][stat], 5), "m/s"))
-    rows.append(("support acceleration ax min", n(g["support_ax"]["min"], 5), "m/s²"))
-    rows.append(("support acceleration ax max", n(g["support_ax"]["max"], 5), "m/s²"))
+            v = g[key][stat]
+            rows.append((f"{label} {stat}", n(None if v is None else v / Lf, 5, vscale and vscale / Lf), f"{Lu}/s"))
+    for stat in ("min", "max"):
+        v = g["support_ax"][stat]
+        rows.append((f"support acceleration ax {stat}", n(None if v is None else v / Lf, 5, ascale and ascale / Lf),
+                     f"{Lu}/s²"))
     rows.append(("crank speed ω", n(g["omega"], 5), "rad/s"))
     return rows
 
 
 #: the envelope's quantities: (label, SI → shown factor kind, unit); kind "L" = the file's length unit
-_ROD_QUANTITIES = (("extension", "length change L − L₀", "L", None), ("rate", "rate dL/dt", "v", "m/s"),
-                   ("accel", "acceleration d²L/dt²", "a", "m/s²"), ("angle", "rotation from the start", "deg", "°"),
+_ROD_QUANTITIES = (("extension", "length change L − L₀", "L", None), ("rate", "rate dL/dt", "v", None),
+                   ("accel", "acceleration d²L/dt²", "a", None), ("angle", "rotation from the start", "deg", "°"),
                    ("omega", "angular velocity ω", "1", "rad/s"), ("alpha", "angular acceleration ε", "1", "rad/s²"))
 
 
@@ -236,7 +268,8 @@ def actuator_rows(act: dict, length_factor: float = 1.0, length_unit: str = "m")
 
     Returns ``{"stroke": [text lines], "extremes": [(rod, quantity, min, max, interior extrema, unit)],
     "pairs": [(quantity, value, note)], "lever": [(quantity, value, unit)]}``; lengths divided by
-    ``length_factor`` (the file's unit), angles in degrees, rates in SI."""
+    ``length_factor`` (in ``length_unit``; rates in ``length_unit``/s and /s²), angles in degrees, angular rates
+    in rad/s."""
     n = format_number
     st = act["stroke"]
     Lf = length_factor
@@ -256,7 +289,8 @@ def actuator_rows(act: dict, length_factor: float = 1.0, length_unit: str = "m")
                      f"({act['unbuildable']} of {st['samples']} samples; the guide or a joint is out of reach there)")
     else:
         lines.append(f"buildability: the whole stroke can be assembled (0 of {st['samples']} samples unbuildable)")
-    factors = {"L": (1.0 / Lf, length_unit), "v": (1.0, "m/s"), "a": (1.0, "m/s²"), "deg": (180.0 / math.pi, "°"),
+    factors = {"L": (1.0 / Lf, length_unit), "v": (1.0 / Lf, f"{length_unit}/s"), "a": (1.0 / Lf, f"{length_unit}/s²"),
+               "deg": (180.0 / math.pi, "°"),
                "1": (1.0, None)}
     extremes = []
     for rod, info in act["rods"].items():
@@ -307,11 +341,55 @@ def actuator_rows(act: dict, length_factor: float = 1.0, length_unit: str = "m")
     return {"stroke": lines, "extremes": extremes, "pairs": pairs, "lever": lever}
 
 
-def analysis_lines(summary: dict, units) -> list[str]:
-    """The human-readable analysis (lengths in the file's unit, speeds in m/s, angles in degrees)."""
+def link_rows(summary: dict) -> list[tuple[str, str, str, str, str]]:
+    """(link, angle range, swing, largest |ω|, largest |α|) per moving link of an ``analyze`` summary
+    (angles in degrees in (−180°, 180°], rates in rad/s and rad/s², noise as 0); [] without links."""
+    links = summary.get("links") or {}
+    wscale = max((v["omega_max"] for v in links.values() if v.get("omega_max") is not None), default=None)
+    ascale = max((v["alpha_max"] for v in links.values() if v.get("alpha_max") is not None), default=None)
+    rows = []
+    for name, v in links.items():
+        if "turns" not in v:
+            rng = swing = "—"       # a spatial link: no single angle
+        elif v["angle_min"] is not None:
+            rng = f"{deg_text(v['angle_min'])} … {deg_text(v['angle_max'])}"
+            swing = deg_text(v["angle_max"] - v["angle_min"])
+        elif v["turns"]:
+            rng, swing = (f"turns fully ({abs(v['turns'])} turn{'s' if abs(v['turns']) > 1 else ''} "
+                          f"{'ccw' if v['turns'] > 0 else 'cw'} per crank turn)"), "—"
+        else:
+            rng = swing = "—"
+        rows.append((name, rng, swing, format_number(v["omega_max"], 5, wscale),
+                     format_number(v["alpha_max"], 5, ascale)))
+    return rows
+
+
+def output_link_lines(summary: dict) -> list[str]:
+    """The output link of an ``analyze`` summary (its swing, extreme positions and time ratio) as sentences;
+    [] without one."""
+    o = summary.get("output_link")
+    if not o:
+        return []
+    out = [f"output link {o['link']}: swing {deg_text(o['swing'])}, from {deg_text(o['angle_min'])} to "
+           f"{deg_text(o['angle_max'])}"]
+    for e in o["extremes"]:
+        out.append(f"  extreme ({e['kind']}): {o['link']} at {deg_text(e['angle'])} with the crank at "
+                   f"{deg_text(e['input'])}")
+    if o.get("time_ratio") is not None:
+        ft, rt = ((f" ({format_number(o['forward_time'], 5)} s)", f" ({format_number(o['return_time'], 5)} s)")
+                  if o.get("forward_time") is not None else ("", ""))
+        out.append(f"  time ratio {o['time_ratio']:.4f}: forward stroke ({o['forward']} angle) over "
+                   f"{deg_text(o['forward_crank_angle'])} of crank{ft}, return stroke over "
+                   f"{deg_text(o['return_crank_angle'])}{rt}")
+    return out
+
+
+def analysis_lines(summary: dict, units, system: str = "file") -> list[str]:
+    """The human-readable analysis: lengths, speeds and accelerations in the file's length unit (``system``
+    'file') or in metres ('si'), angles in degrees."""
     s = summary
-    kL = 1.0 / LENGTH[units.length]
-    Lu = units.length
+    Lf, Lu = length_display(units, system)
+    kL = 1.0 / Lf
     out = [f"mobility: {s['mobility_formula']} ({s['formula']})"]
     if s.get("structural_formula"):
         out.append(f"structural formula: {s['structural_formula']}   ({s['structural_formula_numbered']})")
@@ -359,12 +437,29 @@ def analysis_lines(summary: dict, units) -> list[str]:
         out += [f"  {a:<{w}}  {b} {u}".rstrip() for a, b, u in rows]
     elif s.get("gait_error"):
         out.append(f"gait: not available: {s['gait_error']}")
+    lr = link_rows(s)
+    if lr:
+        out.append("links (angle over the turn; largest |ω| rad/s, |α| rad/s²):")
+        w = max(len(r[0]) for r in lr)
+        out += [f"  {a:<{w}}  " + (f"{b}; " if b != "—" else "") + (f"swing {c}; " if c != "—" else "")
+                + f"|ω| max {d}; |α| max {e}" for a, b, c, d, e in lr]
+    out += output_link_lines(s)
     mod = s.get("module")
     if mod:
         out.append(f"walking module ({len(mod['phases'])} legs at {phases_text(mod['phases'])}): feet on the ground "
                    f"min {mod['min_feet']}, max {mod['max_feet']}, mean {mod['mean_feet']:.3f}; airborne "
                    f"{100 * mod['airborne_fraction']:.1f}% of the cycle")
     return out + dyad_lines(summary)
+
+
+def on_arc(theta, start):
+    """An angle ``theta`` (rad) written on the arc that begins at ``start``: start + ((θ − start) mod 2π) within
+    rounding, so that a swing's range and its extremes use one convention on a page; ``theta`` when either is
+    missing."""
+    if theta is None or start is None or not (math.isfinite(theta) and math.isfinite(start)):
+        return theta
+    d = (theta - start) % (2 * math.pi)
+    return start + (0.0 if d > 2 * math.pi - 1e-9 else d)
 
 
 def dyad_lines(summary: dict) -> list[str]:
@@ -382,7 +477,7 @@ def dyad_lines(summary: dict) -> list[str]:
                    f"μ_T (effective, 90° ideal) {deg_text(s['mu_t_min'], 3)} … {deg_text(s['mu_t_max'], 3)}")
         for c in s["dead_centres"]:
             out.append(f"  dead centre ({c['kind']}) at {deg_text(c['angle'], 6)}, "
-                       f"θ4 = {deg_text(c['rocker_angle'], 4)}")
+                       f"θ4 = {deg_text(on_arc(c['rocker_angle'], s['rocker_angle_min']), 4)}")
     return out
 
 
