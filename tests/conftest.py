@@ -8,6 +8,7 @@ and headless-Chromium tests, the reproduction page and anything else over about 
 ``pytest -m "not slow"``, ``make test`` runs everything.
 """
 import pytest
+from assur.synthesis import InProcess
 
 _RSSR_POINTS = {"A0": (0, 0, 0), "D0": (1, 0, 0.3), "A": (0.2, 0.1, 0), "B": (0.9, 0.7, 0.5)}
 
@@ -44,3 +45,17 @@ def rssr_text():
     """The :func:`rssr` text builder: ``rssr_text(unit="m", scale=1.0, driver=True) -> str``."""
     return rssr
 
+
+class InterruptingExecutor(InProcess):
+    """A synthesis executor that evaluates in this process, records every population's penalised objectives in
+    ``seen`` and raises KeyboardInterrupt (as Ctrl-C would) after ``after`` populations."""
+
+    def __init__(self, after):
+        self.seen, self.after = [], after
+
+    def evaluate(self, evaluator, X, detail=False):
+        if len(self.seen) >= self.after:
+            raise KeyboardInterrupt
+        ev = evaluator(X, detail)
+        self.seen.append(ev.penalised)
+        return ev

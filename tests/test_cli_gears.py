@@ -1,8 +1,8 @@
 """`assur gears` and `assur wheelstep` end to end on the paper-001 design files and on a small envelope design.
 
-References: spec 001 §A4 (printed shoe numbers), §E Table 1 (printed radii; tolerance 0.006 from §B5), §B6.9
-(the printed sector scheme interferes near the step boundary, driving angle |θ| ≈ 72–79° at L_p, ±0.5°), the
-closure of rolling pitch curves (perimeter ratio = driving turns, §B2).
+References, sections of docs/papers/001.md: §A4 (printed shoe numbers), §E Table 1 (printed radii; tolerance
+0.006 from §B5), §B6.9 (the printed sector scheme interferes near the step boundary, driving angle |θ| ≈ 72–79° at
+L_p, ±0.5°), the closure of rolling pitch curves (perimeter ratio = driving turns, §B2).
 """
 import csv
 import json
@@ -59,7 +59,7 @@ def test_paper_gears_summary_and_tables(paper_gears):
     out, s = paper_gears
     assert s["closure"]["perimeter_ratio"] == pytest.approx(2.0, abs=1e-6)
     assert s["teeth"] == [48, 96] and s["envelope"]["teeth"] == [48, 96]
-    # Table 1 as printed (spec §E), rows 1 and 12: θ_i, r_i, φ_i, r_Hi within 0.006 (spec §B5)
+    # Table 1 as printed (§E), rows 1 and 12: θ_i, r_i, φ_i, r_Hi within 0.006 (§B5)
     head, t1 = read_csv(out / "table1.csv")
     assert head[:3] == ["i", "theta [deg]", "r [mm]"]
     assert t1[0, [1, 2, 6, 7]] == pytest.approx([-90.00, 61.30, -45.00, 82.20], abs=0.006)
@@ -75,7 +75,7 @@ def test_paper_sector_scheme_interferes_near_the_step_boundary(paper_gears):
     assert m["interference"]
     ranges = m["fine_scan"]["interference_driving_ranges"]
     first = [float(x) for x in ranges.split("]")[0].strip("[").replace("°", "").split(",")]
-    # inside the band 72–79° of spec B6.9 (±0.5°)
+    # inside the band 72–79° of B6.9 (±0.5°)
     assert 71.5 <= first[0] <= first[1] <= 79.5
     assert m["fine_scan"]["max_penetration"] > 0.01e-3
     # the envelope teeth (corners rounded) run without interference and follow their law within 3 %
@@ -114,7 +114,7 @@ def test_paper_dxf_outlines_are_closed_and_match_the_csv(paper_gears):
             assert pts.shape == xy.shape and np.max(np.abs(pts - xy)) < 1e-6
             # a whole gear in mm: the driving gear spans about ±63 mm, the driven about ±104 mm
             assert 40 < np.abs(pts).max() < 110
-            if gear == "driving":          # one closed, non-self-intersecting polyline (spec B7.9)
+            if gear == "driving":          # one closed, non-self-intersecting polyline (B7.9)
                 assert crossings(pts) == 0
         assert (out / f"teeth_{prefix}.png").stat().st_size > 20_000 and (out / f"speed_{prefix}.png").exists()
         svg = (out / f"{prefix}_pair.svg").read_text(encoding="utf-8")
@@ -129,7 +129,7 @@ def test_wheelstep_budget_and_drive(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "X_01 = 0.8027 m" in text and "rolling share 25.25 %" in text
     b = json.loads((out / "budget.json").read_text(encoding="utf-8"))
-    # spec §A4 printed values, half a unit of the last printed digit
+    # §A4 printed values, half a unit of the last printed digit
     assert b["c"] == pytest.approx(0.36, abs=0.005)
     assert b["X_I"] == pytest.approx(0.6, abs=0.05)
     assert b["X_II"] == pytest.approx(0.2027, abs=0.00005)
@@ -137,7 +137,7 @@ def test_wheelstep_budget_and_drive(tmp_path, capsys):
     assert 100 * b["rolling_share"] == pytest.approx(25.25, abs=0.005)
     head, prof = read_csv(out / "shoe_profile.csv")
     i0 = np.argmin(np.abs(prof[:, 0]))
-    assert prof[i0, 2] == pytest.approx(0.36)            # the profile passes (0, c) at φ = 0 (spec §A2)
+    assert prof[i0, 2] == pytest.approx(0.36)            # the profile passes (0, c) at φ = 0 (§A2)
     assert (out / "shoe.png").stat().st_size > 10_000
     assert (out / "gears" / "envelope_driving.dxf").exists() and (out / "gears" / "table1.csv").exists()
     page = (out / "gears" / "envelope_mesh.html").read_text(encoding="utf-8")     # the meshing animation

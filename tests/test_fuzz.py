@@ -79,9 +79,46 @@ def exercise(path: Path, text: str):
     from assur.gears.design import load_design
     tmp.write_text(text, encoding="utf-8")
     try:
-        load_design(tmp)
+        design = load_design(tmp)
     finally:
         tmp.unlink()
+    check_design(design)
+
+
+def check_design(design):
+    """The cheap checks of a gear-pair or wheel-step design (what `assur gears` computes first, at few samples;
+    not the minute-long outputs): the shoe profile, the pitch curves' closure and curvature, the sector tables and
+    outlines, and a short mesh check of the sector scheme at the installation distance."""
+    import dataclasses
+    import math
+
+    from assur.gears.design import GearDesign
+    from assur.gears.mesh import mesh_check, polar_outline
+    from assur.gears.pitch import closure_report, curvature_report
+    gears = design
+    if not isinstance(design, GearDesign):
+        phi = np.linspace(-math.pi / 4, math.pi / 4, 19)
+        design.shoe.profile(phi)
+        design.shoe.curvature_radius(phi)
+        gears = design.gears
+        if gears is None:
+            return
+    pair = gears.pair(samples=512)
+    closure_report(pair)
+    for curve in (pair.driving, pair.driven):
+        curvature_report(curve, module=gears.module, pressure_angle=gears.pressure_angle)
+    if gears.method == "sectors":
+        from assur.gears.sectors import sector_findings, sector_outline, table1, table2, table3
+        model = gears.sector_model()
+        table1(model, gears.module)
+        table2(model, gears.module, gears.backlash)
+        table3(model, gears.module, gears.backlash)
+        sector_findings(model, gears.law, gears.module)
+        so = sector_outline(model, gears.module, gears.backlash, linking="relieved", dedendum=gears.dedendum)
+        p1 = polar_outline(so.driving, rays=64 * so.teeth[0])
+        p2 = polar_outline(so.driven, rays=64 * so.teeth[1])
+        at = dataclasses.replace(pair, centre_distance=gears.installation_distance)
+        mesh_check(p1, p2, at, steps=8, pitch=math.pi * gears.module, vertex_stride=1)
 
 
 @pytest.mark.slow

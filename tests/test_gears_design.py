@@ -39,8 +39,8 @@ def problems(path):
 
 
 def test_paper_gear_design_loads_in_si():
-    """examples/gears_001.toml holds spec 001 B1: L_p = 143.5 mm, L_ust = 144 mm, a, b, c, z = 48/96, m = 2 mm,
-    j_n = 0.25 m, 24 sectors per step; the wheelstep law with 2 driving turns."""
+    """examples/gears_001.toml holds docs/papers/001.md B1: L_p = 143.5 mm, L_ust = 144 mm, a, b, c,
+    z = 48/96, m = 2 mm, j_n = 0.25 m, 24 sectors per step; the wheelstep law with 2 driving turns."""
     d = load_design(EX / "gears_001.toml")
     assert isinstance(d, GearDesign) and isinstance(d.law, WheelStepLaw)
     assert d.centre_distance == 0.1435 and d.installation_distance == 0.144
@@ -48,7 +48,7 @@ def test_paper_gear_design_loads_in_si():
     assert (d.driving_teeth, d.driven_teeth, d.sectors, d.driving_turns) == (48, 96, 24, 2)
     assert d.module == 0.002 and d.backlash == 0.0005 and d.method == "sectors"
     assert d.pressure_angle == pytest.approx(math.radians(20))
-    assert d.sector_model().arc * 1e3 == pytest.approx(6.212273, abs=1e-6)   # spec B3 regression value
+    assert d.sector_model().arc * 1e3 == pytest.approx(6.212273, abs=1e-6)   # docs/papers/001.md B3 regression value
     pair = d.pair()
     assert pair.centre_distance == 0.1435 and pair.driving_turns == 2
 
@@ -63,7 +63,7 @@ def test_paper_wheelstep_design_links_its_gears():
 
 
 def test_envelope_design_derives_the_centre_distance(tmp_path):
-    """Without a centre distance, L follows from perimeter = z·π·m (spec B7.8)."""
+    """Without a centre distance, L follows from perimeter = z·π·m (docs/papers/001.md B7.8)."""
     d = load_design(write(tmp_path, ENVELOPE))
     pair = d.pair()
     assert pair.driving.perimeter == pytest.approx(40 * math.pi * 0.002, rel=1e-6)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import assur
+from conftest import InterruptingExecutor
 from assur.cli.main import main
 from assur.errors import SpecError, SynthesisError
 from assur.synthesis import (DaskCluster, Evaluator, InProcess, LocalProcesses, load_problem, problem_from_dict,
@@ -19,7 +20,7 @@ C2 = SYN / "c2_five_points_timed.toml"
 
 
 def foot_eq4(l1, l2, l5, phi):
-    """Paper 000 eq. (4) (spec 000 §3): the foot A in the paper's frame (mm). C = (l5 sin φ, l5 cos φ),
+    """Paper 000 eq. (4) (docs/papers/000.md §3): the foot A in the paper's frame (mm). C = (l5 sin φ, l5 cos φ),
     B on the vertical through K with |CB| = l2, A on the rod's extension beyond B with |BA| = l1."""
     xc, yc = l5 * np.sin(phi), l5 * np.cos(phi)
     yb = yc + np.sqrt(l2**2 - xc**2)
@@ -28,7 +29,7 @@ def foot_eq4(l1, l2, l5, phi):
 
 
 def delta1_independent(l1, l2, l5):
-    """Eq. (5): Σ of the Euclidean distances to the six targets of spec 000 §4."""
+    """Eq. (5): Σ of the Euclidean distances to the six targets of docs/papers/000.md §4."""
     phi = np.radians([90, 135, 180, 225, 270, 360])
     xy = np.array([[-150, 130], [-75, 130], [0, 130], [75, 130], [150, 130], [0, 530]])
     return np.linalg.norm(foot_eq4(l1, l2, l5, phi) - xy, axis=-1).sum()
@@ -41,14 +42,14 @@ def test_paper000_objective_of_the_printed_design():
     e = Evaluator(p)(p.to_si([[165, 193, 175]]))
     assert e.feasible[0]
     assert e.objective[0] == pytest.approx(delta1_independent(165.0, 193.0, 175.0), rel=1e-12)
-    # the 6th distance is |l1 + l2 + l5 − 530| (spec 000 §4)
+    # the 6th distance is |l1 + l2 + l5 − 530| (docs/papers/000.md §4)
     d = Evaluator(p)(p.to_si([[165, 193, 175]]), detail=True).quantities["distances"][0]
     assert d[5] == pytest.approx(abs(165 + 193 + 175 - 530), abs=1e-9)
 
 
 @pytest.mark.slow
 def test_paper000_synthesis_beats_the_printed_design():
-    """Spec 000 §4/E2: the printed 165/193/175 is not a minimum; DE + Nelder–Mead finds a lower Δ1."""
+    """docs/papers/000.md §4/E2: the printed 165/193/175 is not a minimum; DE + Nelder–Mead finds a lower Δ1."""
     p = load_problem(P000)
     printed = delta1_independent(165.0, 193.0, 175.0)
     r = synthesize(p, seed=3, budget=20000)
@@ -148,23 +149,11 @@ def test_time_limit_returns_the_best_so_far():
     assert r.x.shape == (6,) and r.evaluations > 0
 
 
-class _InterruptingExecutor(InProcess):
-    """Records every population and raises KeyboardInterrupt (as Ctrl-C would) after ``after`` of them."""
-
-    def __init__(self, after):
-        self.seen, self.after = [], after
-
-    def evaluate(self, evaluator, X, detail=False):
-        if len(self.seen) >= self.after:
-            raise KeyboardInterrupt
-        ev = evaluator(X, detail)
-        self.seen.append(ev.penalised)
-        return ev
 
 
 def test_interruption_keeps_the_best_design():
     p = load_problem(C2)
-    ex = _InterruptingExecutor(after=20)
+    ex = InterruptingExecutor(after=20)
     r = synthesize(p, seed=4, budget=10**6, executor=ex, starts=3)
     assert r.stopped == "interrupted"
     assert len(r.starts) == 1                              # the later starts never ran

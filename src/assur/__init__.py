@@ -6,21 +6,38 @@ The data flow is description → compiled plan → batched state::
     mech = assur.load("examples/walker_fourbar.toml")     # frozen description (SI inside)
     plan = assur.compile(mech)                              # Assur groups, branches, parameter map
     state = assur.solve(plan, inputs=angles)                # positions, velocities, accelerations
+
+``import assur`` itself imports nothing heavy: every name below loads its module on first use (so the
+command line can answer Ctrl-C cleanly from its first instruction, and analysis functions do not pull in
+scipy.optimize until they are called).
 """
 from __future__ import annotations
 
-from .engine import PlanarPlan, SolvePlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
-from .errors import AssurError, SpecError, StructureError, SynthesisError, UnbuildableError, UnbuildableWarning
-from .io.mechanism_file import dump, dumps, load, loads
-from .model.mechanism import Mechanism
-from .structure.assur import AssurGroup, GroupKind, Structure, analyse
+import importlib
+from typing import TYPE_CHECKING
 
-#: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
-analyse_structure = analyse
+if TYPE_CHECKING:  # the same names, for type checkers and editors
+    from .engine import PlanarPlan, SolvePlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
+    from .errors import (AssurError, SpecError, StructureError, SynthesisError, UnbuildableError,
+                         UnbuildableWarning)
+    from .io.builder import Builder
+    from .io.mechanism_file import dump, dumps, load, loads
+    from .model.mechanism import Mechanism
+    from .structure.assur import AssurGroup, GroupKind, Structure, analyse
 
 __version__ = "0.1.0"
 
 _LAZY = {
+    **{name: ("assur.engine", name) for name in ("PlanarPlan", "SolvePlan", "SpatialPlan", "SpatialState", "State",
+                                                  "compile", "solve")},
+    **{name: ("assur.errors", name) for name in ("AssurError", "SpecError", "StructureError", "SynthesisError",
+                                                  "UnbuildableError", "UnbuildableWarning")},
+    **{name: ("assur.io.mechanism_file", name) for name in ("dump", "dumps", "load", "loads")},
+    "Builder": ("assur.io.builder", "Builder"),
+    "Mechanism": ("assur.model.mechanism", "Mechanism"),
+    **{name: ("assur.structure.assur", name) for name in ("AssurGroup", "GroupKind", "Structure", "analyse")},
+    #: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
+    "analyse_structure": ("assur.structure.assur", "analyse"),
     "summarize": ("assur.analysis.summary", "analyze"),
     "analyze": ("assur.analysis.summary", "analyze"),     # the former name of summarize
     "gait_metrics": ("assur.analysis.gait", "gait_metrics"),
@@ -31,14 +48,27 @@ _LAZY = {
 
 
 def __getattr__(name):
-    """Analysis functions load on first use (they pull in scipy.optimize)."""
+    """The public names load their module on first use; ``assur.<subpackage>`` imports it."""
     if name in _LAZY:
-        import importlib
         module, attr = _LAZY[name]
-        return getattr(importlib.import_module(module), attr)
+        value = getattr(importlib.import_module(module), attr)
+        globals()[name] = value
+        return value
+    if not name.startswith("_"):
+        try:
+            return importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
     raise AttributeError(f"module 'assur' has no attribute {name!r}")
 
-__all__ = ["AssurError", "AssurGroup", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
+
+def __dir__():
+    return sorted({*globals(), *_LAZY})
+
+
+__all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
            "SpatialState", "State", "Structure", "StructureError", "SynthesisError", "UnbuildableError",
            "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
-           "dumps", "load", "loads", "solve", "__version__", *_LAZY]
+           "dumps", "load", "loads", "solve", "__version__", "summarize", "analyze", "gait_metrics", "gait_curves",
+           "transmission_angles", "dead_centres"]

@@ -79,3 +79,20 @@ class GearError(AssurError, ValueError):
 
 class OutputError(AssurError, OSError):
     """An output location cannot be used (it is a directory, or its parent does not exist)."""
+
+
+class MissingPackageError(AssurError, ImportError):
+    """An optional package a chosen feature needs is not installed; the message says which and how to install
+    it (raised by :func:`require` before the work starts)."""
+
+
+def require(package: str, feature: str, install: str | None = None):
+    """Import the optional ``package`` that ``feature`` needs (e.g. ``"--method cmaes"``), or raise
+    MissingPackageError with the install command (default ``pip install PACKAGE``). Returns the module."""
+    import importlib
+    try:
+        return importlib.import_module(package)
+    except ImportError as exc:
+        detail = "" if getattr(exc, "name", None) == package else f" ({exc})"
+        raise MissingPackageError(f"{feature} needs the optional package {package!r}, which cannot be imported"
+                                  f"{detail}; install it with: {install or 'pip install ' + package}") from None

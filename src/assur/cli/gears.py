@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .args import positive
+from .args import path_arg, positive
 
 
 def register(sub) -> None:
@@ -17,7 +17,7 @@ def register(sub) -> None:
                                                            "and the outputs of its gear drive")):
         sp = sub.add_parser(name, help=help_, description=help_)
         sp.add_argument("file", metavar="FILE", help="design file (.toml)")
-        sp.add_argument("-o", "--output", type=Path, required=True, metavar="DIR", help="output directory")
+        sp.add_argument("-o", "--output", type=path_arg, required=True, metavar="DIR", help="output directory")
         sp.add_argument("--json", action="store_true", help="print the summary as one JSON object (SI units)")
         sp.add_argument("--mesh-steps", type=positive(8), default=360, metavar="N",
                         help="driving-angle positions of the mesh check over the cycle (default 360)")

@@ -2,26 +2,37 @@
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.synth`
 (synth) and :mod:`assur.cli.gears` (gears, wheelstep).
 
-Bad input (an invalid file, a structure that cannot be solved, a missing file) prints one message
-starting with ``error:`` to stderr and exits with status 1; usage errors exit with status 2
-(argparse). Heavy modules (matplotlib) are imported only by the commands that draw.
+Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
+invalid file, a structure that cannot be solved, a missing file or optional package, an output that cannot be
+written), 2 usage errors (argparse), 3 a synthesis that found no feasible design, 130 interrupted (Ctrl-C, also
+during start-up: this module imports nothing heavy, the commands load inside :func:`main`'s guard). Heavy modules
+(matplotlib) are imported only by the commands that draw.
 """
 from __future__ import annotations
 
-import argparse
 import contextlib
 import os
 import sys
 
-from ..errors import AssurError
-from . import gears, mechanism, synth
+DESCRIPTION = ("Structural and kinematic analysis and synthesis of mechanisms described in TOML files: "
+               "mobility and Assur groups, positions, velocities and accelerations of planar and spatial "
+               "linkages, transmission angles and dead centres, walking-leg gait, linear actuators, plots, "
+               "animations and HTML reports (format assur/1); dimensional synthesis (assur-synth/1); "
+               "non-circular gear pairs with teeth (assur-gears/1) and the wheel-step mover (assur-wheelstep/1).")
+EPILOG = ("exit status: 0 done, 1 bad input (one 'error: ...' line), 2 usage error, 3 synthesis found no feasible "
+          "design, 130 interrupted (Ctrl-C; an interrupted synthesis still writes its best design with -o)")
+
+#: the exit status of an interrupted command (128 + SIGINT, as a shell reports it)
+INTERRUPTED = 130
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser():
     """The parser of every command."""
+    import argparse
+
     from .. import __version__
-    p = argparse.ArgumentParser(prog="assur", description="Structural and kinematic analysis of planar mechanisms "
-                                "described in mechanism files (format assur/1).")
+    from . import gears, mechanism, synth
+    p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
     mechanism.register(sub)
@@ -35,15 +46,17 @@ def format_error(exc: BaseException) -> str:
     return f"error: {exc}"
 
 
-def main(argv=None) -> int:
-    """Run the command line; returns the exit status (0 ok, 1 bad input, 2 usage error)."""
+def _run(argv) -> int:
+    from ..errors import AssurError
+    from .progress import announce_compiles
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # usage errors (2) and --help/--version (0)
         return int(exc.code) if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     try:
-        return int(args.func(args) or 0)
+        with announce_compiles():    # one line on stderr when a kernel is compiled for a new mechanism
+            return int(args.func(args) or 0)
     except AssurError as exc:
         print(format_error(exc), file=sys.stderr)
         return 1
@@ -58,9 +71,16 @@ def main(argv=None) -> int:
         name = f" {exc.filename}" if getattr(exc, "filename", None) else ""
         print(f"error: cannot write{name}: {exc.strerror or exc}", file=sys.stderr)
         return 1
+
+
+def main(argv=None) -> int:
+    """Run the command line; returns the exit status (0 ok, 1 bad input, 2 usage error, 3 no feasible
+    synthesis, 130 interrupted). Ctrl-C is answered with one line from the first import on."""
+    try:
+        return _run(argv)
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)
-        return 130
+        return INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -2,7 +2,9 @@
 
 Prints the objective reached, the evaluations, the wall time and the best design's variables and
 metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
-object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best design found.
+object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best design found; an interrupted run
+(Ctrl-C) still reports and writes it, then exits with status 130 like every interrupted command (0 done, 3 no
+feasible design, 1 bad input or a missing optional package such as cma for ``--method cmaes``).
 """
 from __future__ import annotations
 
@@ -10,7 +12,10 @@ import sys
 from pathlib import Path
 
 from ..report.text import format_number
-from .args import positive, positive_float
+from .args import path_arg, positive, positive_float
+
+#: the exit status of an interrupted run (as :mod:`assur.cli.main` uses for every command)
+INTERRUPTED = 130
 
 
 def register(sub) -> None:
@@ -20,7 +25,7 @@ def register(sub) -> None:
                                     "CMA-ES or a local polish, with multi-start, on this process, local workers or "
                                     "a Dask cluster.")
     sp.add_argument("file", metavar="PROBLEM", help="synthesis problem file (.toml)")
-    sp.add_argument("-o", "--output", type=Path, metavar="BEST", help="write the best design as a mechanism file")
+    sp.add_argument("-o", "--output", type=path_arg, metavar="BEST", help="write the best design as a mechanism file")
     sp.add_argument("--method", choices=("de", "cmaes", "local"), default="de", help="global method (default de)")
     sp.add_argument("--polish", choices=("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none"), default="auto",
                     help="local refinement of each start's best (default auto)")
@@ -48,10 +53,14 @@ def cmd_synth(args) -> int:
     from ..io.output import atomic_file, check_writable
     from ..synthesis import load_problem, make_executor, synthesize
     from ..io.output import json_text
+    check_packages(args)               # a missing optional package: say so before any work
     problem = load_problem(args.file)
     if args.output is not None:
         check_writable(args.output)   # fail on an unusable output before the run, not after it
     progress = not args.quiet and not args.json and sys.stderr.isatty()
+    if progress and _missing("tqdm"):
+        from ..synthesis.optimize import TQDM_INSTALL
+        print(f"note: no progress bar without the optional package 'tqdm': {TQDM_INSTALL}", file=sys.stderr)
     executor = make_executor(args.workers, args.dask)
     try:
         result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=args.time,
@@ -61,7 +70,7 @@ def cmd_synth(args) -> int:
         executor.close()
     written = None
     if args.output is not None:
-        text = dumps(result.mechanism())
+        text = dumps(result.mechanism(), clean=True)
         with atomic_file(args.output) as tmp:
             tmp.write_text(text, encoding="utf-8")
         written = str(args.output)
@@ -69,7 +78,7 @@ def cmd_synth(args) -> int:
         d = result.as_dict()
         d["written"] = written
         print(json_text(d))
-        return 0 if result.feasible else 3
+        return _status(result, written)
     u = problem.length_unit
     unit = {"distance": f" {u}", "squared": f" {u}²"}.get(problem.deviation, "")
     print(f"{problem.name or Path(args.file).stem}  [{args.file}]")
@@ -103,4 +112,35 @@ def cmd_synth(args) -> int:
               f"{format_number(g.support_speed.min * s)}…{format_number(g.support_speed.max * s)} {u}/s")
     if written:
         print(f"wrote {written}")
+    return _status(result, written)
+
+
+def _status(result, written) -> int:
+    """The exit status of a finished run: 130 interrupted (Ctrl-C; the best design so far is reported and
+    written), 3 no feasible design, else 0."""
+    if result.stopped == "interrupted":
+        kept = f"; the best design found so far was written to {written}" if written else \
+            "; the best design found so far is reported above"
+        print(f"error: interrupted{kept}", file=sys.stderr)
+        return INTERRUPTED
     return 0 if result.feasible else 3
+
+
+def _missing(package: str) -> bool:
+    try:
+        __import__(package)
+    except ImportError:
+        return True
+    return False
+
+
+def check_packages(args) -> None:
+    """Raise MissingPackageError (with the install command) when an option needs an optional package that is not
+    installed: ``--method cmaes`` needs cma, ``--dask`` needs dask.distributed."""
+    from ..errors import require
+    from ..synthesis.executors import DASK_INSTALL
+    from ..synthesis.optimize import CMA_INSTALL
+    if args.method == "cmaes":
+        require("cma", "--method cmaes", CMA_INSTALL)
+    if args.dask:
+        require("distributed", "--dask", DASK_INSTALL)

@@ -144,6 +144,9 @@ class _Scene:
         # own centre
         self.v1 = self._by_angle(xy1[r1 >= self.L - r2.max() - pitch])
         self.v2 = self._by_angle(xy2[r2 >= self.L - r1.max() - pitch])
+        if not (self.v1[0].size and self.v2[0].size):
+            raise GearError(f"the gears do not reach each other at the centre distance {self.L * 1e3:.6g} mm: the "
+                            f"largest radii are {r1.max() * 1e3:.6g} mm and {r2.max() * 1e3:.6g} mm")
         self.k1 = self._half_count(self.v1, pitch, window)
         self.k2 = self._half_count(self.v2, pitch, window)
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 
-from ..errors import SpecError
+from ..errors import SpecError, require
 from .evaluate import Evaluation, Evaluator
 
 _WORKER_EVALUATOR = None
@@ -94,16 +94,17 @@ class LocalProcesses(InProcess):
             self._for = None
 
 
+#: how to install dask.distributed
+DASK_INSTALL = "pip install 'dask[distributed]' (or pip install 'assur[synth]')"
+
+
 class DaskCluster(InProcess):
     """A dask.distributed cluster: ``address`` of a running scheduler, or a ``distributed.Client``.
     The evaluator is scattered to every worker once; chunks are mapped as tasks."""
     name = "dask"
 
     def __init__(self, address=None, *, client=None):
-        try:
-            from distributed import Client
-        except ImportError as exc:  # pragma: no cover - installed with the synth extra
-            raise ImportError("the Dask executor needs dask.distributed: pip install 'assur[synth]'") from exc
+        Client = require("distributed", "the Dask executor", DASK_INSTALL).Client
         self._own = client is None
         self.client = client if client is not None else Client(address, timeout="20s")
         self._scattered = None

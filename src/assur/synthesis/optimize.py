@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import SynthesisError
+from ..errors import SynthesisError, require
 from .evaluate import Evaluation, Evaluator
 from .executors import InProcess
 from .problem import Problem
@@ -131,6 +131,15 @@ class SynthesisResult:
         except AssurError:
             return None
 
+    def _repr_html_(self) -> str:
+        from ..model.display import html_table
+        unit = self.problem.length_unit
+        rows = [("problem", self.problem.name), ("objective", self.objective), ("feasible", self.feasible),
+                ("violation", self.violation), ("method", self.method), ("seed", self.seed),
+                ("evaluations", self.evaluations), ("seconds", self.seconds), ("stopped", self.stopped),
+                ("executor", self.executor)] + [(f"x: {n}", v) for n, v in self.variables.items()]
+        return html_table(f"Synthesis result ({unit}, {self.problem.angle_unit})", rows)
+
     def as_dict(self) -> dict:
         g = self.gait()
         return {"problem": self.problem.name, "source": self.problem.source, "method": self.method,
@@ -185,8 +194,13 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
 
 
+#: how to install the optional packages of the synthesis
+CMA_INSTALL = "pip install cma (or pip install 'assur[synth]')"
+TQDM_INSTALL = "pip install tqdm (or pip install 'assur[synth]')"
+
+
 def _run_cmaes(tracker, problem, rng, popsize, maxiter, tol):
-    import cma
+    cma = require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
     lo, width = _unit_box(problem)
     D = problem.n_vars
     x0 = rng.uniform(0.2, 0.8, D)
@@ -336,6 +350,8 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
     for name, v in (("budget", budget), ("time_limit", time_limit)):
         if v is not None and not v > 0:
             raise SynthesisError(f"{name} must be positive: {v!r}")
+    if method == "cmaes":   # an optional package: say so before any work
+        require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
