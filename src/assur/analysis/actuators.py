@@ -6,7 +6,7 @@ length L, its change from the sketch, the rotation θ of its direction from the 
 their analogues (d/dq, d²/dq² by the driving input) and time derivatives (from the state's own
 velocities and accelerations, so any time law applies). :func:`rod_pairs` relates a driven rod to each
 passive rod hinged at the same joint: K_ω = ω_b/ω_l and the ratio of the rods' areal velocities
-(½·L²·ω), which for a joint in a straight guide is the constant h_O/h_A (spec 002 §6), and the
+(½·L²·ω), which for a joint in a straight guide is the constant h_O/h_A (docs/papers/002.md §6), and the
 ratio of the triangles swept since the start. :func:`stroke_envelope` samples a working stroke along
 a time law and locates the interior extrema of every quantity by a root solve of its derivative;
 :func:`stroke_ranges` names the parts of a stroke that cannot be assembled. Shapes: batch axes
@@ -129,7 +129,7 @@ def actuator_motions(state, input: int = 0, start=None) -> dict[str, ActuatorMot
 class RodPair:
     """A driven rod l (``driving``) and a passive rod b (``driven``) hinged at the same ``joint``.
 
-    ``K_omega`` = ω_b/ω_l = (dθ_b/dq)/(dθ_l/dq), independent of the speed (spec 002 §6, E6);
+    ``K_omega`` = ω_b/ω_l = (dθ_b/dq)/(dθ_l/dq), independent of the speed (docs/papers/002.md §6, E6);
     ``areal_ratio`` = (L_b²·ω_b)/(L_l²·ω_l): constant h_O/h_A when the joint runs in a straight guide;
     ``area_ratio`` = S_b/S_l, the signed triangles (pivot, joint at the start, joint now) swept since
     the start (NaN at the start itself, where both are zero; its limit there is ``areal_ratio``);
@@ -260,6 +260,10 @@ class Extreme:
     q: float
     interior: bool
 
+    def _repr_html_(self) -> str:
+        from ..model.display import dataclass_table
+        return dataclass_table(self, "Extreme", units={"t": "s"})
+
 
 @dataclass(frozen=True)
 class Envelope:
@@ -275,6 +279,13 @@ class Envelope:
     extremes: dict
     ranges: dict
     past_foot: dict
+
+    def _repr_html_(self) -> str:
+        from ..model.display import html_table
+        rows = [(f"{owner} {quantity}", f"min {e['min'].value:.6g} (t {e['min'].t:.6g} s), "
+                                        f"max {e['max'].value:.6g} (t {e['max'].t:.6g} s)")
+                for (owner, quantity), e in self.extremes.items()]
+        return html_table(f"Stroke envelope ({len(self.t)} samples)", rows)
 
 
 def _evaluate(plan, law, t, params, k):

@@ -1,6 +1,6 @@
 """Gait metrics of a walking leg from its foot path over one crank turn (no physics engine).
 
-Definitions (spec 000 §6, shared with paper 004). The foot path P(q) over one input turn is
+Definitions (docs/papers/000.md §6, shared with paper 004). The foot path P(q) over one input turn is
 projected on the stride axis (``x = P·ground``) and the vertical axis (``v = P·up``, pointing
 away from the ground side); the height is ``h = v − min v``.
 
@@ -78,6 +78,13 @@ class GaitMetrics:
         d["support_ax"] = {"min": self.support_ax[0], "max": self.support_ax[1]}
         d["contact_ratio"] = self.contact_ratio
         return d
+
+    def _repr_html_(self) -> str:
+        from ..model.display import html_table
+        units = {"omega": "rad/s", "contact_start": "rad", "contact_end": "rad", "step_length": "m", "lift": "m",
+                 "sag": "m", "support_speed": "m/s", "support_vx": "m/s", "support_ax": "m/s²"}
+        rows = [(k, getattr(self, k)) for k in self.__dataclass_fields__] + [("contact_ratio", self.contact_ratio)]
+        return html_table(f"Gait metrics of {self.foot}", rows, units=units)
 
 
 @dataclass(frozen=True)
@@ -348,6 +355,10 @@ class ModuleMetrics:
         d = asdict(self)
         d["phases"] = list(self.phases)
         return d
+
+    def _repr_html_(self) -> str:
+        from ..model.display import dataclass_table
+        return dataclass_table(self, "Walking module", units={"phases": "rad"})
 
 
 def module_timeline(metrics: GaitMetrics, phases, steps: int = 720):

@@ -1,4 +1,4 @@
-"""Derived outputs of spatial R–S–S dyads (paper 003, spec 003 §5): rocker angle θ4, swing,
+"""Derived outputs of spatial R–S–S dyads (paper 003, docs/papers/003.md §5): rocker angle θ4, swing,
 transmission angles μ_int and μ_T, dead centres (root-solved), buildable ranges, the branch s and
 the paper's W, and the closed-form extremes of μ_int. All angles in radians, lengths in metres.
 
@@ -51,7 +51,7 @@ def dyads(plan, state, params=None) -> list[DyadGeometry]:
 
 
 def rocker_angle(g: DyadGeometry) -> np.ndarray:
-    """θ4 (...): the rocker's angle about its axis, from e_X2 towards e_Y2 (spec 003 §5)."""
+    """θ4 (...): the rocker's angle about its axis, from e_X2 towards e_Y2 (docs/papers/003.md §5)."""
     r = g.B - g.D
     e = g.axis_frame[..., :, 2]
     n = r - np.sum(r * e, -1)[..., None] * e
@@ -93,7 +93,7 @@ def stopping_function(plan, state, point: str) -> np.ndarray:
 
 
 def distance_extremes(plan, params=None, point: str | None = None) -> dict:
-    """Closed-form extremes of |A − D| over a crank turn, when A is the crank's arm (spec 003 §5):
+    """Closed-form extremes of |A − D| over a crank turn, when A is the crank's arm (docs/papers/003.md §5):
     with the crank circle of centre O' (radius ρ, axis e_c) and w = D − O', |A − D| is least where the
     arm points along the normal part w_n of w, |A − D|² = (ρ ∓ |w_n|)² + (w·e_c)². Returns
     {'q_min', 'q_max', 'd_min', 'd_max', 'mu_int_min', 'mu_int_max'} (rad, m), or {} when A is not a crank arm."""
@@ -138,6 +138,10 @@ class DeadCentre:
     link: str               # the rocker
     rocker_angle: float     # θ4 there (rad)
 
+    def _repr_html_(self) -> str:
+        from ..model.display import dataclass_table
+        return dataclass_table(self, "Dead centre", units={"angle": "rad", "rocker_angle": "rad"})
+
 
 @dataclass(frozen=True)
 class DyadSummary:
@@ -161,6 +165,11 @@ class DyadSummary:
         d["dead_centres"] = [{"angle": c.angle, "kind": c.kind, "link": c.link, "rocker_angle": c.rocker_angle}
                              for c in self.dead_centres]
         return d
+
+    def _repr_html_(self) -> str:
+        from ..model.display import dataclass_table
+        units = {k: "rad" for k in self.__dataclass_fields__ if k.startswith(("rocker_angle_", "swing", "mu_"))}
+        return dataclass_table(self, f"R–S–S dyad at {self.point}", units=units)
 
 
 def _unwrap_cyclic(theta):

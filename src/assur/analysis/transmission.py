@@ -69,6 +69,10 @@ class DeadCentre:
     kind: str         # 'extended' | 'folded'
     link: str         # the link hinged at the crank's arm
 
+    def _repr_html_(self) -> str:
+        from ..model.display import dataclass_table
+        return dataclass_table(self, "Dead centre", units={"angle": "rad"})
+
 
 def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
     """Input angles where a crank is collinear with the link hinged at its arm (one-input plans).

@@ -197,6 +197,25 @@ class Mechanism:
     def frame(self) -> Link:
         return self.link(FRAME)
 
+    def _repr_html_(self) -> str:
+        """A small table for notebooks (SI numbers: m, rad/s)."""
+        from .display import fmt, html_table
+        rows = [("name", self.name or "(unnamed)"), ("dimension", self.dimension),
+                ("file units", f"{self.units.length}, {self.units.angle}"),
+                ("points (m)", "; ".join(f"{n} ({fmt(tuple(xy))})" for n, xy in self.points)),
+                ("links", "; ".join(f"{lk.name}: {', '.join(lk.points)}" for lk in self.links))]
+        if self.prismatic:
+            rows.append(("prismatic", "; ".join(f"{p.name}: {p.point or p.link} on {p.guide}" for p in self.prismatic)))
+        if self.actuators:
+            rows.append(("actuators", "; ".join(f"{a.name}: {a.between[0]}–{a.between[1]}" for a in self.actuators)))
+        for d in self.drivers:
+            what = (f"crank {d.link} about {d.pivot}, {fmt(d.speed)} rad/s" if d.kind == "rotary"
+                    else f"actuator {d.actuator}, {fmt(d.speed)} m/s")
+            rows.append((f"driver {d.name}", what))
+        if self.gait is not None:
+            rows.append(("gait foot", self.gait.foot))
+        return html_table(f"Mechanism {self.name}".rstrip(), rows)
+
     @property
     def length_scale(self) -> float:
         """Size of the sketch's bounding box (m), the scale of relative tolerances."""

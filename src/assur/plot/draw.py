@@ -14,12 +14,14 @@ from ..io.units import LENGTH
 
 
 def mpl():
-    """matplotlib with the Agg backend (imported on first use)."""
+    """matplotlib with the Agg backend (imported on first use); in a notebook its inline backend (Agg too)
+    stays, so that figures display."""
     try:
         import matplotlib
     except ImportError as exc:  # pragma: no cover - matplotlib is a dependency
         raise ImportError("plots need matplotlib: pip install matplotlib") from exc
-    if matplotlib.get_backend().lower() != "agg":
+    backend = matplotlib.get_backend().lower()
+    if backend != "agg" and "backend_inline" not in backend:
         matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
     return matplotlib, plt
@@ -132,15 +134,15 @@ def _block(cv: _Canvas, centre, direction, size, color, alpha=1.0, z=4.0):
             "white", color, 1.4, alpha, z=z)
 
 
-def _default_size(plan):
-    return 0.03 * plan.length_scale * file_scale(plan)
+def _default_size(plan, scale=None):
+    return 0.03 * plan.length_scale * (file_scale(plan) if scale is None else scale)
 
 
-def frame_guides(ax, plan, pos_all, *, params=None, size=None):
+def frame_guides(ax, plan, pos_all, *, params=None, size=None, scale=None):
     """Draw the frame's slide lines once, spanning the travel of their sliders over ``pos_all``
-    ((n, n_points, 2), SI; drawn in the file's length unit)."""
-    k = file_scale(plan)
-    size = size if size is not None else _default_size(plan)
+    ((n, n_points, 2), SI; drawn in the file's length unit, or times ``scale`` when given)."""
+    k = file_scale(plan) if scale is None else scale
+    size = size if size is not None else _default_size(plan, k)
     cv = _Canvas()
     finite = np.all(np.isfinite(pos_all.reshape(len(pos_all), -1)), axis=-1)
     if not finite.any():   # no position can be assembled: no guide to draw
@@ -162,20 +164,21 @@ def frame_guides(ax, plan, pos_all, *, params=None, size=None):
 
 
 def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, linewidth=2.2, labels=False,
-                   pivots=True, guides=True, frame_guide=True, foot=None, size=None, zorder=3):
+                   pivots=True, guides=True, frame_guide=True, foot=None, size=None, zorder=3, scale=None):
     """Draw the mechanism at one position ``pos_row`` ((n_points, 2), SI) on ``ax`` in the file's
     length unit: links as lines (binary) or filled polygons (ternary and more), revolute joints as
     small circles, frame pivots as ground symbols, slider blocks as small rectangles on their
     guide lines, actuators as a cylinder and a rod. ``frame_guide``: draw a short piece of a frame
     slide line at the block (pass False when :func:`frame_guides` drew the whole travel).
-    Returns the list of artists drawn (an animation removes them for the next frame)."""
+    ``scale``: SI → drawn length (default: the file's unit). Returns the list of artists drawn (an animation
+    removes them for the next frame)."""
     from matplotlib.colors import to_rgba
-    k = file_scale(plan)
+    k = file_scale(plan) if scale is None else scale
     pos = np.asarray(pos_row, dtype=float)
     P = pos * k
     if not np.all(np.isfinite(P)):
         return []
-    size = size if size is not None else _default_size(plan)
+    size = size if size is not None else _default_size(plan, k)
     m = plan.mechanism
     counts = _joint_counts(plan)
     frame_pts = set(m.frame.points)
