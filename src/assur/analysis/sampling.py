@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..engine import solve
 from ..errors import SpecError, StructureError
@@ -138,4 +137,5 @@ def root_between(f, a, b):
     fa, fb = f(a), f(b)
     if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0:
         return 0.5 * (a + b)
+    from scipy.optimize import brentq   # imported on first use: scipy.optimize takes ~1 s to import
     return brentq(f, a, b, xtol=TOL.root_angle)

@@ -38,10 +38,18 @@ def positive_float(text):
     return v
 
 
+def path_arg(text) -> Path:
+    """An argparse type: a path, never an empty one (``-o ""`` would otherwise mean the current directory)."""
+    if not str(text).strip():
+        raise argparse.ArgumentTypeError("the path is empty")
+    return Path(text)
+
+
 def output_path(extensions):
     """An argparse type: a path ending with one of ``extensions``."""
     def parse(text):
-        ext = Path(text).suffix.lower()
+        path = path_arg(text)
+        ext = path.suffix.lower()
         if ext not in extensions:
             raise argparse.ArgumentTypeError(f"the output must end with {', '.join(extensions)}: {text!r}")
         return Path(text)

@@ -5,14 +5,21 @@ dimension (``plan.dimension``) picks the planar or the spatial figures.
 """
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from ..io.output import atomic_file
 from .args import (ANIMATION_EXTENSIONS, PLOT_EXTENSIONS, add_range, compile_file, document_format, input_ranges,
-                   load_mechanism, output_path, positive, positive_float)
+                   load_mechanism, output_path, path_arg, positive, positive_float)
+from .progress import frame_progress
+
+
+def add_units(sp) -> None:
+    """The ``--units {file,si}`` option of a sub-parser."""
+    sp.add_argument("--units", choices=("file", "si"), default="file",
+                    help="lengths, speeds and accelerations in the file's length unit (default; mm, mm/s, mm/s² "
+                         "for a mm file) or in SI (m, m/s, m/s²)")
 
 
 def register(sub) -> None:
@@ -27,7 +34,7 @@ def register(sub) -> None:
     add("info", cmd_info, "structure (mobility, Assur groups, structural formula), parameters and drivers")
     sp = add("solve", cmd_solve, "positions, velocities, accelerations and analogues over one turn")
     sp.add_argument("--steps", type=positive(1), required=True, metavar="N", help="number of input positions")
-    sp.add_argument("--csv", type=Path, metavar="OUT", help="write every point's values to this CSV file")
+    sp.add_argument("--csv", type=path_arg, metavar="OUT", help="write every point's values to this CSV file")
     sp.add_argument("--file-units", action="store_true",
                     help="lengths in the file's unit and angles in degrees (default: SI, m and rad)")
     add_range(sp)
@@ -35,14 +42,16 @@ def register(sub) -> None:
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    add_units(sp)
     sp = add("plot", cmd_plot, "a figure: paths, kinematic diagram, velocity and acceleration curves")
     sp.add_argument("-o", "--output", type=output_path(PLOT_EXTENSIONS), required=True, metavar="OUT",
                     help="output image (.png, .svg or .pdf; .html for an interactive 3D view of a spatial file)")
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--dpi", type=positive(10), default=100, help="resolution of a PNG (default 100)")
-    sp.add_argument("--positions", type=positive(1), default=6, metavar="K",
-                    help="positions drawn in the kinematic diagram (default 6)")
+    sp.add_argument("--positions", type=positive(1), default=None, metavar="K",
+                    help="positions drawn in the kinematic diagram (default 6, or 3 for more than four moving links)")
+    add_units(sp)
     add_range(sp)
     sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
     sp.add_argument("-o", "--output", type=output_path(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
@@ -51,11 +60,12 @@ def register(sub) -> None:
     sp.add_argument("--fps", type=positive_float, default=20.0, metavar="F", help="frames per second (default 20)")
     add_range(sp)
     sp = add("report", cmd_report, "one self-contained HTML page with the structure, analysis, plots and animation")
-    sp.add_argument("-o", "--output", type=Path, required=True, metavar="DIR", help="output directory (index.html)")
+    sp.add_argument("-o", "--output", type=path_arg, required=True, metavar="DIR", help="output directory (index.html)")
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--frames", type=positive(2), default=36, metavar="N",
                     help="frames of the embedded animation (default 36)")
+    add_units(sp)
     add_range(sp)
 
 
@@ -142,7 +152,7 @@ def cmd_analyze(args) -> int:
         print(json_text({"file": str(args.file), **summary}))
         return 0
     print(f"{_title(m, args.file)}  [{args.file}]" + (" (spatial)" if plan.dimension == 3 else ""))
-    _emit(analysis_lines(summary, m.units))
+    _emit(analysis_lines(summary, m.units, args.units))
     return 0
 
 
@@ -157,15 +167,16 @@ def cmd_plot(args) -> int:
     if plan.dimension == 3:
         from ..plot import spatial as view
         if ext == ".html":
-            fig = view.plotly_figure(plan, args.steps, positions=args.positions, ranges=ranges)
+            fig = view.plotly_figure(plan, args.steps, positions=args.positions or 6, ranges=ranges)
             with atomic_file(args.output) as tmp:
                 view.write_html(fig, tmp, title=plan.mechanism.name)
             print(f"wrote {args.output}")
             return 0
-        fig = view.figure(plan, args.steps, positions=args.positions, ranges=ranges, dpi=args.dpi)
+        fig = view.figure(plan, args.steps, positions=args.positions or 6, ranges=ranges, dpi=args.dpi)
     else:
         from ..plot.figures import mechanism_figure
-        fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi)
+        fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi,
+                               units=args.units)
     try:
         with atomic_file(args.output) as tmp:
             fig.savefig(tmp, format=ext[1:], dpi=args.dpi)
@@ -194,12 +205,9 @@ def cmd_animate(args) -> int:
     else:
         from ..plot.animation import animation
         fig, anim = animation(plan, args.frames, args.fps, ranges=ranges)
-
-    def show(i, n):
-        print(f"\rframe {i + 1}/{n}", end="" if i + 1 < n else "\n", file=sys.stderr, flush=True)
     try:
         with atomic_file(args.output) as tmp:
-            save_animation(anim, tmp, args.fps, progress=show if sys.stderr.isatty() else None)
+            save_animation(anim, tmp, args.fps, progress=frame_progress())
     finally:
         close(fig)
     print(f"wrote {args.output} ({args.frames} frames at {format_number(args.fps)} fps)")
@@ -216,6 +224,6 @@ def cmd_report(args) -> int:
     from ..report.mechanism import write_report
     m, plan = compile_file(args.file)
     path = write_report(plan, args.output, steps=args.steps, frames=args.frames, ranges=input_ranges(plan, args),
-                        source=str(args.file))
+                        source=str(args.file), units=args.units, progress=frame_progress("animation frames"))
     print(f"wrote {path}")
     return 0

@@ -9,6 +9,7 @@ dictionaries, so they go with the plan.
 """
 from __future__ import annotations
 
+import logging
 import weakref
 
 import numpy as np
@@ -23,6 +24,9 @@ _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 _MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 #: populations up to this many numbers memoise their constants (repeated solves of one design)
 MEMO_MAX_VALUES = 4096
+#: an INFO record "compiling a kernel for this mechanism (once, cached in …)" before numba compiles a kernel
+#: that is not in its disk cache yet (the command line prints it; silent for a library user by default)
+LOG = logging.getLogger("assur.compile")
 
 
 def covers(plan) -> bool:
@@ -62,8 +66,22 @@ def _load(plan, key: str, make_source):
             import tempfile
             from pathlib import Path
             k = codegen.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
+        if not _compiled(k):
+            import os
+            LOG.info("compiling a kernel for this mechanism (once, cached in %s)",
+                     os.path.dirname(k.py_func.__code__.co_filename))
         kernels[key] = k
     return k
+
+
+def _compiled(k) -> bool:
+    """True when the numba dispatcher ``k`` is compiled in this process or has an index in numba's cache
+    beside its module (``__pycache__/<module>.<function>-<line>.py<version>.nbi``)."""
+    if k.signatures:
+        return True
+    from pathlib import Path
+    module = Path(k.py_func.__code__.co_filename)
+    return any((module.parent / "__pycache__").glob(f"{module.stem}.*.nbi"))
 
 
 def kernel(plan, with_bodies: bool, order: int = 2):
