@@ -136,3 +136,14 @@ def test_a_failing_run_leaves_the_previous_output(tmp_path):
             raise RuntimeError("midway")
     assert sorted(p.name for p in out.iterdir()) == [MARKER, "a.csv"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+@pytest.mark.parametrize("args", [["report", "{f}", "-o", ""], ["solve", "{f}", "--steps", "4", "--csv", ""],
+                                  ["plot", "{f}", "-o", ""]])
+def test_the_cli_refuses_an_empty_output_path(args, tmp_path):
+    """``-o ""`` once meant the current directory."""
+    example = str(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml")
+    r = subprocess.run([sys.executable, "-m", "assur", *[a.format(f=example) for a in args]], capture_output=True,
+                       text=True, cwd=tmp_path)
+    assert r.returncode == 2 and "the path is empty" in r.stderr and "Traceback" not in r.stderr
+    assert list(tmp_path.iterdir()) == []

@@ -16,7 +16,7 @@ def test_python_tour_runs(monkeypatch):
     exec(compile(code, "README.md", "exec"), namespace)
     assert namespace["batch"].pos.shape[:2] == (1000, 360)
     assert namespace["gait"].step_length > 0
-    # the published C2-3 design's objective, spec synthesis_benchmarks.md §2.2 (f_ref 1.284000744e-06)
+    # the published C2-3 design's objective, docs/papers/synthesis_benchmarks.md §2.2 (f_ref 1.284000744e-06)
     assert abs(namespace["e"].objective[0] - 1.284000744e-06) <= 1e-6 * 1.284000744e-06
     assert namespace["best"].feasible
 

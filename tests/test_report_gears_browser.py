@@ -25,7 +25,7 @@ def test_gear_report_renders_with_tables_plots_and_local_cad_links(report, tmp_p
     screenshot_is_a_real_page(tmp_path, report.as_uri())
     dom = run_browser(tmp_path, "--dump-dom", "--virtual-time-budget=5000", report.as_uri()).stdout
     assert "Teeth and mesh check" in dom and "Paper sector scheme" in dom and "interferes" in dom
-    assert "Table 1" in dom and "-84.19" in dom          # Table 1, row 2 as printed (spec §E)
+    assert "Table 1" in dom and "-84.19" in dom          # Table 1, row 2 as printed (docs/papers/001.md §E)
     assert dom.count("data:image/png;base64,") >= 4
     # nothing from the network: images inline, links are anchors or files written beside the page
     refs = re.findall(r'(?:src|href)="([^"]+)"', dom)

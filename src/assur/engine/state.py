@@ -50,9 +50,21 @@ def _move_xy(a, n_extra):
     return out
 
 
+@dataclass(frozen=True)
 class StateBase:
     """What planar and spatial states share: the batch shape, the singular samples and the views."""
-    __slots__ = ()
+    #: the plan solved
+    plan: object
+    #: (..., n_inputs) the inputs solved, broadcast to the batch
+    inputs: np.ndarray
+    #: (...) True where the sample assembles
+    valid: np.ndarray
+    n_unbuildable: int
+    #: (n_inputs,) or (..., n_inputs) input rates and accelerations of the time derivatives
+    qdot: np.ndarray
+    qddot: np.ndarray
+    #: (..., n_params) the design parameters solved (SI), as given (broadcast against the inputs)
+    params: np.ndarray
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -81,19 +93,25 @@ class StateBase:
         """The index of a body (into the body axis of ``body_angle`` …)."""
         return self.plan.body_names.index(name)
 
+    def _repr_html_(self) -> str:
+        """A small table for notebooks: the batch, how much of it assembles, the points and the orders solved."""
+        from ..model.display import html_table
+        valid = np.asarray(self.valid)
+        orders = ["pos"] + (["vel"] if self.dpos_dq is not None else []) \
+            + (["acc"] if self.d2pos_dq2 is not None else [])
+        names = self.plan.point_names
+        shape = " × ".join(map(str, self.shape)) or "()"
+        rows = [("mechanism", self.plan.mechanism.name or "(unnamed)"), ("batch shape", shape),
+                ("assembled", f"{int(valid.sum())} of {valid.size}"), ("cannot be assembled", self.n_unbuildable),
+                ("inputs", np.asarray(self.inputs)), ("solved", ", ".join(orders)),
+                (f"points ({len(names)})", names)]
+        return html_table(type(self).__name__, rows)
+
 
 @dataclass(frozen=True)
 class State(StateBase):
     """The solved state of a planar batch (shapes in the module docstring)."""
     dimension = 2
-    plan: object
-    inputs: np.ndarray
-    valid: np.ndarray
-    n_unbuildable: int
-    qdot: np.ndarray
-    qddot: np.ndarray
-    #: (..., n_params) the design parameters solved (SI), as given (broadcast against the inputs)
-    params: np.ndarray
     #: (..., n_points + n_bodies) complex: point positions x + iy, then body orientations exp(iθ)
     _z: np.ndarray = field(repr=False)
     _dz: np.ndarray | None = field(repr=False, default=None)       # (..., m, n_inputs)
@@ -229,14 +247,6 @@ class SpatialState(StateBase):
     a coupler that spins idly); ``body_omega``, ``body_alpha`` (..., n_bodies, 3) angular velocity
     and acceleration vectors; ``status`` maps each dyad point to its solver status (...)."""
     dimension = 3
-    plan: object
-    inputs: np.ndarray
-    valid: np.ndarray
-    n_unbuildable: int
-    qdot: np.ndarray
-    qddot: np.ndarray
-    #: (..., n_params) the design parameters solved (SI), as given (broadcast against the inputs)
-    params: np.ndarray
     pos: np.ndarray
     dpos_dq: np.ndarray | None
     d2pos_dq2: np.ndarray | None
