@@ -48,19 +48,26 @@ class Side:
 
 class StepRecord:
     """Common interface of the step records: ``kind``, ``bodies`` (the bodies the step places),
-    ``key_point`` (the point a branch refers to, or None) and ``branch`` (±1)."""
+    ``key_point`` (the point a branch refers to, or None) and ``branch`` (±1). Each record names, as class
+    constants, the field holding its key point and the fields of the known points and parameters it reads."""
     __slots__ = ()
     kind: ClassVar[str] = ""
-    key_point: str | None = None
+    key_field: ClassVar[str | None] = None
+    point_fields: ClassVar[tuple[str, ...]] = ()
+    param_fields: ClassVar[tuple[str, ...]] = ()
     branch: int = 1
+
+    @property
+    def key_point(self) -> str | None:
+        return None if self.key_field is None else getattr(self, self.key_field)
 
     def points_in(self) -> tuple[str, ...]:
         """The already known points the step reads."""
-        return ()
+        return tuple(getattr(self, f) for f in self.point_fields)
 
     def params_in(self) -> tuple[int, ...]:
         """The parameter indices the step reads directly."""
-        return ()
+        return tuple(getattr(self, f) for f in self.param_fields)
 
     def with_branch(self, sign: int) -> "StepRecord":
         return replace(self, branch=int(sign))
@@ -77,6 +84,8 @@ class FrameStep(StepRecord):
 class CrankStep(StepRecord):
     """A link turning about a frame pivot: θ = sense·q[input] + params[zero_param]."""
     kind: ClassVar[str] = "crank"
+    point_fields: ClassVar[tuple[str, ...]] = ("pivot",)
+    param_fields: ClassVar[tuple[str, ...]] = ("zero_param",)
     bodies: tuple[int, ...]
     pivot: str
     arm: str
@@ -84,17 +93,13 @@ class CrankStep(StepRecord):
     zero_param: int
     sense: int
 
-    def points_in(self):
-        return (self.pivot,)
-
-    def params_in(self):
-        return (self.zero_param,)
-
 
 @dataclass(frozen=True, slots=True)
 class RRRStep(StepRecord):
     """Two sides hinged at known points A, B and to each other at the joint J (circle ∩ circle)."""
     kind: ClassVar[str] = "RRR"
+    key_field: ClassVar[str | None] = "joint"
+    point_fields: ClassVar[tuple[str, ...]] = ("point_a", "point_b")
     bodies: tuple[int, ...]
     side_a: Side
     point_a: str
@@ -103,19 +108,14 @@ class RRRStep(StepRecord):
     joint: str
     branch: int = 1
 
-    @property
-    def key_point(self):
-        return self.joint
-
-    def points_in(self):
-        return (self.point_a, self.point_b)
-
 
 @dataclass(frozen=True, slots=True)
 class RRPStep(StepRecord):
     """A side hinged at the known point A and a slider on a known guide line, hinged at J
     (circle ∩ line). ``line``: index into ``plan.lines``."""
     kind: ClassVar[str] = "RRP"
+    key_field: ClassVar[str | None] = "joint"
+    point_fields: ClassVar[tuple[str, ...]] = ("point_a",)
     bodies: tuple[int, ...]
     side_a: Side
     point_a: str
@@ -124,18 +124,13 @@ class RRPStep(StepRecord):
     joint: str
     branch: int = 1
 
-    @property
-    def key_point(self):
-        return self.joint
-
-    def points_in(self):
-        return (self.point_a,)
-
 
 @dataclass(frozen=True, slots=True)
 class RPRStep(StepRecord):
     """A guide hinged at a known point and a slider hinged at another, sliding on each other."""
     kind: ClassVar[str] = "RPR"
+    key_field: ClassVar[str | None] = "slider_point"
+    point_fields: ClassVar[tuple[str, ...]] = ("guide_point", "slider_point")
     bodies: tuple[int, ...]
     guide: int
     guide_point: str
@@ -144,18 +139,12 @@ class RPRStep(StepRecord):
     line: int
     branch: int = 1
 
-    @property
-    def key_point(self):
-        return self.slider_point
-
-    def points_in(self):
-        return (self.guide_point, self.slider_point)
-
 
 @dataclass(frozen=True, slots=True)
 class PRPStep(StepRecord):
     """Two bodies sliding on known lines, hinged to each other at J (line ∩ line)."""
     kind: ClassVar[str] = "PRP"
+    key_field: ClassVar[str | None] = "joint"
     bodies: tuple[int, ...]
     body_a: int
     line_a: int
@@ -163,29 +152,20 @@ class PRPStep(StepRecord):
     line_b: int
     joint: str
 
-    @property
-    def key_point(self):
-        return self.joint
-
 
 @dataclass(frozen=True, slots=True)
 class PPRStep(StepRecord):
     """Body a hinged at the known point A, body b sliding on a known line (``outer_line``), a and b
     sliding on each other (``inner_line``)."""
     kind: ClassVar[str] = "PPR"
+    key_field: ClassVar[str | None] = "point_a"
+    point_fields: ClassVar[tuple[str, ...]] = ("point_a",)
     bodies: tuple[int, ...]
     body_a: int
     point_a: str
     body_b: int
     outer_line: int
     inner_line: int
-
-    @property
-    def key_point(self):
-        return self.point_a
-
-    def points_in(self):
-        return (self.point_a,)
 
 
 @dataclass(frozen=True, slots=True)
@@ -215,6 +195,8 @@ class SpatialCrankStep(StepRecord):
 
     ``extra``: further points of the link, (point, u, v, w parameter indices) in its hinge frame."""
     kind: ClassVar[str] = "crank"
+    point_fields: ClassVar[tuple[str, ...]] = ("pivot",)
+    param_fields: ClassVar[tuple[str, ...]] = ("zero_param", "length_param", "axial_param")
     body: int
     pivot: str
     arm: str
@@ -229,18 +211,15 @@ class SpatialCrankStep(StepRecord):
     def bodies(self):
         return (self.body,)
 
-    def points_in(self):
-        return (self.pivot,)
-
-    def params_in(self):
-        return (self.zero_param, self.length_param, self.axial_param)
-
 
 @dataclass(frozen=True, slots=True)
 class RSSStep(StepRecord):
     """An R–S–S dyad: the rocker ``body`` hinged on the frame revolute D, the coupler from the known
     point A; B on the branch s = sign det[A − D, e, B − D]."""
     kind: ClassVar[str] = "RSS"
+    key_field: ClassVar[str | None] = "joint"
+    point_fields: ClassVar[tuple[str, ...]] = ("pivot", "start")
+    param_fields: ClassVar[tuple[str, ...]] = ("rocker_length_param", "rocker_axial_param", "coupler_length_param")
     body: int
     pivot: str          # D
     start: str          # A
@@ -256,19 +235,12 @@ class RSSStep(StepRecord):
     sketch_v3x: float = float("nan")
     sketch_v1_norm: float = float("nan")
 
-    @property
-    def key_point(self):
-        return self.joint
 
     @property
     def bodies(self):
         return (self.body, self.coupler)
 
-    def points_in(self):
-        return (self.pivot, self.start)
 
-    def params_in(self):
-        return (self.rocker_length_param, self.rocker_axial_param, self.coupler_length_param)
 
 
 def _readonly(a, dtype) -> np.ndarray:
@@ -286,6 +258,8 @@ def _padded(rows, width: int) -> np.ndarray:
 
 
 # -- plans -----------------------------------------------------------------------------------------------
+
+
 @dataclass(frozen=True, eq=False)
 class PlanBase:
     """What every plan has (planar and spatial): names, counts, defaults, the step table.
