@@ -173,3 +173,18 @@ def test_plot_figure_in_file_units():
     np.testing.assert_allclose(y_mm, 1000 * y_si, rtol=1e-12)
     assert default_positions(plan) == 6
     assert default_positions(assur.compile(assur.load(ROOT / "examples" / "jansen.toml"))) == 3
+
+
+def test_spatial_views_follow_the_units_option():
+    """examples/rssr.toml is in mm: its 3D views are drawn in mm by default and in m with units="si", so every
+    drawn coordinate differs by the factor 1000 (the definition of the millimetre)."""
+    from pathlib import Path
+    from assur.plot import spatial as view
+    plan = assur.compile(assur.load(Path(__file__).resolve().parents[1] / "examples" / "rssr.toml"))
+    mm, m = (view.plotly_figure(plan, 24, positions=2, frames=4, units=u) for u in ("file", "si"))
+    xs_mm = np.concatenate([np.asarray(t.x, dtype=float) for t in mm.data if t.x is not None])
+    xs_m = np.concatenate([np.asarray(t.x, dtype=float) for t in m.data if t.x is not None])
+    ok = np.isfinite(xs_mm)
+    assert ok.sum() > 10
+    np.testing.assert_allclose(xs_mm[ok], 1000.0 * xs_m[ok], rtol=1e-12)
+    assert "mm" in mm.layout.scene.xaxis.title.text and "mm" not in m.layout.scene.xaxis.title.text

@@ -167,12 +167,13 @@ def cmd_plot(args) -> int:
     if plan.dimension == 3:
         from ..plot import spatial as view
         if ext == ".html":
-            fig = view.plotly_figure(plan, args.steps, positions=args.positions or 6, ranges=ranges)
+            fig = view.plotly_figure(plan, args.steps, positions=args.positions or 6, ranges=ranges, units=args.units)
             with atomic_file(args.output) as tmp:
                 view.write_html(fig, tmp, title=plan.mechanism.name)
             print(f"wrote {args.output}")
             return 0
-        fig = view.figure(plan, args.steps, positions=args.positions or 6, ranges=ranges, dpi=args.dpi)
+        fig = view.figure(plan, args.steps, positions=args.positions or 6, ranges=ranges, dpi=args.dpi,
+                          units=args.units)
     else:
         from ..plot.figures import mechanism_figure
         fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi,

@@ -27,9 +27,14 @@ def mpl():
     return matplotlib, plt
 
 
-def file_scale(plan) -> float:
-    """Factor SI length → the file's length unit."""
-    return 1.0 / LENGTH[plan.mechanism.units.length]
+def file_scale(plan, units: str = "file") -> float:
+    """Factor SI length → the drawing's length unit: the file's (``units="file"``) or metres (``"si"``)."""
+    return 1.0 if units == "si" else 1.0 / LENGTH[plan.mechanism.units.length]
+
+
+def length_unit(plan, units: str = "file") -> str:
+    """The drawing's length unit: the file's (``units="file"``) or ``m`` (``"si"``)."""
+    return "m" if units == "si" else plan.mechanism.units.length
 
 
 def closed(a, cyclic):

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
-from .draw import closed, file_scale, mpl
+from .draw import closed, file_scale, length_unit, mpl
 from .figures import sample
 
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
@@ -30,10 +30,10 @@ def _plotly():
     return go
 
 
-def link_polylines(plan, pos_row) -> list[np.ndarray]:
+def link_polylines(plan, pos_row, units: str = "file") -> list[np.ndarray]:
     """Each moving link as a polyline through its points (closed for three or more), (k, 3) each,
     in the file's length unit; a frame revolute's axis as a short segment through its point."""
-    k = file_scale(plan)
+    k = file_scale(plan, units)
     out = []
     for lk in plan.mechanism.links:
         if lk.name == "frame":
@@ -46,12 +46,12 @@ def link_polylines(plan, pos_row) -> list[np.ndarray]:
     return out
 
 
-def axis_segments(plan, params=None) -> list[tuple[str, np.ndarray]]:
+def axis_segments(plan, params=None, units: str = "file") -> list[tuple[str, np.ndarray]]:
     """(point, (2, 3)) a segment along every frame revolute's axis (file units), 0.3 of the
     mechanism's size long."""
     from ..kernels.spatial import e_z2
     params = plan.defaults if params is None else params
-    k = file_scale(plan)
+    k = file_scale(plan, units)
     half = 0.15 * plan.length_scale * k
     out = []
     for st in plan.steps:
@@ -86,7 +86,7 @@ def _segments_trace_xyz(polys):
 
 
 def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames: int = 36, params=None, ranges=None,
-                  sweep=None):
+                  sweep=None, units: str = "file"):
     """An interactive 3D figure: the mechanism in ``positions`` positions (faded), the paths of the
     moving points with their projections on the planes x = x₀, y = y₀, z = z₀ (paper 003 Fig. 2–3),
     the revolute axes, and the mechanism animated over ``frames`` positions (play button and slider).
@@ -95,8 +95,8 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
     go = _plotly()
     sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
     st = sw.state
-    k = file_scale(plan)
-    unit = plan.mechanism.units.length
+    k = file_scale(plan, units)
+    unit = length_unit(plan, units)
     pos = st.pos * k
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
@@ -109,7 +109,7 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
 
     def mech_trace(i, name="mechanism"):
         row = apos[i]
-        xs, ys, zs = _segments_trace_xyz(link_polylines(plan, row / k)) if anim.state.valid[i] else ([], [], [])
+        xs, ys, zs = _segments_trace_xyz(link_polylines(plan, row / k, units)) if anim.state.valid[i] else ([], [], [])
         return go.Scatter3d(x=xs, y=ys, z=zs, mode="lines+markers", name=name,
                             line=dict(color="#222", width=7), marker=dict(size=4, color="#222"),
                             hovertemplate="%{x:.4g}, %{y:.4g}, %{z:.4g}<extra></extra>")
@@ -121,7 +121,7 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
     for j, i in enumerate(idx):
         if not st.valid[i]:
             continue
-        xs, ys, zs = _segments_trace_xyz(link_polylines(plan, st.pos[i]))
+        xs, ys, zs = _segments_trace_xyz(link_polylines(plan, st.pos[i], units))
         label = f"{sw.axis[i]:.0f}°" if plan.input_kinds[sw.moving] == "rotary" else f"{sw.axis[i]:.4g}"
         data.append(go.Scatter3d(x=xs, y=ys, z=zs, mode="lines", name=f"position {label}",
                                  line=dict(color="rgba(40,40,40,0.4)", width=4), legendgroup="positions",
@@ -141,7 +141,7 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
                                      name=f"projections of {name}", legendgroup=f"proj{name}",
                                      showlegend=axis == 0, line=dict(color=col, width=2, dash="dot"),
                                      opacity=0.6, hoverinfo="skip"))
-    for p, seg in axis_segments(plan, params):
+    for p, seg in axis_segments(plan, params, units):
         data.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines", name=f"axis at {p}",
                                  line=dict(color="#888", width=3, dash="dash"), hoverinfo="skip", showlegend=False))
     fr = [go.Frame(data=[mech_trace(i)], traces=[0], name=str(i)) for i in range(anim.n)]
@@ -185,8 +185,8 @@ def write_html(fig, path, title: str = "") -> None:
 
 
 # -- matplotlib ---------------------------------------------------------------------------------------
-def _draw3d(ax, plan, sw, positions, lo, hi):
-    k = file_scale(plan)
+def _draw3d(ax, plan, sw, positions, lo, hi, units: str = "file"):
+    k = file_scale(plan, units)
     st = sw.state
     pos = st.pos * k
     for c, pi in enumerate(_moving_points(plan)):
@@ -200,12 +200,12 @@ def _draw3d(ax, plan, sw, positions, lo, hi):
     idx = np.unique(np.linspace(0, sw.n - 1, positions, endpoint=not sw.cyclic).round().astype(int))
     for j, i in enumerate(idx):
         if st.valid[i]:
-            for poly in link_polylines(plan, st.pos[i]):
+            for poly in link_polylines(plan, st.pos[i], units):
                 ax.plot(poly[:, 0], poly[:, 1], poly[:, 2], color="0.25", lw=2.0, alpha=0.25 + 0.5 * (j == 0),
                         marker="o", ms=2.5)
-    for p, seg in axis_segments(plan):
+    for p, seg in axis_segments(plan, units=units):
         ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color="0.5", lw=1.0, ls="--")
-    unit = plan.mechanism.units.length
+    unit = length_unit(plan, units)
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.set_zlabel(f"z [{unit}]")
@@ -216,20 +216,20 @@ def _draw3d(ax, plan, sw, positions, lo, hi):
 
 
 def figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, params=None, ranges=None, dpi: int = 100,
-           sweep=None):
+           sweep=None, units: str = "file"):
     """A static figure: the 3D view (positions, paths, projections) and, per R–S–S dyad, the rocker
     angle θ4 and the transmission angles μ_int, μ_T over the sweep. ``sweep``: the solved run to draw
     (default: :func:`~assur.plot.figures.sample` of ``steps`` over one turn or ``ranges``)."""
     _, plt = mpl()
     from ..analysis.spatial import dyads, mu_int, mu_t, rocker_angle
     sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
-    pos = sw.state.pos * file_scale(plan)
+    pos = sw.state.pos * file_scale(plan, units)
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
     lo, hi = _planes(pos.reshape(-1, 3))
     fig = plt.figure(figsize=(12, 6), dpi=dpi)
     ax = fig.add_subplot(1, 2, 1, projection="3d")
-    _draw3d(ax, plan, sw, positions, lo, hi)
+    _draw3d(ax, plan, sw, positions, lo, hi, units)
     ax.view_init(elev=20, azim=-60, vertical_axis="y")
     ax.legend(fontsize=7, loc="upper left")
     fig.suptitle(plan.mechanism.name or "spatial mechanism", fontsize=11)
@@ -255,7 +255,7 @@ def figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, params=None, r
 
 
 def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=None, figsize=(6.4, 6.4),
-              dpi: int = 100, path=None):
+              dpi: int = 100, path=None, units: str = "file"):
     """A matplotlib 3D animation of ``frames`` positions over one turn with the traced paths; ``path``: the
     solved run the paths are drawn from (default :data:`~assur.analysis.sampling.CYCLE_STEPS` samples of
     the same run). Returns ``(figure, animation)``."""
@@ -263,22 +263,22 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     from matplotlib.animation import FuncAnimation
     sw = sample(plan, frames, params, ranges)
     dense = path if path is not None else sample(plan, CYCLE_STEPS, params, ranges)
-    k = file_scale(plan)
+    k = file_scale(plan, units)
     pos = dense.state.pos * k
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
     lo, hi = _planes(pos.reshape(-1, 3))
     fig = plt.figure(figsize=figsize, dpi=dpi)
     ax = fig.add_subplot(projection="3d")
-    _draw3d(ax, plan, dense, 0, lo, hi)   # paths and projections; the moving links are drawn per frame
+    _draw3d(ax, plan, dense, 0, lo, hi, units)   # paths and projections; the moving links are drawn per frame
     ax.view_init(elev=20, azim=-60, vertical_axis="y")
     lines = [ax.plot([], [], [], color="tab:blue", lw=2.5, marker="o", ms=4)[0]
-             for _ in link_polylines(plan, dense.state.pos[0])]
+             for _ in link_polylines(plan, dense.state.pos[0], units)]
     info = ax.text2D(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=9)
 
     def update(i):
         st = sw.state
-        polys = link_polylines(plan, st.pos[i]) if st.valid[i] else [np.empty((0, 3))] * len(lines)
+        polys = link_polylines(plan, st.pos[i], units) if st.valid[i] else [np.empty((0, 3))] * len(lines)
         for ln, p in zip(lines, polys):
             ln.set_data(p[:, 0], p[:, 1])
             ln.set_3d_properties(p[:, 2])

@@ -251,10 +251,10 @@ def _spatial_figures(plan, run, gait, frames: int, ranges, units: str = "file") 
     """(static figure as PNG, interactive 3D view with its animation) of the solved run ``run`` as HTML."""
     from ..plot import spatial as view
     from ..plot.draw import close, figure_png
-    fig = view.figure(plan, sweep=run)
+    fig = view.figure(plan, sweep=run, units=units)
     panels = png_tag(figure_png(fig, dpi=90), "3D view with paths and projections; rocker and transmission angles")
     close(fig)
-    pfig = view.plotly_figure(plan, frames=frames, ranges=ranges, sweep=run)
+    pfig = view.plotly_figure(plan, frames=frames, ranges=ranges, sweep=run, units=units)
     return panels, view.html_fragment(pfig, include_plotlyjs=True, div_id="view3d")
 
 
