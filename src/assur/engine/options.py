@@ -84,23 +84,28 @@ def continuation(plan, input_values, params, tol):
         ``params − defaults`` when the design moved, else None.
     """
     q_s = plan.sketch_inputs
-    deltas, stage = [], []
+    deltas = []
     for k, v in enumerate(input_values):
         v = np.asarray(v, dtype=float)
         if plan.input_kinds[k] == "rotary":
-            d = (v - q_s[k] + np.pi) % (2 * np.pi) - np.pi
-            stage.append(tol.stage_angle)
+            deltas.append((v - q_s[k] + np.pi) % (2 * np.pi) - np.pi)
         else:
-            d = v - q_s[k]
-            stage.append(tol.stage_length * plan.length_scale)
-        deltas.append(d)
-    finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
-    m = max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
+            deltas.append(v - q_s[k])
+    m = stage_count(plan, deltas, tol)
     dp = params - plan.defaults
     moved = bool(np.any(dp != 0))
     if moved:
         m = max(m, tol.stages_for_new_design)
     return m, deltas, (dp if moved else None)
+
+
+def stage_count(plan, deltas, tol) -> int:
+    """The stages a continuation along ``deltas`` (per input, the signed way from the sketch input) needs:
+    at most ``tol.stage_angle`` of crank and ``tol.stage_length`` of the length scale of stroke each."""
+    stage = [tol.stage_angle if kind == "rotary" else tol.stage_length * plan.length_scale
+             for kind in plan.input_kinds]
+    finite = [np.abs(d[np.isfinite(d)]) for d in deltas]
+    return max([int(np.ceil(f.max() / s)) if f.size else 1 for f, s in zip(finite, stage)] + [1])
 
 
 def format_input(plan, k: int, value: float) -> str:

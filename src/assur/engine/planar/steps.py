@@ -12,7 +12,7 @@ import numpy as np
 from ...kernels import planar
 from ...kernels.jet import Jet, expi
 from ...tolerances import DEFAULT
-from ..options import continuation
+from ..options import continuation, stage_count
 from .geometry import geometry
 from .newton_group import solve_group
 
@@ -187,8 +187,7 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
     failed = np.broadcast_to(failed, shape)
     other_way = [np.where(failed & (d != 0), d - np.copysign(2 * np.pi, d), d) if k in rotary else d
                  for k, d in enumerate(deltas)]
-    finite = [np.abs(d[np.isfinite(d)]) for d in other_way]
-    m2 = max([int(np.ceil(f.max() / tol.stage_angle)) if f.size else 1 for f in finite] + [m])
+    m2 = max(stage_count(plan, other_way, tol), m)
     c2 = _continue(plan, steps, params, q_jets, order, tol, method, m2, other_way, dp)
     take = failed & np.broadcast_to(np.asarray(c2.valid, dtype=bool), shape)
     return _merge(c, c2, take) if take.any() else c
