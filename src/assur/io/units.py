@@ -92,23 +92,9 @@ def format_speed(value: float, kind: str, units=None) -> str:
     return f"{value!r} {'rad/s' if kind == 'rotary' else 'm/s'}"
 
 
-#: parameter-name endings by kind (planar and spatial plans; see docs/format.md, Parameters)
-LENGTH_PARAMS = (".x", ".y", ".z", ".length", ".distance", ".offset", ".axial", ".u", ".v", ".w")
-ANGLE_PARAMS = (".angle", ".zero", ".gamma1", ".gamma2")
-
-
-def param_kind(name: str) -> str:
-    """'length', 'angle' or 'number' for a parameter name such as ``crank.length`` or ``slide.angle``."""
-    if name.endswith(LENGTH_PARAMS):
-        return "length"
-    if name.endswith(ANGLE_PARAMS):
-        return "angle"
-    return "number"
-
-
-def param_unit(name: str, units) -> tuple[float, str]:
-    """(factor SI → the file's unit, unit label: the length unit, '°' or 'rad', or '') of a parameter."""
-    kind = param_kind(name)
+def param_unit(kind: str, units) -> tuple[float, str]:
+    """(factor SI → the file's unit, unit label: the length unit, '°' or 'rad', or '') of a parameter of
+    ``kind`` 'length', 'angle' or 'number' (the plan knows each parameter's: ``plan.param_kind_of(name)``)."""
     if kind == "length":
         return 1.0 / LENGTH[units.length], units.length
     if kind == "angle":

@@ -108,7 +108,7 @@ def parameter_rows(plan) -> list[tuple[str, str, str, str, str]]:
     u = plan.mechanism.units
     rows = []
     for name, v in zip(plan.param_names, plan.defaults):
-        f, unit = param_unit(name, u)
+        f, unit = param_unit(plan.param_kind_of(name), u)
         si = "m" if unit == u.length else ("rad" if unit else "")
         scale = plan.length_scale if si == "m" else (math.pi if si == "rad" else None)   # noise shows as 0
         rows.append((name, format_number(v * f, 8, None if scale is None else scale * f), unit,
