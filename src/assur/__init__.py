@@ -21,6 +21,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from .errors import (AssurError, SpecError, StructureError, SynthesisError, UnbuildableError,
                          UnbuildableWarning)
     from .io.builder import Builder
+    from .kinetostatics.api import forces
     from .io.mechanism_file import dump, dumps, load, loads
     from .model.mechanism import Mechanism
     from .structure.assur import AssurGroup, GroupKind, Structure, analyse
@@ -44,6 +45,7 @@ _LAZY = {
     "gait_curves": ("assur.analysis.gait", "gait_curves"),
     "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
     "dead_centres": ("assur.analysis.transmission", "dead_centres"),
+    "forces": ("assur.kinetostatics.api", "forces"),
 }
 
 
@@ -71,4 +73,4 @@ __all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "Pla
            "SpatialState", "State", "Structure", "StructureError", "SynthesisError", "UnbuildableError",
            "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
            "dumps", "load", "loads", "solve", "__version__", "summarize", "analyze", "gait_metrics", "gait_curves",
-           "transmission_angles", "dead_centres"]
+           "transmission_angles", "dead_centres", "forces"]

@@ -108,6 +108,14 @@ class Tolerances:
     #: A gear design's installation centre distance is a second one (its mesh checked too) when it differs from
     #: the design's by more than this (m).
     distinct_distance: float = 1e-12
+    #: A force analysis flags a sample singular (a toggle: its reactions grow without bound) where a group's
+    #: dimensionless condition measure (|sin| of the angle between the two unknown directions of a dyad, the
+    #: Hadamard ratio of a larger group's matrix) is below this; its forces are NaN, never numbers.
+    force_condition: float = 1e-6
+    #: Friction iterations stop when no unknown changes by more than this fraction of the largest one ...
+    friction_change: float = 1e-12
+    #: ... or after this many iterations (then reported not converged).
+    friction_iterations: int = 100
 
 
 DEFAULT = Tolerances()

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .dynamics import Dynamics
+
 FRAME = "frame"
 
 
@@ -152,6 +154,10 @@ class Gait:
     ground: tuple[float, float] = (1.0, 0.0)
     up: tuple[float, float] | None = None
     phases: tuple[float, ...] = (0.0,)
+    #: the body weight (N) carried by the feet on the ground, shared equally; None: no foot load
+    weight: float | None = None
+    #: the ground's friction coefficient: a horizontal reaction up to μ·N against the foot's slip
+    friction: float | None = None
 
     @property
     def up_vector(self) -> tuple[float, float]:
@@ -171,6 +177,8 @@ class Mechanism:
     branches: tuple[BranchHint, ...] = ()
     joints: tuple[Joint, ...] = ()
     gait: Gait | None = None
+    #: mass properties, loads, friction and gravity for the force analysis (None: none given)
+    dynamics: "Dynamics | None" = None
     description: str = ""
     units: Units = Units()
     dimension: int = 2
