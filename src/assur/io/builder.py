@@ -19,6 +19,7 @@ import copy
 
 from ..errors import SpecError
 from ..model.mechanism import FRAME, Mechanism
+from .dynamics_file import MASS_KEYS
 from .mechanism_file import FORMAT, from_dict
 
 _SOURCE = "builder"
@@ -138,12 +139,74 @@ class Builder:
         ``{"gamma1": …, "gamma2": …}``."""
         return self._put("joints", point, kind if axis is None else {"kind": kind, "axis": _plain(axis)})
 
-    def gait(self, foot: str, *, ground=None, up=None, phases=None) -> "Builder":
-        """The foot of a walking leg (``[gait]``)."""
+    def gait(self, foot: str, *, ground=None, up=None, phases=None, weight=None, friction=None) -> "Builder":
+        """The foot of a walking leg (``[gait]``); ``weight`` the body weight the feet carry (N or "200 N"),
+        ``friction`` the ground's friction coefficient."""
         if "gait" in self._doc:
             self._problems.append(("gait", "is defined twice"))
         else:
-            self._doc["gait"] = _given(foot=foot, ground=ground, up=up, phases=phases)
+            self._doc["gait"] = _given(foot=foot, ground=ground, up=up, phases=phases, weight=weight,
+                                       friction=friction)
+        return self
+
+    # -- forces --------------------------------------------------------------------------------------------
+    def mass(self, body: str, mass, inertia=None, com=None) -> "Builder":
+        """The mass properties of ``body``: a link (``[links.NAME]``), a slider block ``"<pair>.block"``
+        (``[[prismatic]]``) or an actuator's ``"<name>.cylinder"`` / ``"<name>.rod"`` (``[actuators.NAME]``).
+        ``mass`` kg or "500 g"; ``inertia`` kg·m² or "0.02 kg*m^2" about the centre of mass; ``com`` as in the
+        file (a link: "mid", a point or (x, y); a cylinder or rod: a distance from its hinge)."""
+        props = _given(mass=mass, inertia=inertia, com=com)
+        head, _, part = body.rpartition(".")
+        if part in ("cylinder", "rod") and head:
+            where, spec = f"actuators.{head}.{part}", self._doc.get("actuators", {}).get(head)
+            if spec is not None:
+                if part in spec:
+                    self._problems.append((where, "is defined twice"))
+                else:
+                    spec[part] = props
+                return self
+        elif part == "block" and head:
+            where = f"prismatic ({body})"
+            for i, spec in enumerate(self._doc.get("prismatic", [])):
+                if spec.get("name", f"slide{i + 1}") == head:
+                    return self._add_mass(spec, props, f"prismatic[{i}]")
+        else:
+            where, spec = f"links.{body}", self._doc["links"].get(body)
+            if spec is not None:
+                if isinstance(spec, list):
+                    spec = self._doc["links"][body] = {"points": spec}
+                return self._add_mass(spec, props, where)
+        self._problems.append((where, f"give the mass of '{body}' after defining it (a link, '<pair>.block', "
+                                      "'<actuator>.cylinder' or '<actuator>.rod')"))
+        return self
+
+    def _add_mass(self, spec: dict, props: dict, where: str) -> "Builder":
+        if any(k in spec for k in MASS_KEYS):
+            self._problems.append((f"{where}.mass", "is defined twice"))
+        else:
+            spec.update(props)
+        return self
+
+    def load(self, *, point: str | None = None, link: str | None = None, force=None, torque=None,
+             opposes: str | None = None, law: dict | None = None) -> "Builder":
+        """An external load (``[[loads]]``): a ``force`` (N, frame coordinates) at ``point`` (of ``link``), or a
+        ``torque`` (N·m, counter-clockwise positive) on ``link``; ``opposes="velocity"``: against the point's
+        velocity; ``law``: ``{"input": [...], "force": [[x, y], ...]}`` or ``{"input": [...], "torque": [...]}``."""
+        return self._append("loads", _given(point=point, link=link, force=force, torque=torque, opposes=opposes,
+                                            law=law))
+
+    def dynamics(self, *, gravity=None, joint_friction_radius=None, slide_friction=None, joints: dict | None = None,
+                 slides: dict | None = None) -> "Builder":
+        """``[dynamics]``: ``gravity`` (m/s², frame coordinates), the friction-circle radius of every revolute
+        (length unit or "1 mm"), the friction coefficient of every prismatic pair, and the overrides ``joints``
+        (point → radius) and ``slides`` (pair or actuator → μ)."""
+        table = self._doc.setdefault("dynamics", {})
+        for k, v in _given(gravity=gravity, joint_friction_radius=joint_friction_radius,
+                           slide_friction=slide_friction, joints=joints, slides=slides).items():
+            if k in table:
+                self._problems.append((f"dynamics.{k}", "is defined twice"))
+            else:
+                table[k] = v
         return self
 
     # -- results -------------------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ from ..model.mechanism import (FRAME, Actuator, BranchHint, Gait, Joint, LinearD
                                Placement, Prismatic, RotaryDriver, TimeTable, Units)
 from ..tolerances import DEFAULT as TOL
 from . import units as U
+from .dynamics_file import MASS_KEYS, read_dynamics, read_gait_load
 from .mechanism_writer import as_dict, dump, dumps, to_dict
 from .problems import Problems
 from .toml_reader import parse_toml, read_text, read_toml
@@ -22,7 +23,7 @@ from .toml_reader import parse_toml, read_text, read_toml
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
 _TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
-        "branches", "joints", "gait", "style", "dimension"}
+        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads"}
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
@@ -106,7 +107,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             plist = spec
             ppath = path
         elif isinstance(spec, dict):
-            P.unknown_keys(spec, ("length", "place", "points"), path)
+            P.unknown_keys(spec, ("length", "place", "points") + MASS_KEYS, path)
             plist = spec.get("points")
             ppath = f"{path}.points"
             if not isinstance(plist, list):
@@ -187,7 +188,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not isinstance(spec, dict):
             P.add(path, "must be a table")
             continue
-        P.unknown_keys(spec, ("angle", "guide", "link", "name", "offset", "point", "through"), path)
+        P.unknown_keys(spec, ("angle", "guide", "link", "name", "offset", "point", "through") + MASS_KEYS, path)
         name = spec.get("name", f"slide{i + 1}")
         if not isinstance(name, str) or not _NAME.match(name) or name in seen_names:
             P.add(f"{path}.name", f"must be a unique name: {name!r}")
@@ -223,7 +224,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not isinstance(spec, dict) or not isinstance(spec.get("between"), list) or len(spec["between"]) != 2:
             P.add(path, "must be a table with between = [A, B]")
             continue
-        P.unknown_keys(spec, ("between",), path)
+        P.unknown_keys(spec, ("between", "cylinder", "rod"), path)
         a, b = (_name(x) for x in spec["between"])
         for j, pn in enumerate((a, b)):
             if pn not in point_names:
@@ -331,7 +332,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not isinstance(gdata, dict):
             P.add("gait", "must be a table with 'foot'")
         else:
-            P.unknown_keys(gdata, ("foot", "ground", "phases", "up"), "gait")
+            P.unknown_keys(gdata, ("foot", "ground", "phases", "up", "weight", "friction"), "gait")
             foot = gdata.get("foot")
             if foot not in point_names:
                 P.add("gait.foot", f"unknown point {foot!r} {_known(point_names)}")
@@ -355,7 +356,11 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             if vecs["ground"] and vecs["up"] and abs(vecs["ground"][0] * vecs["up"][0]
                                                      + vecs["ground"][1] * vecs["up"][1]) > TOL.perpendicular:
                 P.add("gait.up", "must be perpendicular to gait.ground")
-            gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases))
+            gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases),
+                        *read_gait_load(gdata, P))
+
+    dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,
+                             links=links, prismatic=prismatic, actuators=actuators, drivers=drivers)
 
     # every point must be on something (as listed, even by a link with other problems)
     on_something = set()
@@ -383,7 +388,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     P.raise_if_any(source)
     m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                   actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
-                  joints=tuple(joints), gait=gait, description=desc, units=units, dimension=dimension)
+                  joints=tuple(joints), gait=gait, dynamics=dynamics, description=desc, units=units,
+                  dimension=dimension)
     _warn_lengths_off_the_sketch(m, L, source)
     return m
 

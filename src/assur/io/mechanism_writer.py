@@ -74,6 +74,12 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
                                    "angle": an(p.angle)} for pn, p in lk.place}
             links[lk.name] = t
     d["links"] = links
+    masses = dict(m.dynamics.bodies) if m.dynamics is not None else {}
+    for name, mp in masses.items():
+        if name in links:
+            if isinstance(links[name], list):
+                links[name] = {"points": links[name]}
+            links[name] |= _mass_table(mp, ln)
     if m.prismatic:
         out = []
         for pr in m.prismatic:
@@ -84,10 +90,15 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
                 t["point"] = pr.point
             else:
                 t["link"] = pr.link
+            if f"{pr.name}.block" in masses:
+                t |= _mass_table(masses[f"{pr.name}.block"], ln)
             out.append(t)
         d["prismatic"] = out
     if m.actuators:
-        d["actuators"] = {a.name: {"between": list(a.between)} for a in m.actuators}
+        d["actuators"] = {a.name: {"between": list(a.between)} | {part: _mass_table(masses[f"{a.name}.{part}"], ln)
+                                                                  for part in ("cylinder", "rod")
+                                                                  if f"{a.name}.{part}" in masses}
+                          for a in m.actuators}
     if m.drivers:
         out = []
         for dr in m.drivers:
@@ -116,8 +127,66 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
         if m.gait.up is not None:
             g["up"] = [unit(c) for c in m.gait.up]
         g["phases"] = [an(p) for p in m.gait.phases]
+        if m.gait.weight is not None:
+            g["weight"] = _out(m.gait.weight)
+        if m.gait.friction is not None:
+            g["friction"] = _out(m.gait.friction)
         d["gait"] = g
+    if m.dynamics is not None:
+        _write_dynamics(d, m, ln)
     return d
+
+
+def _mass_table(mp, ln) -> dict:
+    """A body's mass properties as its table's keys: kg, kg·m² and the com in the file's length unit."""
+    t: dict = {"mass": _out(mp.mass)}
+    if mp.inertia is not None:
+        t["inertia"] = _out(mp.inertia)
+    if isinstance(mp.com, tuple):
+        t["com"] = [ln(c) for c in mp.com]
+    elif isinstance(mp.com, (int, float)):
+        t["com"] = ln(mp.com)
+    elif mp.com is not None:
+        t["com"] = mp.com
+    return t
+
+
+def _write_dynamics(d: dict, m: Mechanism, ln) -> None:
+    """``[dynamics]`` (gravity, friction) and ``[[loads]]`` (N, N·m; a law's input in the first driver's unit)."""
+    dyn, fr = m.dynamics, m.dynamics.friction
+    t: dict = {"gravity": [_out(g) for g in dyn.gravity]}
+    if fr.joint_radius:
+        t["joint_friction_radius"] = ln(fr.joint_radius)
+    if fr.slide:
+        t["slide_friction"] = _out(fr.slide)
+    if fr.joints:
+        t["joints"] = {p: ln(r) for p, r in fr.joints}
+    if fr.slides:
+        t["slides"] = {n: _out(mu) for n, mu in fr.slides}
+    d["dynamics"] = t
+    if not dyn.loads:
+        return
+    factor = 1.0
+    if m.drivers:
+        factor = U.ANGLE[m.units.angle] if m.drivers[0].kind == "rotary" else U.LENGTH[m.units.length]
+    out = []
+    for ld in dyn.loads:
+        t = {k: v for k, v in (("point", ld.point), ("link", ld.link)) if v is not None}
+        if ld.force is not None:
+            t["force"] = [_out(c) for c in ld.force]
+        if ld.torque is not None:
+            t["torque"] = _out(ld.torque)
+        if ld.opposes is not None:
+            t["opposes"] = ld.opposes
+        if ld.law is not None:
+            law: dict = {"input": [_out(v, factor) for v in ld.law.inputs]}
+            if len(ld.law.values[0]) == 1:   # (n, 1) torques; forces have 2 or 3 components
+                law["torque"] = [_out(r[0]) for r in ld.law.values]
+            else:
+                law["force"] = [[_out(c) for c in r] for r in ld.law.values]
+            t["law"] = law
+        out.append(t)
+    d["loads"] = out
 
 
 def dumps(m: Mechanism, clean: bool = False) -> str:

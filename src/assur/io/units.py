@@ -13,7 +13,58 @@ ANGLE = {"rad": 1.0, "deg": math.pi / 180.0}
 ANGULAR_SPEED = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "rpm": 2.0 * math.pi / 60.0,
                  "rev/s": 2.0 * math.pi, "1/s": 2.0 * math.pi, "rev/min": 2.0 * math.pi / 60.0}
 
-_SPEED_RE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/0-9]+)\s*$")
+#: "<number> <unit>": the number, then the unit (spaces, "·" or "*" between unit factors, "^2" or "²")
+_QUANTITY_RE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S.*?)\s*$")
+
+#: mass units, factor to kg
+MASS = {"kg": 1.0, "g": 1e-3, "t": 1e3}
+#: moment of inertia units, factor to kg·m² (every mass unit times m², cm², mm²)
+INERTIA = {f"{mu}*{lu}^2": mf * LENGTH[lu] ** 2 for mu, mf in MASS.items() for lu in ("m", "cm", "mm")}
+#: force units, factor to N
+FORCE = {"N": 1.0, "kN": 1e3, "mN": 1e-3, "lbf": 4.4482216152605}
+#: torque units, factor to N·m
+TORQUE = {"N*m": 1.0, "N*mm": 1e-3, "N*cm": 1e-2, "kN*m": 1e3, "mN*m": 1e-3, "lbf*in": 4.4482216152605 * 0.0254,
+          "lbf*ft": 4.4482216152605 * 0.3048}
+#: the tables of :func:`parse_quantity`: kind → (units, example); a bare number is in SI (kg, kg·m², N, N·m)
+QUANTITIES = {"mass": (MASS, "1 kg"), "inertia": (INERTIA, "0.02 kg*m^2"), "force": (FORCE, "100 N"),
+              "torque": (TORQUE, "5 N*m")}
+#: a mass, inertia, force or torque above this in magnitude (SI) is a typo, not a machine
+MAX_QUANTITY = 1e12
+
+
+def _unit_name(text: str) -> str:
+    """A unit as written, in the tables' spelling: "kg·m²", "kg m^2" and "kg * m^2" all read "kg*m^2"."""
+    text = text.replace("·", "*").replace("⋅", "*").replace("²", "^2").replace("³", "^3")
+    text = re.sub(r"\s*\*\s*", "*", text.strip())
+    return re.sub(r"\s+", "*", text)
+
+
+def _quantity(text, table: dict[str, float], bare: float, example: str) -> float:
+    """``text`` ("<number> <unit>" with a unit of ``table``, or a number in units of ``bare``) times its factor.
+    Raises SpecError naming the accepted units."""
+    if isinstance(text, bool) or not isinstance(text, (int, float, str)):
+        raise SpecError(f"must be a number or a string like '{example}': {text!r}")
+    if not isinstance(text, str):
+        return float(text) * bare
+    m = _QUANTITY_RE.match(text)
+    unit = _unit_name(m.group(2)) if m else None
+    if unit not in table:
+        raise SpecError(f"must be '<number> <unit>' with unit one of {', '.join(table)}: {text!r}")
+    return float(m.group(1)) * table[unit]
+
+
+def parse_quantity(text, kind: str, units=None) -> float:
+    """A mass (kg), moment of inertia (kg·m²), force (N), torque (N·m) or, with the file's ``units``, a length
+    (m) from ``"<number> <unit>"`` or a bare number (SI; a length in the file's unit). Raises SpecError on a
+    bad unit or a value that is not finite or not below :data:`MAX_QUANTITY` (a length: 1e9 m)."""
+    if kind == "length":
+        table, example, bare, limit = LENGTH, f"1 {units.length}", LENGTH[units.length], 1e9
+    else:
+        (table, example), bare, limit = QUANTITIES[kind], 1.0, MAX_QUANTITY
+    value = _quantity(text, table, bare, example)
+    if not (math.isfinite(value) and abs(value) < limit):
+        raise SpecError(f"must be a finite {kind} below {limit:g} (SI): {text!r}")
+    return value
 
 
 def linear_speed_units() -> dict[str, float]:
@@ -30,17 +81,8 @@ def parse_speed(text, kind: str, units) -> float:
     Raises SpecError (a ValueError) with the accepted units on a bad value.
     """
     table = ANGULAR_SPEED if kind == "rotary" else linear_speed_units()
-    if isinstance(text, bool):
-        raise SpecError(f"must be a number or a string like '27 rpm': {text!r}")
-    if isinstance(text, (int, float)):
-        base = ANGLE[units.angle] if kind == "rotary" else LENGTH[units.length]
-        return _finite_speed(float(text) * base, text)
-    if not isinstance(text, str):
-        raise SpecError(f"must be a number or a string like '27 rpm': {text!r}")
-    m = _SPEED_RE.match(text)
-    if not m or m.group(2) not in table:
-        raise SpecError(f"must be '<number> <unit>' with unit one of {', '.join(table)}: {text!r}")
-    return _finite_speed(float(m.group(1)) * table[m.group(2)], text)
+    base = ANGLE[units.angle] if kind == "rotary" else LENGTH[units.length]
+    return _finite_speed(_quantity(text, table, base, "27 rpm"), text)
 
 
 #: a driver speed above this (rad/s or m/s) is a typo, not a machine
