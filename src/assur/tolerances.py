@@ -110,7 +110,7 @@ class Tolerances:
     distinct_distance: float = 1e-12
     #: A force analysis flags a sample singular (a toggle: its reactions grow without bound) where a group's
     #: dimensionless condition measure (|sin| of the angle between the two unknown directions of a dyad, the
-    #: Hadamard ratio of a larger group's matrix) is below this; its forces are NaN, never numbers.
+    #: σ_min/σ_max of a larger group's scaled matrix) is below this; its forces are NaN, never numbers.
     force_condition: float = 1e-6
     #: Friction iterations stop when no unknown changes by more than this fraction of the largest one ...
     friction_change: float = 1e-12

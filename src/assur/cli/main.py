@@ -1,5 +1,6 @@
 """The ``assur`` command line: the parser and the dispatch to the commands of
-:mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.synth`
+:mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
+(forces), :mod:`assur.cli.synth`
 (synth) and :mod:`assur.cli.gears` (gears, wheelstep).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
@@ -31,11 +32,12 @@ def build_parser():
     import argparse
 
     from .. import __version__
-    from . import gears, mechanism, synth
+    from . import forces, gears, mechanism, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
     mechanism.register(sub)
+    forces.register(sub)
     synth.register(sub)
     gears.register(sub)   # `assur gears` and `assur wheelstep`
     return p

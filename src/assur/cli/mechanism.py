@@ -51,6 +51,11 @@ def register(sub) -> None:
     sp.add_argument("--dpi", type=positive(10), default=100, help="resolution of a PNG (default 100)")
     sp.add_argument("--positions", type=positive(1), default=None, metavar="K",
                     help="positions drawn in the kinematic diagram (default 6, or 3 for more than four moving links)")
+    sp.add_argument("--forces", action="store_true",
+                    help="draw the force analysis instead: driving torque and power, reaction hodographs, the forces "
+                         "on the diagram and Zhukovsky's lever (planar, one driver)")
+    sp.add_argument("--at", metavar="INPUT", help="with --forces: the input (file units) of the diagram and the lever "
+                                                  "(default: where the driving effort peaks)")
     add_units(sp)
     add_range(sp)
     sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
@@ -147,12 +152,20 @@ def cmd_analyze(args) -> int:
     from ..io.output import json_text
     from ..report.text import analysis_lines
     m, plan = compile_file(args.file)
+    from ..kinetostatics.overview import force_cycle, force_summary, has_loads
     summary = analyze(plan, steps=args.steps)
+    with_forces = has_loads(m) and plan.n_inputs == 1
+    if with_forces:
+        summary["forces"] = force_summary(force_cycle(plan, steps=args.steps))
     if args.json:
         print(json_text({"file": str(args.file), **summary}))
         return 0
     print(f"{_title(m, args.file)}  [{args.file}]" + (" (spatial)" if plan.dimension == 3 else ""))
     _emit(analysis_lines(summary, m.units, args.units))
+    if with_forces:
+        from ..report.forces import summary_lines
+        print("Forces (N, N·m, W, J):")
+        _emit(summary_lines(summary["forces"], plan))
     return 0
 
 
@@ -164,6 +177,10 @@ def cmd_plot(args) -> int:
     if plan.dimension != 3 and ext == ".html":
         raise SpecError([("--output", "an .html view is for spatial mechanisms; use .png, .svg or .pdf")])
     ranges = input_ranges(plan, args)
+    if getattr(args, "forces", False):
+        return _plot_forces(args, plan, ext)
+    if args.at is not None:
+        raise SpecError([("--at", "is for the force figures: add --forces")])
     if plan.dimension == 3:
         from ..plot import spatial as view
         if ext == ".html":
@@ -178,6 +195,26 @@ def cmd_plot(args) -> int:
         from ..plot.figures import mechanism_figure
         fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi,
                                units=args.units)
+    try:
+        with atomic_file(args.output) as tmp:
+            fig.savefig(tmp, format=ext[1:], dpi=args.dpi)
+    finally:
+        close(fig)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def _plot_forces(args, plan, ext) -> int:
+    """``assur plot FILE --forces -o OUT``: the sheet of force figures."""
+    from ..kinetostatics.overview import check_one_driver, force_cycle
+    from ..plot.draw import close
+    from ..plot.forces import forces_figure
+    from .forces import parse_at
+    if plan.dimension == 3:
+        raise SpecError([("--forces", "the force figures are for planar mechanisms")])
+    check_one_driver(plan)
+    at = None if args.at is None else float(parse_at(plan, [args.at])[0])
+    fig = forces_figure(plan, at=at, cycle=force_cycle(plan, steps=args.steps), dpi=args.dpi)
     try:
         with atomic_file(args.output) as tmp:
             fig.savefig(tmp, format=ext[1:], dpi=args.dpi)

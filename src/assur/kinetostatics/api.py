@@ -10,13 +10,17 @@ from __future__ import annotations
 
 import numpy as np
 
+import math
+
 from ..engine import solve
+from ..engine.options import AUTO_COMPILED_MIN_SAMPLES
 from ..engine.plan import PlanarPlan, SpatialPlan
 from ..errors import SpecError
 from ..tolerances import DEFAULT
-from .groups import Wrenches, solve_group_linear, solve_groups
-from .loads import apply_body_loads, friction_loads, point_body
-from .motion import motion as body_motion
+from . import kernel as K
+from .groups import body_rows, solve_rows
+from .loads import add_items, applied_items, friction_loads
+from .program import program_of
 from .result import Forces
 from .tables import force_tables
 
@@ -51,6 +55,8 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
     Forces
         See :mod:`assur.kinetostatics.result` for the shapes and the sign convention.
     """
+    if backend not in ("auto", "numpy", "numba"):
+        raise SpecError([("backend", f"must be one of auto, numpy, numba: {backend!r}")])
     if method not in METHODS:
         raise SpecError([("method", f"must be one of {', '.join(METHODS)}: {method!r}")])
     if isinstance(plan, SpatialPlan):
@@ -62,99 +68,97 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
     if state is None:
         state = solve(plan, params, inputs, speeds=speeds, accels=accels, order=2, backend=backend,
                       tolerances=tolerances)
-    params = np.broadcast_to(state.params, state.shape + (plan.n_params,))
-    tables = force_tables(plan)
-    mo = body_motion(tables, state, params)
-    inputs = np.broadcast_to(state.inputs, state.shape + (plan.n_inputs,))
+    elif state.acc is None:
+        raise SpecError([("state", "the force analysis needs accelerations: solve the state with order=2")])
+    shape = state.shape
+    n = math.prod(shape)
+    tables, prog = force_tables(plan), program_of(plan)
+    with_friction = bool(friction) and tables.dynamics.friction.any
+    plain = prog.compiled_ok and prog.loads_in_kernel and not point_loads and not with_friction and method == "groups"
+    if plain and backend != "numpy" and (backend == "numba" or n >= AUTO_COMPILED_MIN_SAMPLES):
+        from . import compiled
+        out = compiled.solve_compiled(prog, state, required=backend == "numba")
+        if out is not None:
+            return _result(plan, state, *out, iterations=0, converged=True, method=method, tol=tolerances)
+    return _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, tolerances)
 
-    def one_pass(previous=None):
-        W = Wrenches(tables, mo, params, state.shape)
-        apply_body_loads(W, inputs)
-        for point, force in point_loads or ():
-            f = np.asarray(force, dtype=float)
-            W.add(point_body(tables, point), f[..., 0] + 1j * f[..., 1], mo.z[..., plan.point_index(point)])
-        if previous is not None:
-            friction_loads(W, previous)
-        if method == "groups":
-            cond = solve_groups(W)
-        else:
-            bodies = tuple(range(1, tables.n_bodies))
-            cond = solve_group_linear(W, bodies, list(tables.pairs))
-        return W, cond
 
-    W, cond = one_pass()
+def state_rows(state, n):
+    """The state's points as rows: z, v, a (n_points, N) complex, and the parameters (n_params, N or 1)."""
+    def rows(x):
+        x = np.reshape(x, (n,) + x.shape[-2:])
+        return (x[..., 0] + 1j * x[..., 1]).T
+    params = np.asarray(state.params, dtype=float)
+    if params.ndim == 1:
+        p = params[:, None]
+    else:
+        p = np.broadcast_to(params, state.shape + params.shape[-1:]).reshape(n, -1).T
+    return rows(state.pos), rows(state.vel), rows(state.acc), p
+
+
+def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, tol):
+    shape = state.shape
+    n = math.prod(shape)
+    z, v, a, p = state_rows(state, n)
+    nb = tables.n_bodies
+    F0, M0 = np.zeros((nb, n), complex), np.zeros((nb, n))
+    q0 = np.broadcast_to(state.inputs, shape + (plan.n_inputs,)).reshape(n, -1)[:, 0]
+    if not prog.loads_in_kernel or point_loads:        # loads that vary need the bodies' motion first
+        theta, omega, alpha = body_rows(prog, z, v, a, p)
+        with np.errstate(all="ignore"):
+            add_items(applied_items(tables, prog, z, v, a, p, theta, omega, alpha, q0, point_loads, shape,
+                                    kernel_loads=False), F0, M0)
+    lam, theta, omega, alpha, cond = solve_rows(prog, z, v, a, p, F0.copy(), M0.copy(), method=method,
+                                                length_scale=plan.length_scale)
     iterations, converged = 0, True
-    if friction and tables.dynamics.friction.any:
+    if with_friction:
         converged = False
-        lam = _stack(W)
-        for iterations in range(1, tolerances.friction_iterations + 1):
-            W, cond = one_pass(W)
-            new = _stack(W)
+        for iterations in range(1, tol.friction_iterations + 1):
+            F, M = F0.copy(), M0.copy()
+            with np.errstate(all="ignore"):
+                friction_loads(tables, prog, z, v, p, theta, omega, lam, F, M)
+            new, theta, omega, alpha, cond = solve_rows(prog, z, v, a, p, F, M, method=method,
+                                                        length_scale=plan.length_scale)
             with np.errstate(invalid="ignore"):
                 change = np.nanmax(np.abs(new - lam), initial=0.0)
                 size = np.nanmax(np.abs(new), initial=0.0)
             lam = new
-            if change <= tolerances.friction_change * max(size, 1e-300):
+            if change <= tol.friction_change * max(size, 1e-300):
                 converged = True
                 break
-    return _result(plan, tables, W, mo, state, cond, iterations, converged, method, tolerances)
+    n_pairs = prog.pr.shape[0]
+    reac, nrm, cpl = np.empty((n_pairs, 2, n)), np.empty((n_pairs, n)), np.empty((n_pairs, n))
+    frame, driver = np.empty((3, n)), np.empty((plan.n_inputs, n))
+    with np.errstate(all="ignore"):
+        K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, theta, lam, reac, nrm, cpl, frame, driver)
+    return _result(plan, state, np.moveaxis(reac, -1, 0), nrm.T, cpl.T, frame.T, driver.T, cond, lam.T,
+                   iterations=iterations, converged=converged, method=method, tol=tol)
 
 
-def _stack(W) -> np.ndarray:
-    return np.stack([np.asarray(v, dtype=float) * np.ones(W.shape) for v in W.lam], axis=-1)
-
-
-def _result(plan, tables, W, mo, state, cond, iterations, converged, method, tol) -> Forces:
+def _result(plan, state, reac, nrm, cpl, frame, driver, cond, lam, *, iterations, converged, method, tol) -> Forces:
+    """The Forces of flat arrays (N, …): singular samples (a group's condition below the tolerance, or a
+    non-finite unknown) and unassembled ones are NaN."""
     shape = state.shape
-    lam = _stack(W)
-    singular = np.asarray(state.valid) & ~(cond >= tol.force_condition)
-    singular |= np.asarray(state.valid) & ~np.all(np.isfinite(lam), axis=-1)
-    ok = np.asarray(state.valid) & ~singular
-    n = len(tables.pairs)
-    reactions = np.full(shape + (n, 2), np.nan)
-    couples = np.zeros(shape + (n,))
-    normal = np.full(shape + (n,), np.nan)
-    frame_f = np.zeros(shape, complex)
-    frame_m = np.zeros(shape)
-    for k, fp in enumerate(tables.pairs):
-        basis = W.basis(fp)
-        f = sum(lam[..., c] * b[0] for c, b in zip(fp.columns, basis))
-        mom = sum(lam[..., c] * b[1] for c, b in zip(fp.columns, basis))
-        if fp.kind == "R":
-            reactions[..., k, 0], reactions[..., k, 1] = lam[..., fp.columns[0]], lam[..., fp.columns[1]]
-        elif fp.kind == "P":
-            nf = lam[..., fp.columns[0]] * basis[0][0]
-            reactions[..., k, 0], reactions[..., k, 1] = nf.real, nf.imag
-            normal[..., k] = lam[..., fp.columns[0]]
-            couples[..., k] = lam[..., fp.columns[1]]
-        else:
-            reactions[..., k, :] = 0.0
-            couples[..., k] = lam[..., fp.columns[0]]
-        if fp.earlier == 0:
-            frame_f = frame_f - f
-            frame_m = frame_m - mom
-    driver = np.empty(shape + (plan.n_inputs,))
-    for i, k in enumerate(tables.driver_pairs):
-        fp = tables.pairs[k]
-        if fp.kind == "T":
-            sense = next(st.sense for st in plan.crank_steps() if st.input == i)
-            driver[..., i] = sense * lam[..., fp.columns[0]]
-        else:
-            driver[..., i] = lam[..., fp.columns[2]]
+    valid = np.asarray(state.valid).reshape(-1)
+    with np.errstate(invalid="ignore"):
+        singular = valid & ~(cond >= tol.force_condition)
+        singular |= valid & ~np.all(np.isfinite(lam), axis=-1)
+    bad = ~valid | singular
+    if bad.any():
+        for arr in (reac, nrm, cpl, frame, driver):
+            arr[bad] = np.nan
     qdot = np.asarray(state.qdot, dtype=float)
+    driver = driver.reshape(shape + (plan.n_inputs,))
     power = np.einsum("...k,...k->...", driver, np.broadcast_to(qdot, driver.shape))
-    bad = ~ok
-
-    def masked(a, extra):
-        return np.where(bad.reshape(shape + (1,) * extra), np.nan, a)
-
+    tables = force_tables(plan)
     names = plan.body_names
+    n_pairs = len(tables.pairs)
     return Forces(plan=plan, inputs=np.broadcast_to(state.inputs, shape + (plan.n_inputs,)), qdot=qdot,
                   pair_kinds=tuple(fp.kind for fp in tables.pairs), pair_names=tuple(fp.name for fp in tables.pairs),
                   pair_bodies=tuple((names[fp.earlier], names[fp.later]) for fp in tables.pairs),
-                  reactions=masked(reactions, 2), couples=masked(couples, 1), normal=masked(normal, 1),
-                  driver=masked(driver, 1), power=masked(power, 0),
-                  frame_force=masked(np.stack([frame_f.real, frame_f.imag], axis=-1), 1),
-                  frame_moment=masked(frame_m, 0), condition=np.where(np.asarray(state.valid), cond, np.nan),
-                  valid=ok, singular=singular, iterations=iterations, converged=converged, method=method,
+                  reactions=reac.reshape(shape + (n_pairs, 2)), couples=cpl.reshape(shape + (n_pairs,)),
+                  normal=nrm.reshape(shape + (n_pairs,)), driver=driver, power=power,
+                  frame_force=frame[:, :2].reshape(shape + (2,)), frame_moment=frame[:, 2].reshape(shape),
+                  condition=np.where(valid, cond, np.nan).reshape(shape), valid=(valid & ~singular).reshape(shape),
+                  singular=singular.reshape(shape), iterations=iterations, converged=converged, method=method,
                   state=state)

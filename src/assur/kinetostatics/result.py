@@ -25,6 +25,12 @@ class Forces:
     ``normal (..., n_pairs)`` (NaN where a pair has none), ``driver (..., n_inputs)``, ``power``,
     ``condition``, ``valid``, ``singular (...)``; ``frame_force (..., 2)`` and ``frame_moment (...)`` the
     resultant load of the moving links on the frame (the shaking force, and its moment about the origin).
+
+    A spatial plan (:mod:`.spatial`) gives 3-vectors: ``reactions (..., n_pairs, 3)``, ``frame_force`` and
+    ``frame_moment (..., 3)``, ``bearing_moments (..., n_pairs, 3)`` each pair's moment (a frame revolute's
+    bearing moment perpendicular to its axis, a universal joint's cross moment, zero at a spherical
+    joint, a motor's torque vector); its ``couples`` are their magnitudes (a motor's: its signed torque
+    about the crank axis). Pair kinds there: 'R' frame revolute, 'S' spherical, 'U' universal, 'T' motor.
     """
     plan: object
     inputs: np.ndarray
@@ -52,6 +58,8 @@ class Forces:
     converged: bool = True
     method: str = "groups"
     state: object = field(repr=False, default=None)
+    #: (..., n_pairs, 3) the pairs' moments (spatial plans only; None for planar ones)
+    bearing_moments: np.ndarray | None = field(repr=False, default=None)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -67,13 +75,13 @@ class Forces:
         return hits[0]
 
     def reaction(self, name: str, later: str | None = None) -> np.ndarray:
-        """(..., 2) the reaction at a joint or slide (see the module's sign convention)."""
+        """(..., 2) (spatial: (..., 3)) the reaction at a joint or slide (see the module's sign convention)."""
         return self.reactions[..., self.pair(name, later), :]
 
     @property
     def magnitudes(self) -> np.ndarray:
         """(..., n_pairs) |reaction| (N)."""
-        return np.hypot(self.reactions[..., 0], self.reactions[..., 1])
+        return np.sqrt(np.sum(self.reactions ** 2, axis=-1))
 
     @property
     def joint_pairs(self) -> list[int]:

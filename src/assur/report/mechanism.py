@@ -209,6 +209,10 @@ def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges, units
     mod = module_html(summary, plan, an.gait, steps)
     if mod:
         out.append(section("Walking module", mod))
+    from .forces import forces_html
+    frc = forces_html(plan, steps)
+    if frc:
+        out.append(section("Forces", frc))
     return out + [section("Plots", panels), section("Animation", anim),
                   section("Positions", positions_html(plan, 12, ranges, units))]
 

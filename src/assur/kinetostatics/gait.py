@@ -1,0 +1,88 @@
+"""Walking legs: the body weight carried by the feet on the ground, and the module's driving torque.
+
+The model (documented in docs/format.md, ``[gait] weight``/``friction``):
+
+* the legs of a module turn on one crank shaft, leg k at crank angle q + phases[k];
+* a foot carries load only in its contact (support) arc, the arc of :func:`assur.analysis.gait.gait_metrics`;
+* the weight W is shared equally by the feet on the ground: each carries N = W / n_on(q), pushed up
+  (along ``gait.up``) by the ground;
+* with ``friction = μ`` the ground also pushes along the stride axis, against the foot's slip: the
+  ground moves under the body at the foot's mean support velocity (the body walks at the stride speed),
+  the slip is the foot's stride velocity minus that, and the horizontal reaction is −μ·N·sign(slip)
+  (kinetic Coulomb friction; zero where the slip is below 10⁻⁹ of the mean support speed);
+* where no foot is on the ground (a module with gaps in support) the weight is carried by nothing and
+  the samples are reported with zero foot load.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analysis.gait import gait_metrics, resolve_gait
+from ..analysis.sampling import CYCLE_STEPS
+from ..errors import SpecError
+from .api import forces
+from .result import Forces
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class GaitForces:
+    """The forces of every leg of a walking module over one crank turn.
+
+    ``q (n,)`` crank angles of the first leg; ``forces`` a :class:`Forces` of shape (n, n_legs) (leg k at
+    q + phases[k]); ``on_ground (n, n_legs)``; ``foot_force (n, n_legs, 2)`` the ground's force on each foot
+    (N); ``module_driver (n,)`` the torque the common shaft needs, Σ over the legs (N·m).
+    """
+    q: np.ndarray
+    phases: tuple[float, ...]
+    forces: Forces
+    on_ground: np.ndarray
+    foot_force: np.ndarray
+    module_driver: np.ndarray
+    weight: float
+    friction: float | None
+
+
+def in_contact(metrics, q) -> np.ndarray:
+    """(...) bool: crank angles q (...) inside the contact arc of ``metrics``."""
+    width = metrics.contact_end - metrics.contact_start
+    return ((np.asarray(q, dtype=float) - metrics.contact_start) % TWO_PI) <= width
+
+
+def gait_forces(plan, params=None, *, steps: int = CYCLE_STEPS, weight: float | None = None,
+                friction: float | None = None, joint_friction: bool = False, phases=None) -> GaitForces:
+    """The forces of a walking module carrying its body weight over one turn (the model of the module
+    docstring). ``weight`` (N) and ``friction`` default to the file's ``[gait]``; ``phases`` to its legs."""
+    m = plan.mechanism
+    if m.gait is None:
+        raise SpecError([("gait", "the mechanism has no [gait] table: name its foot to carry a weight")])
+    W = m.gait.weight if weight is None else float(weight)
+    if W is None:
+        raise SpecError([("gait.weight", "no body weight given (in the file's [gait] table or as weight=)")])
+    mu = m.gait.friction if friction is None else friction
+    foot, ground, up = resolve_gait(plan)
+    metrics = gait_metrics(plan, params, steps=steps)
+    ph = np.asarray(m.gait.phases if phases is None else phases, dtype=float)
+    q = np.linspace(0.0, TWO_PI, int(steps), endpoint=False)
+    qq = q[:, None] + ph[None, :]
+    on = in_contact(metrics, qq)
+    n_on = on.sum(axis=1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        N = np.where(on, W / np.maximum(n_on, 1), 0.0)
+    up_v, ground_v = np.asarray(up, dtype=float), np.asarray(ground, dtype=float)
+    load = N[..., None] * up_v
+    params_ = plan.defaults if params is None else np.asarray(params, dtype=float)
+    if mu:
+        from ..engine import solve
+        st = solve(plan, params_, qq[..., None], order=1)
+        v = st.point(foot).vel @ ground_v
+        mean_support = metrics.support_vx.mean * np.sign(np.nanmean(np.where(on, v, np.nan)))
+        slip = v - mean_support
+        dead = 1e-9 * max(abs(metrics.support_vx.mean), 1e-300)
+        load = load - (mu * N * np.where(np.abs(slip) > dead, np.sign(slip), 0.0))[..., None] * ground_v
+    f = forces(plan, params_, qq[..., None], point_loads=[(foot, load)], friction=joint_friction)
+    return GaitForces(q, tuple(float(p) for p in ph), f, on, load, f.driver[..., 0].sum(axis=1), float(W), mu)
