@@ -162,10 +162,11 @@ def table(rows):
 
 
 def later_sections() -> list[str]:
-    """Sections of papers 001, 002 and 003, each from ``docs/reproduction_00N.py`` (a ``section() -> str``)."""
+    """Sections of papers 001, 002 and 003 and of the forces, each from ``docs/reproduction_<name>.py`` (a
+    ``section() -> str``)."""
     import runpy
     out = []
-    for n in ("001", "002", "003"):
+    for n in ("001", "002", "003", "forces"):
         path = ROOT / "docs" / f"reproduction_{n}.py"
         out += [runpy.run_path(str(path))["section"]().rstrip("\n"), ""]
     return out

@@ -38,9 +38,12 @@ def summary_rows(s: dict, plan) -> list[tuple[str, str, str]]:
             (f"mean driving {what}", _n(s.get("mean"), s.get("peak")), eu), ("peak motor power", _n(s.get("power_peak")), "W")]
     if "power_mean" in s:
         scale = (s.get("peak") or 0.0) * abs(s["stop"] - s["start"] or 1.0)
-        rows += [("mean motor power", _n(s["power_mean"], s.get("power_peak")), "W"),
-                 ("energy per cycle", _n(s["energy"], scale), "J"),
-                 ("kinetic-energy fluctuation ΔE", _n(s["energy_fluctuation"]), "J")]
+        rows += [("mean motor power", _n(s["power_mean"], s.get("power_peak")), "W")]
+        if s["cycle"] == "turn":
+            rows += [("energy per cycle", _n(s["energy"], scale), "J"),
+                     ("kinetic-energy fluctuation ΔE", _n(s["energy_fluctuation"]), "J")]
+        else:
+            rows.append(("work over the stroke", _n(s["energy"], scale), "J"))
     if s.get("flywheel_inertia") is not None or (s["effort"] == "torque" and "flywheel_delta" in s):
         rows.append((f"flywheel inertia for δ = {s['flywheel_delta']:g}", _n(s.get("flywheel_inertia")), "kg·m²"))
     rows += [("peak shaking force", _n(s["shaking_force_peak"]), "N"),
@@ -115,9 +118,10 @@ def at_lines(f, i: int) -> list[str]:
     heads = [f"{h} [N]" for h in _vector_heads(dim)] + ["|R| [N]", "normal [N]", "couple [N·m]"]
     rows = []
     for k, j in zip(f.joint_pairs, d["joints"]):
-        cells = [_n(x) for x in j["reaction"]] + [_n(j["magnitude"])]
-        cells += [_n(j["normal"]), _n(j["couple"])] if "normal" in j else ["", ""]
-        rows.append([f"{pair_label(f, k)} ({j['bodies'][0]}→{j['bodies'][1]})"] + cells)
+        big = max(j["magnitude"], 1e-300)
+        cells = [_n(x, big) for x in j["reaction"]] + [_n(j["magnitude"])]
+        cells += [_n(j["normal"], big), _n(j["couple"])] if "normal" in j else ["", ""]
+        rows.append([f"{j['pair']} ({j['bodies'][0]}→{j['bodies'][1]})"] + cells)
     w0 = max([len("joint")] + [len(r[0]) for r in rows])
     ws = [max(len(h), *(len(r[c + 1]) for r in rows)) for c, h in enumerate(heads)]
     out = [head, "  " + "  ".join(["joint".ljust(w0)] + [h.rjust(w) for h, w in zip(heads, ws)]).rstrip()]
