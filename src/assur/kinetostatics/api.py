@@ -104,11 +104,11 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
     F0, M0 = np.zeros((nb, n), complex), np.zeros((nb, n))
     q0 = np.broadcast_to(state.inputs, shape + (plan.n_inputs,)).reshape(n, -1)[:, 0]
     if not prog.loads_in_kernel or point_loads:        # loads that vary need the bodies' motion first
-        theta, omega, alpha = body_rows(prog, z, v, a, p)
+        orient, omega, alpha = body_rows(prog, z, v, a, p)
         with np.errstate(all="ignore"):
-            add_items(applied_items(tables, prog, z, v, a, p, theta, omega, alpha, q0, point_loads, shape,
+            add_items(applied_items(tables, prog, z, v, a, p, orient, omega, alpha, q0, point_loads, shape,
                                     kernel_loads=False), F0, M0)
-    lam, theta, omega, alpha, cond = solve_rows(prog, z, v, a, p, F0.copy(), M0.copy(), method=method,
+    lam, orient, omega, alpha, cond = solve_rows(prog, z, v, a, p, F0.copy(), M0.copy(), method=method,
                                                 length_scale=plan.length_scale)
     iterations, converged = 0, True
     if with_friction:
@@ -116,8 +116,8 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
         for iterations in range(1, tol.friction_iterations + 1):
             F, M = F0.copy(), M0.copy()
             with np.errstate(all="ignore"):
-                friction_loads(tables, prog, z, v, p, theta, omega, lam, F, M)
-            new, theta, omega, alpha, cond = solve_rows(prog, z, v, a, p, F, M, method=method,
+                friction_loads(tables, prog, z, v, p, orient, omega, lam, F, M)
+            new, orient, omega, alpha, cond = solve_rows(prog, z, v, a, p, F, M, method=method,
                                                         length_scale=plan.length_scale)
             with np.errstate(invalid="ignore"):
                 change = np.nanmax(np.abs(new - lam), initial=0.0)
@@ -130,7 +130,7 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
     reac, nrm, cpl = np.empty((n_pairs, 2, n)), np.empty((n_pairs, n)), np.empty((n_pairs, n))
     frame, driver = np.empty((3, n)), np.empty((plan.n_inputs, n))
     with np.errstate(all="ignore"):
-        K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, theta, lam, reac, nrm, cpl, frame, driver)
+        K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, orient, lam, reac, nrm, cpl, frame, driver)
     return _result(plan, state, np.moveaxis(reac, -1, 0), nrm.T, cpl.T, frame.T, driver.T, cond, lam.T,
                    iterations=iterations, converged=converged, method=method, tol=tol)
 

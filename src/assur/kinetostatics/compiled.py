@@ -90,6 +90,9 @@ class Sym:
     def conjugate(self):
         return self.t.emit(f"{self.name}.conjugate()", "c") if self.kind == "c" else self
 
+    def sqrt(self):
+        return self.t.emit(f"math.sqrt({self.name})" if self.kind == "r" else f"np.sqrt({self.name})", self.kind)
+
     def exp(self):
         return self.t.emit(f"np.exp({self.name})", self.kind)
 
@@ -103,47 +106,48 @@ class Sym:
 def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     """The numba source of ``kernel(pos, vel, acc, P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond)``: per
     sample s, the parameters P[(s // pdiv) % pmod], the outputs as :func:`.kernel.outputs` writes them, and the
-    condition measure (NaN where an unknown is not finite)."""
+    condition measure (NaN where an unknown is not finite). Arrays are sample-last (structure of arrays, the
+    layout of the compiled kinematics): ``pos (n_points, 2, N)``, ``reac (n_pairs, 2, N)``, ``frame (3, N)`` …"""
     tr = Tracer()
     head = []
     z, v, a = [], [], []
     for i in range(n_points):
         for arr, name, out in ((z, "pos", "z"), (v, "vel", "v"), (a, "acc", "a")):
-            head.append(f"{out}{i} = complex({name}[s, {i}, 0], {name}[s, {i}, 1])")
+            head.append(f"{out}{i} = complex({name}[{i}, 0, s], {name}[{i}, 1, s])")
             arr.append(Sym(tr, f"{out}{i}", "c"))
     p = []
     for k in range(n_params):
         head.append(f"p{k} = P[r, {k}]")
         p.append(Sym(tr, f"p{k}", "r"))
     nb = prog.ang.shape[0]
-    theta, omega, alpha = [0.0] * nb, [0.0] * nb, [0.0] * nb
+    orient, omega, alpha = [1 + 0j] * nb, [0.0] * nb, [0.0] * nb
     F, M = [0j] * nb, [0.0] * nb
     lam = [0.0] * prog.n_unknowns
-    K.body_motion(prog.ang_order, prog.ang, prog.ang_param, prog.ang_off, z, v, a, p, theta, omega, alpha)
+    K.body_motion(prog.ang_order, prog.ang, prog.ang_param, prog.ang_off, z, v, a, p, orient, omega, alpha)
     K.mass_loads(prog.massive, prog.mass, prog.inertia, prog.idef, prog.ipts, prog.cpts, prog.cw, prog.coff,
-                 prog.gravity, z, v, a, theta, omega, alpha, F, M)
+                 prog.gravity, z, v, a, orient, omega, alpha, F, M)
     K.point_loads(prog.lpts, prog.lforce, prog.torque, z, F, M)
     conds = []
     for g in range(prog.gr.shape[0]):
         code = prog.gr[g, K.GR_CODE]
         if code == K.G_CRANK:
-            conds.append(K.crank(prog.gr, g, prog.gb, prog.pr, prog.ln, z, p, theta, F, M, lam))
+            conds.append(K.crank(prog.gr, g, prog.gb, prog.pr, prog.ln, z, p, orient, F, M, lam))
         elif code == K.G_INNER_R:
-            conds.append(K.inner_revolute(prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, theta, F, M, lam))
+            conds.append(K.inner_revolute(prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, orient, F, M, lam))
         elif code == K.G_INNER_P:
-            conds.append(K.inner_slide(prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, theta, F, M, lam))
+            conds.append(K.inner_slide(prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, orient, F, M, lam))
         else:
             raise ValueError("a generic group has no compiled form")
     n_pairs = prog.pr.shape[0]
     reac, nrm, cpl = np.empty((n_pairs, 2), object), np.empty(n_pairs, object), np.empty(n_pairs, object)
     frame, driver = np.zeros(3, object), np.empty(n_inputs, object)
-    K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, theta, lam, reac, nrm, cpl, frame, driver)
+    K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, orient, lam, reac, nrm, cpl, frame, driver)
     s_ = Sym._s
-    tail = [f"reac[s, {k}, {j}] = {s_(reac[k, j])}" for k in range(n_pairs) for j in range(2)]
-    tail += [f"nrm[s, {k}] = {s_(nrm[k])}" for k in range(n_pairs)]
-    tail += [f"cpl[s, {k}] = {s_(cpl[k])}" for k in range(n_pairs)]
-    tail += [f"frame[s, {j}] = {s_(frame[j])}" for j in range(3)]
-    tail += [f"driver[s, {i}] = {s_(driver[i])}" for i in range(n_inputs)]
+    tail = [f"reac[{k}, {j}, s] = {s_(reac[k, j])}" for k in range(n_pairs) for j in range(2)]
+    tail += [f"nrm[{k}, s] = {s_(nrm[k])}" for k in range(n_pairs)]
+    tail += [f"cpl[{k}, s] = {s_(cpl[k])}" for k in range(n_pairs)]
+    tail += [f"frame[{j}, s] = {s_(frame[j])}" for j in range(3)]
+    tail += [f"driver[{i}, s] = {s_(driver[i])}" for i in range(n_inputs)]
     tail.append("c = 1.0")
     for c in conds:
         tail.append(f"c = c if {s_(c)} >= c else {s_(c)}")
@@ -155,8 +159,13 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     return ("import math\nimport numpy as np\nfrom numba import njit\n\n\n"
             "@njit(cache=True, error_model='numpy')\n"
             "def kernel(pos, vel, acc, P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond):\n"
-            "    for s in range(pos.shape[0]):\n"
-            "        r = (s // pdiv) % pmod\n" + body + "\n")
+            "    r = 0\n"
+            "    left = pdiv\n"
+            "    for s in range(pos.shape[2]):\n"
+            "        if left == 0:\n"
+            "            left = pdiv\n"
+            "            r = r + 1 if r + 1 < pmod else 0\n"
+            "        left -= 1\n" + body + "\n")
 
 
 def available() -> bool:
@@ -206,7 +215,8 @@ def _param_rows(params, shape, n_params):
 
 def solve_compiled(prog, state, *, required: bool = False):
     """The flat result arrays (reac (N, n_pairs, 2), nrm, cpl (N, n_pairs), frame (N, 3), driver (N, n_inputs),
-    cond (N,), finite (N, 1)) of the samples of ``state``; None where numba is missing and not required."""
+    cond (N,), finite (N, 1); views of sample-last arrays) of the samples of ``state``; None where numba is
+    missing and not required."""
     if not (required or available()):
         return None
     plan = state.plan
@@ -214,12 +224,15 @@ def solve_compiled(prog, state, *, required: bool = False):
     shape = state.shape
     n = math.prod(shape)
 
-    def flat(x):
-        return np.ascontiguousarray(np.reshape(x, (n,) + x.shape[-2:]), dtype=float)
+    def soa(x):
+        """(..., n_points, 2) → (n_points, 2, N): a view for the compiled kinematics' own layout."""
+        return np.reshape(np.moveaxis(x, (-2, -1), (0, 1)), x.shape[-2:] + (n,))
 
     P, pdiv, pmod = _param_rows(state.params, shape, plan.n_params)
     n_pairs = prog.pr.shape[0]
-    reac, nrm, cpl = np.empty((n, n_pairs, 2)), np.empty((n, n_pairs)), np.empty((n, n_pairs))
-    frame, driver, cond = np.empty((n, 3)), np.empty((n, plan.n_inputs)), np.empty(n)
-    kern(flat(state.pos), flat(state.vel), flat(state.acc), P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond)
+    reac, nrm, cpl = np.empty((n_pairs, 2, n)), np.empty((n_pairs, n)), np.empty((n_pairs, n))
+    frame, driver, cond = np.empty((3, n)), np.empty((plan.n_inputs, n)), np.empty(n)
+    kern(soa(state.pos), soa(state.vel), soa(state.acc), P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond)
+    reac, nrm, cpl = np.moveaxis(reac, -1, 0), nrm.T, cpl.T
+    frame, driver = frame.T, driver.T
     return reac, nrm, cpl, frame, driver, cond, np.isfinite(cond)[:, None]

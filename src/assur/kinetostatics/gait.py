@@ -12,6 +12,10 @@ The model (documented in docs/format.md, ``[gait] weight``/``friction``):
   (kinetic Coulomb friction; zero where the slip is below 10⁻⁹ of the mean support speed);
 * where no foot is on the ground (a module with gaps in support) the weight is carried by nothing and
   the samples are reported with zero foot load.
+
+:func:`population_foot_loads` is the same sharing rule on uniform samples of a population of designs (what
+dimensional synthesis uses): the contact arc is the sampled one of
+:func:`assur.analysis.gait.population_gait`, and the legs' phases fall on whole samples.
 """
 from __future__ import annotations
 
@@ -20,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.gait import gait_metrics, resolve_gait
+from ..analysis.gait import arc_mask, gait_metrics, population_contact, resolve_gait
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from .api import forces
@@ -86,3 +90,36 @@ def gait_forces(plan, params=None, *, steps: int = CYCLE_STEPS, weight: float | 
         load = load - (mu * N * np.where(np.abs(slip) > dead, np.sign(slip), 0.0))[..., None] * ground_v
     f = forces(plan, params_, qq[..., None], point_loads=[(foot, load)], friction=joint_friction)
     return GaitForces(q, tuple(float(p) for p in ph), f, on, load, f.driver[..., 0].sum(axis=1), float(W), mu)
+
+
+def phase_shifts(phases, samples: int) -> np.ndarray:
+    """(n_legs,) int: the legs' phase offsets (rad) in samples of a uniform grid of ``samples`` per turn.
+    SpecError when an offset does not fall on a sample (within 10⁻⁹ of a sample)."""
+    s = np.asarray(phases, dtype=float) * samples / TWO_PI
+    k = np.rint(s)
+    if not np.all(np.abs(s - k) <= 1e-9 * max(1.0, float(samples))):
+        shown = ", ".join(f"{math.degrees(p):g}°" for p in np.asarray(phases, dtype=float))
+        raise SpecError([("gait.phases", f"the legs' phases ({shown}) must fall on the {samples} samples of the "
+                                         f"cycle (multiples of {360 / samples:g}°)")])
+    return np.mod(k.astype(np.int64), samples)
+
+
+def population_foot_loads(pos_foot, valid, phases, weight: float, up, ground) -> np.ndarray:
+    """The ground's force on every leg's foot of a population of walking modules, from uniform samples.
+
+    pos_foot: (D, M, 2) the foot of one leg at the M inputs ``linspace(0, 2π, M, endpoint=False)`` of D designs;
+    valid: (D, M) bool; phases: (n_legs,) rad, each on a sample (:func:`phase_shifts`); weight: W (N); up,
+    ground: (2,) directions. The rule of the module docstring: leg k at module sample j stands at input
+    q_j + phases[k]; its foot is on the ground where that sample is in the design's contact arc (the sampled arc
+    of :func:`assur.analysis.gait.population_contact`); each foot on the ground carries N = W / n_on, pushed
+    along ``up``. Returns (D, M, n_legs, 2) forces (N), indexed like :attr:`GaitForces.foot_force` (module
+    sample j, leg k); NaN for a design with an unassembled sample (its contact arc is undefined)."""
+    pos_foot = np.asarray(pos_foot, dtype=float)
+    D, M = pos_foot.shape[:2]
+    start, width = population_contact(pos_foot, ground=ground, up=up)
+    shifts = phase_shifts(phases, M)
+    on = np.stack([arc_mask(start, width, M, s) for s in shifts], axis=-1)          # (D, M, n_legs)
+    n_on = on.sum(axis=-1, keepdims=True)
+    N = np.where(on, float(weight) / np.maximum(n_on, 1), 0.0)
+    N = np.where(np.all(np.asarray(valid, dtype=bool), axis=1)[:, None, None], N, np.nan)
+    return N[..., None] * np.asarray(up, dtype=float)

@@ -28,43 +28,44 @@ from .program import Program
 def solve_rows(prog: Program, z, v, a, p, F, M, *, method: str = "groups", length_scale: float = 1.0):
     """Solve N samples at once. ``z``, ``v``, ``a`` (n_points, N) complex; ``p`` (n_params, N or 1); ``F``, ``M``
     (n_bodies, N) the loads applied so far (extra loads; gravity, inertia and the constant loads are added
-    here). Returns (lam (n_unknowns, N), theta, omega, alpha (n_bodies, N), condition (N,))."""
+    here). Returns (lam (n_unknowns, N), orient (e^{iθ}), omega, alpha (n_bodies, N), condition (N,))."""
     nb, N = F.shape
-    theta, omega, alpha = body_rows(prog, z, v, a, p)
+    orient, omega, alpha = body_rows(prog, z, v, a, p)
     lam = np.full((prog.n_unknowns, N), np.nan)
     with np.errstate(all="ignore"):
         K.mass_loads(prog.massive, prog.mass, prog.inertia, prog.idef, prog.ipts, prog.cpts, prog.cw, prog.coff,
-                     prog.gravity, z, v, a, theta, omega, alpha, F, M)
+                     prog.gravity, z, v, a, orient, omega, alpha, F, M)
         K.point_loads(prog.lpts, prog.lforce, prog.torque, z, F, M)
         cond = np.ones(N)
         if method == "matrix":
             bodies = tuple(range(1, nb))
-            c = solve_group_linear(prog, bodies, tuple(range(prog.pr.shape[0])), z, p, theta, F, M, lam,
+            c = solve_group_linear(prog, bodies, tuple(range(prog.pr.shape[0])), z, p, orient, F, M, lam,
                                    length_scale)
-            return lam, theta, omega, alpha, c
+            return lam, orient, omega, alpha, c
         generic = iter(prog.generic)
         for g in range(prog.gr.shape[0]):
             code = prog.gr[g, K.GR_CODE]
-            args = (prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, theta, F, M, lam)
+            args = (prog.gr, g, prog.gb, prog.gd, prog.pr, prog.ln, z, p, orient, F, M, lam)
             if code == K.G_CRANK:
-                c = K.crank(prog.gr, g, prog.gb, prog.pr, prog.ln, z, p, theta, F, M, lam)
+                c = K.crank(prog.gr, g, prog.gb, prog.pr, prog.ln, z, p, orient, F, M, lam)
             elif code == K.G_INNER_R:
                 c = K.inner_revolute(*args)
             elif code == K.G_INNER_P:
                 c = K.inner_slide(*args)
             else:
                 bodies, pairs = next(generic)
-                c = solve_group_linear(prog, bodies, pairs, z, p, theta, F, M, lam, length_scale)
+                c = solve_group_linear(prog, bodies, pairs, z, p, orient, F, M, lam, length_scale)
             cond = np.fmin(cond, c)
-    return lam, theta, omega, alpha, cond
+    return lam, orient, omega, alpha, cond
 
 
 def body_rows(prog: Program, z, v, a, p):
-    """Every body's θ, ω, α as rows (n_bodies, N), from the points' rows ``z``, ``v``, ``a`` (n_points, N)."""
-    theta, omega, alpha = (np.zeros((prog.ang.shape[0], z.shape[1])) for _ in range(3))
+    """Every body's orientation e^{iθ}, ω, α as rows (n_bodies, N), from the points' rows ``z``, ``v``, ``a`` (n_points, N)."""
+    nb, N = prog.ang.shape[0], z.shape[1]
+    orient, omega, alpha = np.ones((nb, N), complex), np.zeros((nb, N)), np.zeros((nb, N))
     with np.errstate(all="ignore"):
-        K.body_motion(prog.ang_order, prog.ang, prog.ang_param, prog.ang_off, z, v, a, p, theta, omega, alpha)
-    return theta, omega, alpha
+        K.body_motion(prog.ang_order, prog.ang, prog.ang_param, prog.ang_off, z, v, a, p, orient, omega, alpha)
+    return orient, omega, alpha
 
 
 def _is_couple(prog: Program, k: int, j: int) -> bool:
@@ -72,7 +73,7 @@ def _is_couple(prog: Program, k: int, j: int) -> bool:
     return kind == K.PAIR_T or (kind == K.PAIR_P and j == 1)
 
 
-def solve_group_linear(prog: Program, bodies, pairs, z, p, theta, F, M, lam, length_scale: float):
+def solve_group_linear(prog: Program, bodies, pairs, z, p, orient, F, M, lam, length_scale: float):
     """The group's equilibrium as one linear system per sample: 3 equations per body (its force, and its
     moment about the group's first body's first point over the length scale), one column per unknown
     (couples over the length scale too). Returns the condition measure σ_min/σ_max of the scaled matrix."""
@@ -96,7 +97,7 @@ def solve_group_linear(prog: Program, bodies, pairs, z, p, theta, F, M, lam, len
         Fs, Ms = np.zeros((nb, N), complex), np.zeros((nb, N))
         x = [0.0, 0.0, 0.0]
         x[j] = L if _is_couple(prog, k, j) else 1.0
-        K.set_pair(prog.pr, prog.ln, k, x[0], x[1], x[2], z, p, theta, Fs, Ms, scratch_lam)
+        K.set_pair(prog.pr, prog.ln, k, x[0], x[1], x[2], z, p, orient, Fs, Ms, scratch_lam)
         for b in bodies:
             r = rows[b]
             A[:, r, c] = Fs[b].real
@@ -107,7 +108,7 @@ def solve_group_linear(prog: Program, bodies, pairs, z, p, theta, F, M, lam, len
     for c, (k, j) in enumerate(cols):
         values.setdefault(k, [0.0, 0.0, 0.0])[j] = x[:, c] * (L if _is_couple(prog, k, j) else 1.0)
     for k, vals in values.items():
-        K.set_pair(prog.pr, prog.ln, k, vals[0], vals[1], vals[2], z, p, theta, F, M, lam)
+        K.set_pair(prog.pr, prog.ln, k, vals[0], vals[1], vals[2], z, p, orient, F, M, lam)
     return cond
 
 

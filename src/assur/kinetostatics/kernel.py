@@ -32,26 +32,30 @@ def dot(a, b):
     return (a.conjugate() * b).real
 
 
-def body_motion(ang_order, ang, ang_param, ang_off, z, v, a, p, theta, omega, alpha):
-    """Every body's θ, ω, α (written into ``theta``, ``omega``, ``alpha`` (n_bodies, …)) from its points or its guide."""
+def body_motion(ang_order, ang, ang_param, ang_off, z, v, a, p, orient, omega, alpha):
+    """Every body's orientation e^{iθ} (complex unit), ω and α (written into ``orient``, ``omega``, ``alpha``
+    (n_bodies, …)) from two of its points — with d = P_b − P_a: e^{iθ} = d/|d|, ω = Im(d′/d),
+    α = Im(d″/d − (d′/d)²) — or from its guide (the guide's orientation turned by the line's angle)."""
     for i in range(ang_order.shape[0]):
         b = ang_order[i]
         how = ang[b, 0]
         if how == ANG_POINTS:
             d = z[ang[b, 2]] - z[ang[b, 1]]
-            r1 = (v[ang[b, 2]] - v[ang[b, 1]]) / d
-            r2 = (a[ang[b, 2]] - a[ang[b, 1]]) / d
-            theta[b] = np.arctan2(d.imag, d.real)
+            n2 = d.real * d.real + d.imag * d.imag
+            inv = d.conjugate() / n2
+            r1 = (v[ang[b, 2]] - v[ang[b, 1]]) * inv
+            r2 = (a[ang[b, 2]] - a[ang[b, 1]]) * inv
+            orient[b] = d / np.sqrt(n2)
             omega[b] = r1.imag
             alpha[b] = (r2 - r1 * r1).imag
         elif how == ANG_LINE:
             g = ang[b, 3]
-            theta[b] = theta[g] + p[ang_param[b]] + ang_off[b]
+            orient[b] = orient[g] * np.exp(1j * (p[ang_param[b]] + ang_off[b]))
             omega[b] = omega[g]
             alpha[b] = alpha[g]
 
 
-def com_motion(b, cpts, cw, coff, z, v, a, theta, omega, alpha):
+def com_motion(b, cpts, cw, coff, z, v, a, orient, omega, alpha):
     """Body b's centre of mass: its position, velocity and acceleration (complex)."""
     c = z[cpts[b, 0]] * cw[b, 0]
     cv = v[cpts[b, 0]] * cw[b, 0]
@@ -62,7 +66,7 @@ def com_motion(b, cpts, cw, coff, z, v, a, theta, omega, alpha):
             cv = cv + v[cpts[b, k]] * cw[b, k]
             ca = ca + a[cpts[b, k]] * cw[b, k]
     if coff[b] != 0:
-        e = np.exp(1j * theta[b]) * coff[b]
+        e = orient[b] * coff[b]
         c = c + e
         cv = cv + 1j * omega[b] * e
         ca = ca + (1j * alpha[b] - omega[b] * omega[b]) * e
@@ -89,19 +93,19 @@ def body_inertia(b, mass, inertia, idef, ipts, z, c):
     return inertia[b] + 0.0 * c.real
 
 
-def mass_load(b, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, theta, omega, alpha):
+def mass_load(b, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, orient, omega, alpha):
     """Body b's gravity and d'Alembert inertia: the force m·(g − a_C) at its centre of mass C, the couple −I·α;
     returns (force, C, couple)."""
-    c, cv, ca = com_motion(b, cpts, cw, coff, z, v, a, theta, omega, alpha)
+    c, cv, ca = com_motion(b, cpts, cw, coff, z, v, a, orient, omega, alpha)
     J = body_inertia(b, mass, inertia, idef, ipts, z, c)
     return mass[b] * (gravity - ca), c, -J * alpha[b]
 
 
-def mass_loads(massive, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, theta, omega, alpha, F, M):
+def mass_loads(massive, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, orient, omega, alpha, F, M):
     """Gravity and d'Alembert inertia of every massive body, added to ``F``, ``M``."""
     for i in range(massive.shape[0]):
         b = massive[i]
-        f, c, couple = mass_load(b, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, theta, omega,
+        f, c, couple = mass_load(b, mass, inertia, idef, ipts, cpts, cw, coff, gravity, z, v, a, orient, omega,
                                  alpha)
         F[b] = F[b] + f
         M[b] = M[b] + cross(c, f) + couple
@@ -119,18 +123,18 @@ def point_loads(lpts, lforce, torque, z, F, M):
             M[b] = M[b] + torque[b]
 
 
-def line_uq(ln, i, z, p, theta):
+def line_uq(ln, i, z, p, orient):
     """Slide line i: its unit direction u and the slider's reference point Q."""
     Q = z[ln[i, 3]]
     if ln[i, 0] == 1:
         d = Q - z[ln[i, 4]]
         u = d / np.abs(d)
     else:
-        u = np.exp(1j * (theta[ln[i, 1]] + p[ln[i, 2]]))
+        u = orient[ln[i, 1]] * np.exp(1j * p[ln[i, 2]])
     return u, Q
 
 
-def set_pair(pr, ln, k, x0, x1, x2, z, p, theta, F, M, lam):
+def set_pair(pr, ln, k, x0, x1, x2, z, p, orient, F, M, lam):
     """Record pair k's unknowns (x0, x1[, x2]) and apply its wrench: + on the later body, − on the earlier."""
     kind = pr[k, 0]
     c = pr[k, 6]
@@ -144,7 +148,7 @@ def set_pair(pr, ln, k, x0, x1, x2, z, p, theta, F, M, lam):
         mo = x0
         lam[c] = x0
     else:
-        u, Q = line_uq(ln, pr[k, 4], z, p, theta)
+        u, Q = line_uq(ln, pr[k, 4], z, p, orient)
         n = 1j * u
         f = x0 * n
         mo = x0 * cross(Q, n) + x1
@@ -172,30 +176,30 @@ def side_sum(gb, s0, n, F, M):
     return Fs, Ms
 
 
-def crank(gr, g, gb, pr, ln, z, p, theta, F, M, lam):
+def crank(gr, g, gb, pr, ln, z, p, orient, F, M, lam):
     """A crank: the pivot's reaction balances the crank's force, the motor torque its moment about the pivot."""
     b = gb[gr[g, GR_A0]]
     r, t = gr[g, GR_OA], gr[g, GR_INNER]
     P = z[pr[r, 3]]
     Fs = F[b] + 0j
     MP = M[b] - cross(P, Fs)
-    set_pair(pr, ln, r, -Fs.real, -Fs.imag, 0.0, z, p, theta, F, M, lam)
-    set_pair(pr, ln, t, -MP, 0.0, 0.0, z, p, theta, F, M, lam)
+    set_pair(pr, ln, r, -Fs.real, -Fs.imag, 0.0, z, p, orient, F, M, lam)
+    set_pair(pr, ln, t, -MP, 0.0, 0.0, z, p, orient, F, M, lam)
     return 1.0 + 0.0 * MP
 
 
-def driven_slides(gr, g, gd, pr, ln, z, p, theta, F, M, lam):
+def driven_slides(gr, g, gd, pr, ln, z, p, orient, F, M, lam):
     """Each driven actuator's slide from its later body's equilibrium: N, M and the actuator's force."""
     for i in range(gr[g, GR_DN]):
         k = gd[gr[g, GR_D0] + i]
-        u, Q = line_uq(ln, pr[k, 4], z, p, theta)
+        u, Q = line_uq(ln, pr[k, 4], z, p, orient)
         later = pr[k, 2]
         f = F[later] + 0j
         MQ = M[later] - cross(Q, f)
-        set_pair(pr, ln, k, -dot(1j * u, f), -MQ, -dot(u, f), z, p, theta, F, M, lam)
+        set_pair(pr, ln, k, -dot(1j * u, f), -MQ, -dot(u, f), z, p, orient, F, M, lam)
 
 
-def inner_revolute(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
+def inner_revolute(gr, g, gb, gd, pr, ln, z, p, orient, F, M, lam):
     """A dyad whose sides are hinged to each other at J (RRR, RRP, PRP): the closed form of :mod:`.groups`."""
     a0, an, b0, bn = gr[g, GR_A0], gr[g, GR_AN], gr[g, GR_B0], gr[g, GR_BN]
     oa, ob, ir = gr[g, GR_OA], gr[g, GR_OB], gr[g, GR_INNER]
@@ -212,7 +216,7 @@ def inner_revolute(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
         ea = d / ad
         Ka = 1j * ea * (-MaJ / ad)
     else:
-        u, Qa = line_uq(ln, pr[oa, 4], z, p, theta)
+        u, Qa = line_uq(ln, pr[oa, 4], z, p, orient)
         ea = 1j * u
         Ka = 0j * ea
     Qb = J
@@ -222,7 +226,7 @@ def inner_revolute(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
         eb = d / bd
         Kb = 1j * eb * (-MbJ / bd)
     else:
-        u, Qb = line_uq(ln, pr[ob, 4], z, p, theta)
+        u, Qb = line_uq(ln, pr[ob, 4], z, p, orient)
         eb = 1j * u
         Kb = 0j * eb
     G = -(Fa + Fb + Ka + Kb)
@@ -231,28 +235,28 @@ def inner_revolute(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
     mub = cross(ea, G) / det
     if pr[oa, 0] == PAIR_R:
         f = Ka + mua * ea
-        set_pair(pr, ln, oa, f.real, f.imag, 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, oa, f.real, f.imag, 0.0, z, p, orient, F, M, lam)
     else:
-        set_pair(pr, ln, oa, mua, -MaJ - mua * cross(Qa - J, ea), 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, oa, mua, -MaJ - mua * cross(Qa - J, ea), 0.0, z, p, orient, F, M, lam)
     if pr[ob, 0] == PAIR_R:
         f = Kb + mub * eb
-        set_pair(pr, ln, ob, f.real, f.imag, 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, ob, f.real, f.imag, 0.0, z, p, orient, F, M, lam)
     else:
-        set_pair(pr, ln, ob, mub, -MbJ - mub * cross(Qb - J, eb), 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, ob, mub, -MbJ - mub * cross(Qb - J, eb), 0.0, z, p, orient, F, M, lam)
     if gr[g, GR_LATER_B] == 1:
         Fl, Ml = side_sum(gb, b0, bn, F, M)
     else:
         Fl, Ml = side_sum(gb, a0, an, F, M)
-    set_pair(pr, ln, ir, -Fl.real, -Fl.imag, 0.0, z, p, theta, F, M, lam)
-    driven_slides(gr, g, gd, pr, ln, z, p, theta, F, M, lam)
+    set_pair(pr, ln, ir, -Fl.real, -Fl.imag, 0.0, z, p, orient, F, M, lam)
+    driven_slides(gr, g, gd, pr, ln, z, p, orient, F, M, lam)
     return np.abs(det)
 
 
-def inner_slide(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
+def inner_slide(gr, g, gb, gd, pr, ln, z, p, orient, F, M, lam):
     """A dyad whose sides slide on each other (RPR, PPR): the closed form of :mod:`.groups`."""
     a0, an, b0, bn = gr[g, GR_A0], gr[g, GR_AN], gr[g, GR_B0], gr[g, GR_BN]
     oa, ob, ip = gr[g, GR_OA], gr[g, GR_OB], gr[g, GR_INNER]
-    u, Q = line_uq(ln, pr[ip, 4], z, p, theta)
+    u, Q = line_uq(ln, pr[ip, 4], z, p, orient)
     n = 1j * u
     Fa, Ma = side_sum(gb, a0, an, F, M)
     Fb, Mb = side_sum(gb, b0, bn, F, M)
@@ -267,31 +271,31 @@ def inner_slide(gr, g, gb, gd, pr, ln, z, p, theta, F, M, lam):
         cond = np.abs(dot(d, u)) / np.abs(d)
         Ra = al * u + beta * n
         Rb = -dot(u, Fb) * u + (-dot(n, Ft) - beta) * n
-        set_pair(pr, ln, oa, Ra.real, Ra.imag, 0.0, z, p, theta, F, M, lam)
-        set_pair(pr, ln, ob, Rb.real, Rb.imag, 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, oa, Ra.real, Ra.imag, 0.0, z, p, orient, F, M, lam)
+        set_pair(pr, ln, ob, Rb.real, Rb.imag, 0.0, z, p, orient, F, M, lam)
     else:                                     # one revolute (side r_side), one slide
         orr, op = (oa, ob) if r_side == 0 else (ob, oa)
         Fr, Fp = (Fa, Fb) if r_side == 0 else (Fb, Fa)
-        uo, Qo = line_uq(ln, pr[op, 4], z, p, theta)
+        uo, Qo = line_uq(ln, pr[op, 4], z, p, orient)
         no = 1j * uo
         No = -dot(u, Fp) / dot(u, no)
         cond = np.abs(dot(u, no))
         R = -dot(u, Fr) * u + (-dot(n, Ft) - No * dot(n, no)) * n
-        set_pair(pr, ln, orr, R.real, R.imag, 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, orr, R.real, R.imag, 0.0, z, p, orient, F, M, lam)
         Fa2, Ma2 = side_sum(gb, a0, an, F, M)
         Fb2, Mb2 = side_sum(gb, b0, bn, F, M)
         M_tot = Ma2 + Mb2 - cross(Qo, Fa2 + Fb2)        # N_o acts at Q_o: the couple balances the rest
-        set_pair(pr, ln, op, No, -M_tot, 0.0, z, p, theta, F, M, lam)
+        set_pair(pr, ln, op, No, -M_tot, 0.0, z, p, orient, F, M, lam)
     if gr[g, GR_LATER_B] == 1:
         Fl, Ml = side_sum(gb, b0, bn, F, M)
     else:
         Fl, Ml = side_sum(gb, a0, an, F, M)
-    set_pair(pr, ln, ip, -dot(n, Fl), -(Ml - cross(Q, Fl)), 0.0, z, p, theta, F, M, lam)
-    driven_slides(gr, g, gd, pr, ln, z, p, theta, F, M, lam)
+    set_pair(pr, ln, ip, -dot(n, Fl), -(Ml - cross(Q, Fl)), 0.0, z, p, orient, F, M, lam)
+    driven_slides(gr, g, gd, pr, ln, z, p, orient, F, M, lam)
     return cond
 
 
-def outputs(pr, ln, drv, sense, z, p, theta, lam, reac, nrm, cpl, frame, driver):
+def outputs(pr, ln, drv, sense, z, p, orient, lam, reac, nrm, cpl, frame, driver):
     """The result rows of a solved sample: per pair the reaction force (x, y), the slide's normal force and
     couple; the resultant load on the frame (x, y, moment about the origin); each input's driving effort."""
     frame[0] = 0.0 * frame[0]
@@ -311,7 +315,7 @@ def outputs(pr, ln, drv, sense, z, p, theta, lam, reac, nrm, cpl, frame, driver)
             nrm[k] = np.nan + 0.0 * lam[c]
             cpl[k] = lam[c]
         else:
-            u, Q = line_uq(ln, pr[k, 4], z, p, theta)
+            u, Q = line_uq(ln, pr[k, 4], z, p, orient)
             f = lam[c] * 1j * u
             mo = cross(Q, f) + lam[c + 1]
             nrm[k] = lam[c]

@@ -52,10 +52,10 @@ def lever(plan, params=None, inputs=None, *, speeds=None, point_loads=None, stat
     n = math.prod(shape)
     tables, prog = force_tables(plan), program_of(plan)
     z, v, a, p = state_rows(state, n)
-    theta, omega, alpha = body_rows(prog, z, v, a, p)
+    orient, omega, alpha = body_rows(prog, z, v, a, p)
     q0 = np.broadcast_to(state.inputs, shape + (plan.n_inputs,)).reshape(n, -1)[:, 0]
     with np.errstate(all="ignore"):
-        items = applied_items(tables, prog, z, v, a, p, theta, omega, alpha, q0, point_loads, shape)
+        items = applied_items(tables, prog, z, v, a, p, orient, omega, alpha, q0, point_loads, shape)
     graph = plan.structure.graph
     pts, imgs, fs, names = [], [], [], []
     couples = np.zeros(n)

@@ -34,7 +34,7 @@ def _add(F, M, b, force, at, moment=0.0):
     M[b] = M[b] + K.cross(at, force) + moment
 
 
-def applied_items(t: ForceTables, prog, z, v, a, p, theta, omega, alpha, q0, point_loads, shape, *,
+def applied_items(t: ForceTables, prog, z, v, a, p, orient, omega, alpha, q0, point_loads, shape, *,
                   kernel_loads: bool = True):
     """Every applied load on the rows of N samples, as (body, force (N,) complex, point of application (N,)
     complex, couple (N,)): with ``kernel_loads`` gravity, d'Alembert inertia and the constant loads (the ones
@@ -44,7 +44,7 @@ def applied_items(t: ForceTables, prog, z, v, a, p, theta, omega, alpha, q0, poi
     if kernel_loads:
         for b in prog.massive:
             f, c, couple = K.mass_load(b, prog.mass, prog.inertia, prog.idef, prog.ipts, prog.cpts, prog.cw,
-                                       prog.coff, prog.gravity, z, v, a, theta, omega, alpha)
+                                       prog.coff, prog.gravity, z, v, a, orient, omega, alpha)
             items.append((int(b), f, c, couple))
     for load in t.dynamics.loads:
         if not (kernel_loads or load.law is not None or load.opposes is not None):
@@ -87,7 +87,7 @@ def _load_value(t: ForceTables, load, q):
     return cols[0] + 1j * cols[1] if ys.shape[1] == 2 else cols[0]
 
 
-def friction_loads(t: ForceTables, prog, z, v, p, theta, omega, lam, F, M) -> None:
+def friction_loads(t: ForceTables, prog, z, v, p, orient, omega, lam, F, M) -> None:
     """The Coulomb friction loads from the reactions ``lam (n_unknowns, N)``, added to the rows ``F``, ``M``."""
     fr = t.dynamics.friction
     for fp in t.pairs:
@@ -106,7 +106,7 @@ def friction_loads(t: ForceTables, prog, z, v, p, theta, omega, lam, F, M) -> No
                 continue
             rec = t.plan.lines[fp.line]
             guide, slider, through = rec[2], rec[3], t.plan.point_index(rec[4])
-            u, Q = K.line_uq(prog.ln, fp.line, z, p, theta)
+            u, Q = K.line_uq(prog.ln, fp.line, z, p, orient)
             vQ = v[prog.ln[fp.line, 3]]
             v_guide = v[through] + 1j * omega[guide] * (Q - z[through])
             v_rel = K.dot(u, vQ - v_guide)
