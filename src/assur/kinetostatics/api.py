@@ -60,6 +60,12 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
     if method not in METHODS:
         raise SpecError([("method", f"must be one of {', '.join(METHODS)}: {method!r}")])
     if isinstance(plan, SpatialPlan):
+        dyn = plan.mechanism.dynamics
+        if point_loads:
+            raise SpecError([("point_loads", "extra point loads are not modelled for spatial mechanisms: give them "
+                                             "as [[loads]] in the file")])
+        if friction and dyn is not None and dyn.friction.any:
+            raise SpecError([("dynamics.friction", "friction is not modelled for spatial mechanisms (planar only)")])
         from .spatial import spatial_forces
         return spatial_forces(plan, params, inputs, speeds=speeds, accels=accels, state=state,
                               tolerances=tolerances)

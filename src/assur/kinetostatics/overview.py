@@ -65,7 +65,7 @@ def force_cycle(plan, params=None, *, steps: int = CYCLE_STEPS, friction: bool =
     """The forces over one cycle of a one-driver plan (see the module docstring)."""
     q, turn = cycle_inputs(plan, steps)
     f = forces(plan, params, q[:, None], friction=friction)
-    drive = drive_summary(f, q, turn=turn) if plan.dimension == 2 else None
+    drive = drive_summary(f, q, turn=turn)
     g = plan.mechanism.gait
     gait = None
     if plan.dimension == 2 and turn and g is not None and getattr(g, "weight", None) is not None:
@@ -107,12 +107,6 @@ def force_summary(cycle: ForceCycle, *, friction: bool = False) -> dict:
                                                 "energy", "energy_fluctuation")})
         out["flywheel_delta"] = FLYWHEEL_DELTA
         out["flywheel_inertia"] = d.flywheel_inertia(FLYWHEEL_DELTA) if d.rotary and d.speed else None
-    else:   # a spatial result: the same quantities straight from the samples
-        speed = float(np.broadcast_to(f.qdot, f.driver.shape)[0, 0])
-        ok = np.isfinite(Q)
-        out.update({"speed": speed, "peak": _peak(np.abs(Q)),
-                    "rms": float(np.sqrt(np.mean(Q ** 2))) if ok.all() else math.nan,
-                    "mean": float(np.mean(Q)) if ok.all() else math.nan, "power_peak": _peak(np.abs(Q * speed))})
     out["shaking_force_peak"] = _peak(_norm(f.frame_force, nb))
     out["shaking_moment_peak"] = _peak(_norm(f.frame_moment, nb))
     mags = _norm(f.reactions, nb + 1)
