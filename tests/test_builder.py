@@ -19,7 +19,10 @@ def walker_fourbar():
             .place("coupler", "H", origin="L", toward="K", distance=0.654, angle=70.8)
             .crank("crank", pivot="O", arm="K", zero=0, sense="ccw", speed="27 rpm", name="crank")
             .branch("L", "right", of=("K", "O1"))
-            .gait("H", ground=[1, 0], up=[0, 1], phases=[0, 180]))
+            .gait("H", ground=[1, 0], up=[0, 1], phases=[0, 180], weight="300 N")
+            .mass("crank", "0.6358 kg", com="mid").mass("rocker", "1.5025 kg", com="mid")
+            .mass("coupler", "3.0709 kg", com=[0.719869, -0.100082], inertia="0.21831 kg*m^2")
+            .dynamics(gravity=(0, -9.81)))
 
 
 def slider_crank():
@@ -109,6 +112,8 @@ def test_builder_spatial_dimension_from_the_points():
     for d in doc["drivers"]:
         b.crank(d["link"], pivot=d["pivot"], arm=d.get("arm"), speed=d.get("speed"), zero=d.get("zero"),
                 sense=d.get("sense"), name=d.get("name"))
+    for load in doc["loads"]:
+        b.load(link=load["link"], torque=load["torque"])
     m = b.build()
     assert m.dimension == 3
     ref = assur.load("examples/rssr.toml")

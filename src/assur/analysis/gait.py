@@ -317,16 +317,9 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an invalid sample."""
     g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
     x, v = pos @ g * scale, pos @ u * scale
-    n, M = x.shape
-    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
-    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
-    k = np.arange(M)
-    arc1 = np.mod(k[None, :] - ia[:, None], M) <= np.mod(ib - ia, M)[:, None]
-    arc2 = np.mod(k[None, :] - ib[:, None], M) <= np.mod(ia - ib, M)[:, None]
-    with np.errstate(all="ignore"):
-        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
-        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
-    contact = np.where((m1 <= m2)[:, None], arc1, arc2)
+    M = x.shape[1]
+    ia, ib, start, width = _sampled_arcs(x, v)
+    contact = arc_mask(start, width, M)
     out = {"step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
            "lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed
            "sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
@@ -340,6 +333,37 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
         out["speed_spread"] = (smax - smin) / smean
     bad = ~np.all(valid, axis=1)
     return {key: np.where(bad, np.nan, val) for key, val in out.items()}
+
+
+def population_contact(pos, *, ground, up) -> tuple[np.ndarray, np.ndarray]:
+    """The sampled contact arc of n designs, the one :func:`population_gait` uses: (start (n,), width (n,)) as
+    sample indices, the arc being the samples k with ``(k − start) mod M ≤ width`` (:func:`arc_mask`).
+    pos: (n, M, 2) foot positions at M uniform inputs over one turn; ground, up: (2,) directions."""
+    g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
+    _, _, start, width = _sampled_arcs(pos @ g, pos @ u)
+    return start, width
+
+
+def arc_mask(start, width, M: int, shift=0) -> np.ndarray:
+    """(n, M) bool: the samples k of the arcs (start (n,), width (n,) sample indices) of
+    :func:`population_contact`, read at sample ``k + shift`` (an integer: a leg ``shift`` samples ahead)."""
+    k = np.arange(M) + int(shift)
+    return np.mod(k[None, :] - np.asarray(start)[:, None], M) <= np.asarray(width)[:, None]
+
+
+def _sampled_arcs(x, v):
+    """(ia, ib, start, width) of stride and height samples x, v (n, M): the samples of smallest and largest x,
+    and the contact arc between them with the lower sample-mean height."""
+    n, M = x.shape
+    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
+    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
+    w1, w2 = np.mod(ib - ia, M), np.mod(ia - ib, M)
+    arc1, arc2 = arc_mask(ia, w1, M), arc_mask(ib, w2, M)
+    with np.errstate(all="ignore"):
+        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
+        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
+    first = m1 <= m2
+    return ia, ib, np.where(first, ia, ib), np.where(first, w1, w2)
 
 
 @dataclass(frozen=True)

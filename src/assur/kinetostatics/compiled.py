@@ -1,6 +1,6 @@
 """The compiled force backend: a plan's force solve as one straight-line numba loop, traced from :mod:`.kernel`.
 
-The kernel's functions are run once in Python on *symbolic* values (:class:`Sym`): every arithmetic
+The kernel's functions are run once in Python on *symbolic* values (:class:`R` real, :class:`C` complex as two real parts): every arithmetic
 operation on them appends one line of source, and the program's tables (which only ever decide the
 branches) are read as plain numbers. The result is the plan's force solve as straight-line scalar code
 with every table look-up resolved — the same formulas as the numpy backend, from the same text — which
@@ -28,18 +28,15 @@ class Tracer:
         self.lines: list[str] = []
         self.count = 0
 
-    def emit(self, expr: str, kind: str) -> "Sym":
+    def emit(self, expr: str) -> "R":
         name = f"t{self.count}"
         self.count += 1
         self.lines.append(f"{name} = {expr}")
-        return Sym(self, name, kind)
+        return R(self, name)
 
 
-def _lit(x) -> str:
-    """A number as source (complex, float; nan and inf spelled for numba)."""
-    if isinstance(x, (complex, np.complexfloating)):
-        x = complex(x)
-        return f"complex({_lit(x.real)}, {_lit(x.imag)})"
+def _lit(x: float) -> str:
+    """A real number as source (nan and inf spelled for numba)."""
     x = float(x)
     if math.isnan(x):
         return "np.nan"
@@ -48,59 +45,204 @@ def _lit(x) -> str:
     return repr(x)
 
 
-def _kind(*xs) -> str:
-    return "c" if any((isinstance(x, Sym) and x.kind == "c") or isinstance(x, (complex, np.complexfloating))
-                      for x in xs) else "r"
+def _src(x) -> str:
+    return x.name if isinstance(x, R) else _lit(x)
 
 
-class Sym:
-    """A symbolic scalar (kind 'r' real or 'c' complex): operations append source lines to the tracer."""
+def _tracer(*xs) -> Tracer:
+    for x in xs:
+        if isinstance(x, R):
+            return x.t
+        if isinstance(x, C):
+            for part in (x.re, x.im):
+                if isinstance(part, R):
+                    return part.t
+    raise AssertionError("no symbolic operand")
+
+
+# real operations with constant folding: a product with an exact zero is zero, with one the other factor
+def _add(a, b):
+    if not isinstance(a, R) and not isinstance(b, R):
+        return float(a) + float(b)
+    if not isinstance(a, R) and a == 0.0:
+        return b
+    if not isinstance(b, R) and b == 0.0:
+        return a
+    return _tracer(a, b).emit(f"{_src(a)} + {_src(b)}")
+
+
+def _neg(a):
+    return -float(a) if not isinstance(a, R) else a.t.emit(f"-{a.name}")
+
+
+def _sub(a, b):
+    if not isinstance(a, R) and not isinstance(b, R):
+        return float(a) - float(b)
+    if not isinstance(b, R) and b == 0.0:
+        return a
+    if not isinstance(a, R) and a == 0.0:
+        return _neg(b)
+    return _tracer(a, b).emit(f"{_src(a)} - {_src(b)}")
+
+
+def _mul(a, b):
+    if not isinstance(a, R) and not isinstance(b, R):
+        return float(a) * float(b)
+    for x, y in ((a, b), (b, a)):
+        if not isinstance(x, R):
+            if x == 0.0:
+                return 0.0
+            if x == 1.0:
+                return y
+            if x == -1.0:
+                return _neg(y)
+    return _tracer(a, b).emit(f"{_src(a)} * {_src(b)}")
+
+
+def _div(a, b):
+    if not isinstance(a, R) and not isinstance(b, R):
+        with np.errstate(all="ignore"):
+            return float(np.divide(float(a), float(b)))
+    if not isinstance(b, R) and b == 1.0:
+        return a
+    if not isinstance(a, R) and a == 0.0:
+        return 0.0
+    return _tracer(a, b).emit(f"{_src(a)} / {_src(b)}")
+
+
+def _call(fn: str, a):
+    return a.t.emit(f"{fn}({a.name})")
+
+
+def _c(x) -> "C":
+    """Any operand as a complex pair."""
+    if isinstance(x, C):
+        return x
+    if isinstance(x, R):
+        return C(x, 0.0)
+    x = complex(x)
+    return C(x.real, x.imag)
+
+
+def _is_complex(x) -> bool:
+    return isinstance(x, (C, complex, np.complexfloating))
+
+
+class _Ops:
+    """Arithmetic shared by real and complex symbols: a complex operand makes the result complex."""
     __array_priority__ = 1000
 
-    def __init__(self, tracer: Tracer, name: str, kind: str):
-        self.t, self.name, self.kind = tracer, name, kind
-
-    @staticmethod
-    def _s(x) -> str:
-        return x.name if isinstance(x, Sym) else _lit(x)
-
-    def _bin(self, op, other, reverse=False):
-        a, b = (other, self) if reverse else (self, other)
-        return self.t.emit(f"{self._s(a)} {op} {self._s(b)}", _kind(a, b))
-
-    def __add__(self, o): return self._bin("+", o)
-    def __radd__(self, o): return self._bin("+", o, True)
-    def __sub__(self, o): return self._bin("-", o)
-    def __rsub__(self, o): return self._bin("-", o, True)
-    def __mul__(self, o): return self._bin("*", o)
-    def __rmul__(self, o): return self._bin("*", o, True)
-    def __truediv__(self, o): return self._bin("/", o)
-    def __rtruediv__(self, o): return self._bin("/", o, True)
-    def __neg__(self): return self.t.emit(f"-{self.name}", self.kind)
-    def __abs__(self): return self.t.emit(f"abs({self.name})", "r")
-
-    @property
-    def real(self):
-        return self.t.emit(f"{self.name}.real", "r") if self.kind == "c" else self
-
-    @property
-    def imag(self):
-        return self.t.emit(f"{self.name}.imag", "r") if self.kind == "c" else 0.0
-
-    def conjugate(self):
-        return self.t.emit(f"{self.name}.conjugate()", "c") if self.kind == "c" else self
-
-    def sqrt(self):
-        return self.t.emit(f"math.sqrt({self.name})" if self.kind == "r" else f"np.sqrt({self.name})", self.kind)
-
-    def exp(self):
-        return self.t.emit(f"np.exp({self.name})", self.kind)
-
-    def arctan2(self, other):
-        return self.t.emit(f"math.atan2({self.name}, {self._s(other)})", "r")
+    def __add__(self, o): return _cadd(self, o)
+    def __radd__(self, o): return _cadd(o, self)
+    def __sub__(self, o): return _csub(self, o)
+    def __rsub__(self, o): return _csub(o, self)
+    def __mul__(self, o): return _cmul(self, o)
+    def __rmul__(self, o): return _cmul(o, self)
+    def __truediv__(self, o): return _cdiv(self, o)
+    def __rtruediv__(self, o): return _cdiv(o, self)
 
     def __bool__(self):
         raise TypeError("a traced force kernel branched on a value (only tables may decide branches)")
+
+
+class R(_Ops):
+    """A real symbol: a named temporary of the generated source."""
+
+    def __init__(self, tracer: Tracer, name: str):
+        self.t, self.name = tracer, name
+
+    def __neg__(self): return _neg(self)
+    def __abs__(self): return _call("abs", self)
+
+    @property
+    def real(self):
+        return self
+
+    @property
+    def imag(self):
+        return 0.0
+
+    def conjugate(self):
+        return self
+
+    def sqrt(self):
+        return _call("math.sqrt", self)
+
+    def exp(self):
+        return _call("math.exp", self)
+
+
+class C(_Ops):
+    """A complex symbol as two real parts (each a symbol or a constant): the generated code is real arithmetic,
+    and a zero part costs nothing."""
+
+    def __init__(self, re, im):
+        self.re, self.im = re, im
+
+    def __neg__(self): return C(_neg(self.re), _neg(self.im))
+
+    def __abs__(self):
+        return _sqrt(_add(_mul(self.re, self.re), _mul(self.im, self.im)))
+
+    @property
+    def real(self):
+        return self.re
+
+    @property
+    def imag(self):
+        return self.im
+
+    def conjugate(self):
+        return C(self.re, _neg(self.im))
+
+    def sqrt(self):
+        raise TypeError("the force kernel takes no complex square roots")
+
+    def exp(self):
+        er = 1.0 if not isinstance(self.re, R) and self.re == 0.0 else _exp(self.re)
+        if not isinstance(self.im, R):
+            return C(_mul(er, math.cos(self.im)), _mul(er, math.sin(self.im)))
+        return C(_mul(er, _call("math.cos", self.im)), _mul(er, _call("math.sin", self.im)))
+
+
+def _sqrt(a):
+    return math.sqrt(a) if not isinstance(a, R) else a.sqrt()
+
+
+def _exp(a):
+    return math.exp(a) if not isinstance(a, R) else a.exp()
+
+
+def _cadd(a, b):
+    if not (_is_complex(a) or _is_complex(b)):
+        return _add(a, b)
+    a, b = _c(a), _c(b)
+    return C(_add(a.re, b.re), _add(a.im, b.im))
+
+
+def _csub(a, b):
+    if not (_is_complex(a) or _is_complex(b)):
+        return _sub(a, b)
+    a, b = _c(a), _c(b)
+    return C(_sub(a.re, b.re), _sub(a.im, b.im))
+
+
+def _cmul(a, b):
+    if not (_is_complex(a) or _is_complex(b)):
+        return _mul(a, b)
+    a, b = _c(a), _c(b)
+    return C(_sub(_mul(a.re, b.re), _mul(a.im, b.im)), _add(_mul(a.re, b.im), _mul(a.im, b.re)))
+
+
+def _cdiv(a, b):
+    if not (_is_complex(a) or _is_complex(b)):
+        return _div(a, b)
+    a, b = _c(a), _c(b)
+    if not isinstance(b.im, R) and b.im == 0.0:
+        return C(_div(a.re, b.re), _div(a.im, b.re))
+    n2 = _add(_mul(b.re, b.re), _mul(b.im, b.im))
+    num = _cmul(a, C(b.re, _neg(b.im)))
+    return C(_div(num.re, n2), _div(num.im, n2))
 
 
 def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
@@ -113,15 +255,15 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     z, v, a = [], [], []
     for i in range(n_points):
         for arr, name, out in ((z, "pos", "z"), (v, "vel", "v"), (a, "acc", "a")):
-            head.append(f"{out}{i} = complex({name}[{i}, 0, s], {name}[{i}, 1, s])")
-            arr.append(Sym(tr, f"{out}{i}", "c"))
+            head += [f"{out}x{i} = {name}[{i}, 0, s]", f"{out}y{i} = {name}[{i}, 1, s]"]
+            arr.append(C(R(tr, f"{out}x{i}"), R(tr, f"{out}y{i}")))
     p = []
     for k in range(n_params):
         head.append(f"p{k} = P[r, {k}]")
-        p.append(Sym(tr, f"p{k}", "r"))
+        p.append(R(tr, f"p{k}"))
     nb = prog.ang.shape[0]
-    orient, omega, alpha = [1 + 0j] * nb, [0.0] * nb, [0.0] * nb
-    F, M = [0j] * nb, [0.0] * nb
+    orient, omega, alpha = [C(1.0, 0.0)] * nb, [0.0] * nb, [0.0] * nb
+    F, M = [C(0.0, 0.0)] * nb, [0.0] * nb
     lam = [0.0] * prog.n_unknowns
     K.body_motion(prog.ang_order, prog.ang, prog.ang_param, prog.ang_off, z, v, a, p, orient, omega, alpha)
     K.mass_loads(prog.massive, prog.mass, prog.inertia, prog.idef, prog.ipts, prog.cpts, prog.cw, prog.coff,
@@ -142,7 +284,7 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     reac, nrm, cpl = np.empty((n_pairs, 2), object), np.empty(n_pairs, object), np.empty(n_pairs, object)
     frame, driver = np.zeros(3, object), np.empty(n_inputs, object)
     K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, orient, lam, reac, nrm, cpl, frame, driver)
-    s_ = Sym._s
+    s_ = _src
     tail = [f"reac[{k}, {j}, s] = {s_(reac[k, j])}" for k in range(n_pairs) for j in range(2)]
     tail += [f"nrm[{k}, s] = {s_(nrm[k])}" for k in range(n_pairs)]
     tail += [f"cpl[{k}, s] = {s_(cpl[k])}" for k in range(n_pairs)]
@@ -152,7 +294,7 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     for c in conds:
         tail.append(f"c = c if {s_(c)} >= c else {s_(c)}")
     for x in lam:
-        if isinstance(x, Sym):
+        if isinstance(x, R):
             tail.append(f"if not math.isfinite({x.name}):\n            c = np.nan")
     tail.append("cond[s] = c")
     body = "\n".join("        " + line for line in head + tr.lines + tail)

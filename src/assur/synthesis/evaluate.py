@@ -81,7 +81,9 @@ class Evaluator:
         self._param_index = [(p.plan.param_index(name), name, e) for name, e in p.parameters]
         quantities = {t.quantity for t in p.terms} | {lim.quantity for lim in p.limits}
         self._order = 2 if "acceleration" in quantities else 0
-        self._cycle_order = 1 if any(q.startswith("gait.speed") for q in quantities) else 0
+        # forces.* need the accelerations (d'Alembert loads), gait speeds the first derivatives
+        self._cycle_order = (2 if any(q.startswith("forces.") for q in quantities)
+                             else 1 if any(q.startswith("gait.speed") for q in quantities) else 0)
         self._quantities = quantities
         from ..engine.planar.numba_backend import covers
         t = p.targets
@@ -249,6 +251,8 @@ class Evaluator:
             Q["_path_distances"] = _polyline_distance(path, prob.targets.xy) * ls
         if any(k.startswith("gait.") for k in self._quantities):
             Q.update(_sampled_gait(plan, st, ls))
+        if any(k.startswith("forces.") for k in self._quantities):
+            Q.update(_sampled_forces(plan, st, valid, self.backend))
         if "transmission.min" in self._quantities:
             from ..analysis.transmission import transmission_angles
             from ..io.units import ANGLE
@@ -331,6 +335,44 @@ def _sampled_gait(plan, st, ls):
     w = abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0
     out = population_gait(st.pos[:, :, i, :], st.valid, dpos, ground=ground, up=up, omega=w, scale=ls)
     return {f"gait.{k}": v for k, v in out.items()}
+
+
+def _sampled_forces(plan, st, valid, backend) -> dict:
+    """``forces.*`` of every design from the cycle samples st (D, M) solved with order 2 (SI: N·m or N, N).
+
+    One leg (no ``[gait]``, or one phase): its driving effort. A walking module (``[gait] phases``): the
+    common shaft's, Σ over the legs of the leg's effort at q + phase. With ``[gait] weight`` each foot carries
+    its share of the weight on the design's sampled contact arc
+    (:func:`assur.kinetostatics.gait.population_foot_loads`). NaN for a design with an unassembled or
+    singular sample."""
+    from ..kinetostatics import forces
+    from ..kinetostatics.gait import phase_shifts, population_foot_loads
+    g = plan.mechanism.gait
+    D, M = valid.shape
+    phases = g.phases if g is not None else (0.0,)
+    shifts = phase_shifts(phases, M)
+    legs = [(int(s), None) for s in shifts]
+    if g is not None and g.weight is not None:
+        foot, ground, up = resolve_gait(plan)
+        pos = st.pos[:, :, plan.point_index(foot), :]
+        loads = population_foot_loads(pos, valid, phases, g.weight, up, ground)       # (D, M, legs, 2)
+        # leg k at its own sample i = j + s_k carries the load of module sample j
+        legs = [(int(s), np.roll(loads[:, :, k], s, axis=1)) for k, s in enumerate(shifts)]
+    torque, reaction, unloaded = np.zeros((D, M)), np.full(D, -np.inf), None
+    with np.errstate(all="ignore"):
+        for s, load in legs:
+            if load is None and unloaded is not None:
+                f = unloaded
+            else:
+                f = forces(plan, state=st, point_loads=None if load is None else [(foot, load)], backend=backend)
+                unloaded = f if load is None else None
+            torque = torque + np.roll(f.driver[..., 0], -s, axis=1)                  # module sample j
+            reaction = np.maximum(reaction, np.max(f.magnitudes[..., f.joint_pairs], axis=(1, 2)))
+        bad = ~np.all(valid, axis=1)
+        out = {"forces.torque_peak": np.max(np.abs(torque), axis=1),
+               "forces.torque_rms": np.sqrt(np.mean(torque * torque, axis=1)),
+               "forces.reaction_peak": reaction}
+    return {k: np.where(bad, np.nan, v) for k, v in out.items()}
 
 
 __all__ = ["Evaluation", "Evaluator", "default_backend"]

@@ -45,6 +45,7 @@ from ..io.mechanism_file import load
 from ..io.problems import Problems
 from ..io.toml_reader import read_toml
 from ..io.units import ANGLE, LENGTH
+from ..kinetostatics.gait import phase_shifts
 from ..model.mechanism import Mechanism
 
 FORMAT = "assur-synth/1"
@@ -64,7 +65,13 @@ QUANTITIES = {
     "gait.speed_mean": "mean foot speed over the contact arc (length unit per second)",
     "transmission.min": "smallest transmission angle over the cycle, folded to [0°, 90°] (angle unit)",
     "unbuildable": "share of the cycle that cannot be assembled",
+    "forces.torque_peak": "largest |driving torque| over the cycle (N·m; N for a linear driver; a walking "
+                          "module's shaft torque)",
+    "forces.torque_rms": "RMS of the driving torque over the cycle (N·m; N for a linear driver)",
+    "forces.reaction_peak": "largest joint reaction magnitude over all joints and the cycle (N)",
 }
+#: the quantity families that sample the whole input cycle (and so imply the buildable constraint)
+CYCLE_FAMILIES = ("gait.", "transmission.", "forces.")
 CONSTRAINTS = {
     "assembly": "every target position can be assembled (always active)",
     "buildable": "the whole input cycle can be assembled (sampled at cycle_samples)",
@@ -187,7 +194,7 @@ class Problem:
         """Whether an evaluation samples the whole input cycle (buildability, gait, transmission, path)."""
         q = {t.quantity for t in self.terms} | {lim.quantity for lim in self.limits}
         return ("buildable" in self.constraints or (self.targets is not None and self.targets.timing == "path")
-                or any(s.startswith(("gait.", "transmission.")) or s == "unbuildable" for s in q))
+                or any(s.startswith(CYCLE_FAMILIES) or s == "unbuildable" for s in q))
 
 
 # -- reading ------------------------------------------------------------------------------------------
@@ -346,8 +353,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     use = [c for c in use if c in CONSTRAINTS]
     implied = []   # a path without timing, gait and transmission quantities need the whole cycle
     named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
-    if (targets is not None and targets.timing == "path") or any(
-            q.startswith(("gait.", "transmission.")) for q in named):
+    if (targets is not None and targets.timing == "path") or any(q.startswith(CYCLE_FAMILIES) for q in named):
         implied.append("buildable")
     constraints = tuple(dict.fromkeys(["assembly", *use, *implied]))
     fourbar = []
@@ -383,6 +389,8 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         samples = 360
     offset = number("options.infeasible_offset", opts.get("infeasible_offset", 1e7)) or 1e7
     vw = number("options.violation_weight", opts.get("violation_weight", 1e3)) or 1e3
+    _check_forces(mechanism, [(f"objective.terms[{i}]", t) for i, t in enumerate(obj.get("terms", []))]
+                  + [(f"constraints.limits[{i}]", t) for i, t in enumerate(con.get("limits", []))], samples, P)
     if not (deviation != "none" or terms):
         P.add("objective", "nothing to minimise: give a deviation or terms")
     for vn in sorted(unused):
@@ -403,6 +411,29 @@ def _did_you_mean(name: str, known) -> str:
     import difflib
     close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
     return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _check_forces(mechanism, items, samples, P) -> None:
+    """A forces.* quantity needs something to carry (masses, loads or a walking leg's body weight), a planar
+    mechanism, and a walking module's leg phases on the cycle samples."""
+    dyn, gait = mechanism.dynamics, mechanism.gait
+    loaded = (dyn is not None and (dyn.has_mass or bool(dyn.loads))) or (gait is not None and gait.weight is not None)
+    used = False
+    for where, t in items:
+        q = t.get("quantity") if isinstance(t, dict) else None
+        if not (isinstance(q, str) and q.startswith("forces.") and q in QUANTITIES):
+            continue
+        used = True
+        if mechanism.dimension != 2:
+            P.add(f"{where}.quantity", f"{q} needs a planar mechanism")
+        elif not loaded:
+            P.add(f"{where}.quantity", f"{q} needs masses, loads or [gait] weight in the mechanism (mass on "
+                                       "[links.X], [[loads]], [gait] weight); without them every force is zero")
+    if used and gait is not None and isinstance(samples, int) and samples > 0:
+        try:
+            phase_shifts(gait.phases, samples)
+        except SpecError as exc:
+            P.add("options.cycle_samples", f"forces.* quantities: {exc.problems[0][1]}")
 
 
 def _quantity_item(t, where, keys, expression, number, P, targets):
