@@ -78,6 +78,7 @@ def draw_arrows(ax, plan, at: float, params=None) -> None:
     reac = [complex(*f.reactions[0, k, :2]) for k in f.joint_pairs]
     applied = list(lv.forces[0])
     k_ = _arrow_scale(span, reac + applied)
+    tips = []              # the arrows' heads: the limits include them (an arrow is never clipped)
     for k, r in zip(f.joint_pairs, reac):
         name = f.pair_names[k]
         if f.pair_kinds[k] == "R":
@@ -89,15 +90,17 @@ def draw_arrows(ax, plan, at: float, params=None) -> None:
             ax.annotate("", xy=(p[0] + k_ * r.real, p[1] + k_ * r.imag), xytext=(p[0], p[1]),
                         arrowprops=dict(arrowstyle="->", color="C0", linewidth=1.4))
             ax.text(p[0] + k_ * r.real, p[1] + k_ * r.imag, f" {abs(r):.3g} N", color="C0", fontsize=7)
+            tips.append((p[0] + k_ * r.real, p[1] + k_ * r.imag))
     for z, F in zip(lv.points[0], applied):
         if np.isfinite(F) and F:
             ax.annotate("", xy=(z.real * s + k_ * F.real, z.imag * s + k_ * F.imag), xytext=(z.real * s, z.imag * s),
                         arrowprops=dict(arrowstyle="->", color="C3", linewidth=1.4))
+            tips.append((z.real * s + k_ * F.real, z.imag * s + k_ * F.imag))
     fac, iu = _input_scale(plan)
     ax.set_title(f"forces at {plan.input_names[0]} = {at / fac:.4g} {iu} (blue: reactions, red: applied)")
     ax.set_xlabel(f"x [{length_unit(plan)}]")
     ax.set_ylabel(f"y [{length_unit(plan)}]")
-    set_limits(ax, pts)
+    set_limits(ax, np.vstack([pts] + ([np.array(tips)] if tips else [])))
     ax.set_aspect("equal")
 
 
@@ -110,18 +113,21 @@ def draw_lever(ax, plan, at: float, params=None) -> float:
     ax.annotate("pole", (0.0, 0.0), textcoords="offset points", xytext=(4, 4), fontsize=7)
     span = max([abs(z) for z in img if np.isfinite(z)] + [1e-12])
     k_ = _arrow_scale(span * 2.0, list(F))
+    tips = []
     for n, (z, f, name) in enumerate(zip(img, F, lv.bodies)):
         ax.plot([0.0, z.real], [0.0, z.imag], color="0.7", linewidth=0.8)
         ax.plot([z.real], [z.imag], "o", color=f"C{n % 10}", markersize=3)
         ax.annotate("", xy=(z.real + k_ * f.real, z.imag + k_ * f.imag), xytext=(z.real, z.imag),
                     arrowprops=dict(arrowstyle="->", color="C3", linewidth=1.2))
         ax.annotate(name, (z.real, z.imag), textcoords="offset points", xytext=(3, -8), fontsize=6)
+        if np.isfinite(f):
+            tips.append([z.real + k_ * f.real, z.imag + k_ * f.imag])
     m = float(lv.moment[0])
     fac, iu = _input_scale(plan)
     ax.set_title(f"Zhukovsky's lever at {at / fac:.4g} {iu}: Σ moment = {m:.4g} W (= driver × speed)", fontsize=9)
     ax.set_xlabel("i·v, x [m/s]")
     ax.set_ylabel("i·v, y [m/s]")
-    pts = np.array([[z.real, z.imag] for z in img if np.isfinite(z)] + [[0.0, 0.0]])
+    pts = np.array([[z.real, z.imag] for z in img if np.isfinite(z)] + [[0.0, 0.0]] + tips)
     set_limits(ax, pts, margin=0.3)
     ax.set_aspect("equal")
     return m
