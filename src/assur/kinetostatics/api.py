@@ -132,16 +132,17 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
             if change <= tol.friction_change * max(size, 1e-300):
                 converged = True
                 break
-    n_pairs = prog.pr.shape[0]
-    reac, nrm, cpl = np.empty((n_pairs, 2, n)), np.empty((n_pairs, n)), np.empty((n_pairs, n))
+    n_pairs, n_slides = prog.pr.shape[0], int(np.sum(prog.slide_of >= 0))
+    reac, slides = np.empty((n_pairs, 2, n)), np.empty((n_slides, 2, n))
     frame, driver = np.empty((3, n)), np.empty((plan.n_inputs, n))
     with np.errstate(all="ignore"):
-        K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, orient, lam, reac, nrm, cpl, frame, driver)
-    return _result(plan, state, np.moveaxis(reac, -1, 0), nrm.T, cpl.T, frame.T, driver.T, cond, lam.T,
-                   iterations=iterations, converged=converged, method=method, tol=tol)
+        K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, prog.slide_of, z, p, orient, lam, reac, slides, frame,
+                  driver)
+    return _result(plan, state, np.moveaxis(reac, -1, 0), np.moveaxis(slides, -1, 0), frame.T, driver.T, cond,
+                   lam.T, iterations=iterations, converged=converged, method=method, tol=tol)
 
 
-def _result(plan, state, reac, nrm, cpl, frame, driver, cond, lam, *, iterations, converged, method, tol) -> Forces:
+def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, converged, method, tol) -> Forces:
     """The Forces of flat arrays (N, …): singular samples (a group's condition below the tolerance, or a
     non-finite unknown) and unassembled ones are NaN."""
     shape = state.shape
@@ -151,20 +152,20 @@ def _result(plan, state, reac, nrm, cpl, frame, driver, cond, lam, *, iterations
         singular |= valid & ~np.all(np.isfinite(lam), axis=-1)
     bad = ~valid | singular
     if bad.any():
-        for arr in (reac, nrm, cpl, frame, driver):
+        for arr in (reac, slides, frame, driver):
             arr[bad] = np.nan
     qdot = np.asarray(state.qdot, dtype=float)
     driver = driver.reshape(shape + (plan.n_inputs,))
     power = np.einsum("...k,...k->...", driver, np.broadcast_to(qdot, driver.shape))
-    tables = force_tables(plan)
+    tables, prog = force_tables(plan), program_of(plan)
     names = plan.body_names
     n_pairs = len(tables.pairs)
+    rows = tuple(int(k) for k in np.flatnonzero(prog.slide_of >= 0))
     return Forces(plan=plan, inputs=np.broadcast_to(state.inputs, shape + (plan.n_inputs,)), qdot=qdot,
                   pair_kinds=tuple(fp.kind for fp in tables.pairs), pair_names=tuple(fp.name for fp in tables.pairs),
                   pair_bodies=tuple((names[fp.earlier], names[fp.later]) for fp in tables.pairs),
-                  reactions=reac.reshape(shape + (n_pairs, 2)), couples=cpl.reshape(shape + (n_pairs,)),
-                  normal=nrm.reshape(shape + (n_pairs,)), driver=driver, power=power,
+                  reactions=reac.reshape(shape + (n_pairs, 2)), driver=driver, power=power,
                   frame_force=frame[:, :2].reshape(shape + (2,)), frame_moment=frame[:, 2].reshape(shape),
                   condition=np.where(valid, cond, np.nan).reshape(shape), valid=(valid & ~singular).reshape(shape),
                   singular=singular.reshape(shape), iterations=iterations, converged=converged, method=method,
-                  state=state)
+                  state=state, slides=(rows, slides.reshape(shape + (len(rows), 2))))

@@ -246,7 +246,7 @@ def _cdiv(a, b):
 
 
 def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
-    """The numba source of ``kernel(pos, vel, acc, P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond)``: per
+    """The numba source of ``kernel(pos, vel, acc, P, pdiv, pmod, reac, slides, frame, driver, cond)``: per
     sample s, the parameters P[(s // pdiv) % pmod], the outputs as :func:`.kernel.outputs` writes them, and the
     condition measure (NaN where an unknown is not finite). Arrays are sample-last (structure of arrays, the
     layout of the compiled kinematics): ``pos (n_points, 2, N)``, ``reac (n_pairs, 2, N)``, ``frame (3, N)`` …"""
@@ -281,13 +281,13 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
         else:
             raise ValueError("a generic group has no compiled form")
     n_pairs = prog.pr.shape[0]
-    reac, nrm, cpl = np.empty((n_pairs, 2), object), np.empty(n_pairs, object), np.empty(n_pairs, object)
+    n_slides = int(np.sum(prog.slide_of >= 0))
+    reac, slides = np.empty((n_pairs, 2), object), np.empty((n_slides, 2), object)
     frame, driver = np.zeros(3, object), np.empty(n_inputs, object)
-    K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, z, p, orient, lam, reac, nrm, cpl, frame, driver)
+    K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, prog.slide_of, z, p, orient, lam, reac, slides, frame, driver)
     s_ = _src
     tail = [f"reac[{k}, {j}, s] = {s_(reac[k, j])}" for k in range(n_pairs) for j in range(2)]
-    tail += [f"nrm[{k}, s] = {s_(nrm[k])}" for k in range(n_pairs)]
-    tail += [f"cpl[{k}, s] = {s_(cpl[k])}" for k in range(n_pairs)]
+    tail += [f"slides[{k}, {j}, s] = {s_(slides[k, j])}" for k in range(n_slides) for j in range(2)]
     tail += [f"frame[{j}, s] = {s_(frame[j])}" for j in range(3)]
     tail += [f"driver[{i}, s] = {s_(driver[i])}" for i in range(n_inputs)]
     tail.append("c = 1.0")
@@ -300,7 +300,7 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     body = "\n".join("        " + line for line in head + tr.lines + tail)
     return ("import math\nimport numpy as np\nfrom numba import njit\n\n\n"
             "@njit(cache=True, error_model='numpy')\n"
-            "def kernel(pos, vel, acc, P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond):\n"
+            "def kernel(pos, vel, acc, P, pdiv, pmod, reac, slides, frame, driver, cond):\n"
             "    r = 0\n"
             "    left = pdiv\n"
             "    for s in range(pos.shape[2]):\n"
@@ -356,7 +356,7 @@ def _param_rows(params, shape, n_params):
 
 
 def solve_compiled(prog, state, *, required: bool = False):
-    """The flat result arrays (reac (N, n_pairs, 2), nrm, cpl (N, n_pairs), frame (N, 3), driver (N, n_inputs),
+    """The flat result arrays (reac (N, n_pairs, 2), slides (N, n_slides, 2), frame (N, 3), driver (N, n_inputs),
     cond (N,), finite (N, 1); views of sample-last arrays) of the samples of ``state``; None where numba is
     missing and not required."""
     if not (required or available()):
@@ -371,10 +371,10 @@ def solve_compiled(prog, state, *, required: bool = False):
         return np.reshape(np.moveaxis(x, (-2, -1), (0, 1)), x.shape[-2:] + (n,))
 
     P, pdiv, pmod = _param_rows(state.params, shape, plan.n_params)
-    n_pairs = prog.pr.shape[0]
-    reac, nrm, cpl = np.empty((n_pairs, 2, n)), np.empty((n_pairs, n)), np.empty((n_pairs, n))
+    n_pairs, n_slides = prog.pr.shape[0], int(np.sum(prog.slide_of >= 0))
+    reac, slides = np.empty((n_pairs, 2, n)), np.empty((n_slides, 2, n))
     frame, driver, cond = np.empty((3, n)), np.empty((plan.n_inputs, n)), np.empty(n)
-    kern(soa(state.pos), soa(state.vel), soa(state.acc), P, pdiv, pmod, reac, nrm, cpl, frame, driver, cond)
-    reac, nrm, cpl = np.moveaxis(reac, -1, 0), nrm.T, cpl.T
+    kern(soa(state.pos), soa(state.vel), soa(state.acc), P, pdiv, pmod, reac, slides, frame, driver, cond)
+    reac, slides = np.moveaxis(reac, -1, 0), np.moveaxis(slides, -1, 0)
     frame, driver = frame.T, driver.T
-    return reac, nrm, cpl, frame, driver, cond, np.isfinite(cond)[:, None]
+    return reac, slides, frame, driver, cond, np.isfinite(cond)[:, None]

@@ -295,31 +295,31 @@ def inner_slide(gr, g, gb, gd, pr, ln, z, p, orient, F, M, lam):
     return cond
 
 
-def outputs(pr, ln, drv, sense, z, p, orient, lam, reac, nrm, cpl, frame, driver):
-    """The result rows of a solved sample: per pair the reaction force (x, y), the slide's normal force and
-    couple; the resultant load on the frame (x, y, moment about the origin); each input's driving effort."""
+def outputs(pr, ln, drv, sense, slide_of, z, p, orient, lam, reac, slides, frame, driver):
+    """The result rows of a solved sample: per pair the reaction force (x, y); per slide and motor (the pairs
+    with ``slide_of[k] = j ≥ 0``) ``slides[j] = (N, M)``, the normal force and the couple (a motor: its torque);
+    the resultant load on the frame (x, y, moment about the origin); each input's driving effort."""
     frame[0] = 0.0 * frame[0]
     frame[1] = 0.0 * frame[1]
     frame[2] = 0.0 * frame[2]
     for k in range(pr.shape[0]):
         kind = pr[k, 0]
         c = pr[k, 6]
+        j = slide_of[k]
         if kind == PAIR_R:
             f = lam[c] + 1j * lam[c + 1]
             mo = cross(z[pr[k, 3]], f)
-            nrm[k] = np.nan + 0.0 * lam[c]
-            cpl[k] = 0.0 * lam[c]
         elif kind == PAIR_T:
             f = 0j * lam[c]
             mo = lam[c]
-            nrm[k] = np.nan + 0.0 * lam[c]
-            cpl[k] = lam[c]
+            slides[j, 0] = np.nan + 0.0 * lam[c]
+            slides[j, 1] = lam[c]
         else:
             u, Q = line_uq(ln, pr[k, 4], z, p, orient)
             f = lam[c] * 1j * u
             mo = cross(Q, f) + lam[c + 1]
-            nrm[k] = lam[c]
-            cpl[k] = lam[c + 1]
+            slides[j, 0] = lam[c]
+            slides[j, 1] = lam[c + 1]
             if pr[k, 5] >= 0:
                 fu = lam[c + 2] * u
                 mo = mo + cross(Q, fu)

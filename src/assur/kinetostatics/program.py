@@ -45,6 +45,7 @@ class Program:
     gd: np.ndarray          # (…,) int: the groups' driven slides
     drv: np.ndarray         # (n_inputs,) int: each input's driver pair
     sense: np.ndarray       # (n_inputs,) float: +1, or a crank's sense
+    slide_of: np.ndarray    # (n_pairs,) int: the row of each slide or motor pair in the compact (N, M) output, or -1
     n_unknowns: int
     generic: tuple
     #: True when every load is constant (the kernel applies them); False: some are applied in numpy beforehand
@@ -143,11 +144,14 @@ def build_program(t: ForceTables) -> Program:
     sense = np.ones(plan.n_inputs)
     for st in plan.crank_steps():
         sense[st.input] = st.sense
+    slide_of = np.full(len(t.pairs), -1, np.int64)
+    slide_rows = [k for k, fp in enumerate(t.pairs) if fp.kind != "R"]
+    slide_of[slide_rows] = np.arange(len(slide_rows))
     return Program(np.array(order, np.int64), ang, ang_param, ang_off, np.array(massive, np.int64), mass, inertia,
                    idef, ipts, cpts, cw, coff, complex(*dyn.gravity[:2]), np.array(lpts, np.int64).reshape(-1, 2),
                    np.array(lforce, complex), torque, pr, ln, np.array(gr_rows, np.int64).reshape(-1, 12),
                    np.array(gb_list, np.int64), np.array(gd_list, np.int64), np.array(t.driver_pairs, np.int64),
-                   sense, t.n_unknowns, tuple(generic), loads_in_kernel)
+                   sense, slide_of, t.n_unknowns, tuple(generic), loads_in_kernel)
 
 
 def _group_row(t: ForceTables, bodies, mine, gb_list, gd_list):

@@ -42,8 +42,6 @@ class Forces:
     #: (n_pairs, 2) names of the earlier and the later body
     pair_bodies: tuple[tuple[str, str], ...]
     reactions: np.ndarray
-    couples: np.ndarray
-    normal: np.ndarray
     driver: np.ndarray
     power: np.ndarray
     frame_force: np.ndarray
@@ -60,6 +58,34 @@ class Forces:
     state: object = field(repr=False, default=None)
     #: (..., n_pairs, 3) the pairs' moments (spatial plans only; None for planar ones)
     bearing_moments: np.ndarray | None = field(repr=False, default=None)
+    #: the slides' and motors' (N, M) in compact form: (pair indices (k,), values (..., k, 2)); ``normal`` and
+    #: ``couples`` are built from it on first use (a revolute has no normal force: NaN, and no couple: 0)
+    slides: tuple | None = field(repr=False, default=None)
+    #: ``couples`` and ``normal`` given in full instead (the spatial solver)
+    full_couples: np.ndarray | None = field(repr=False, default=None)
+    full_normal: np.ndarray | None = field(repr=False, default=None)
+    _cache: dict = field(repr=False, default_factory=dict, compare=False)
+
+    def _full(self, which: int, fill: float) -> np.ndarray:
+        key = ("normal", "couples")[which]
+        if key not in self._cache:
+            rows, values = self.slides
+            out = np.full(self.shape + (len(self.pair_kinds),), fill)
+            out[..., list(rows)] = values[..., which]
+            out[~np.asarray(self.valid)] = np.nan
+            out.setflags(write=False)
+            self._cache[key] = out
+        return self._cache[key]
+
+    @property
+    def normal(self) -> np.ndarray:
+        """(..., n_pairs) a slide's normal force N (N); NaN for a pair without one."""
+        return self.full_normal if self.full_normal is not None else self._full(0, np.nan)
+
+    @property
+    def couples(self) -> np.ndarray:
+        """(..., n_pairs) a slide's couple M or a motor's torque (N·m, ccw on the later body); 0 at a revolute."""
+        return self.full_couples if self.full_couples is not None else self._full(1, 0.0)
 
     @property
     def shape(self) -> tuple[int, ...]:

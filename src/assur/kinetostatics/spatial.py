@@ -174,7 +174,7 @@ def spatial_forces(plan, params=None, inputs=None, *, speeds=None, accels=None, 
 
     return Forces(plan=plan, inputs=np.broadcast_to(state.inputs, shape + (plan.n_inputs,)), qdot=qdot,
                   pair_kinds=t.pair_kinds, pair_names=t.pair_names, pair_bodies=t.pair_bodies,
-                  reactions=masked(R, 2), couples=masked(couples, 1), normal=np.full(shape + (n_pairs,), np.nan),
+                  reactions=masked(R, 2), full_couples=masked(couples, 1), full_normal=np.full(shape + (n_pairs,), np.nan),
                   driver=masked(driver, 1), power=masked(power, 0), frame_force=masked(frame_f, 1),
                   frame_moment=masked(frame_m, 1), condition=np.where(valid, cond, np.nan),
                   valid=ok, singular=singular, method="groups", state=state, bearing_moments=masked(C, 2))
