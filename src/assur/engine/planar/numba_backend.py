@@ -128,6 +128,44 @@ def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_x
     return out
 
 
+def cycle_covers(plan, transmission: bool = False) -> bool:
+    """True when :func:`cycle_objective` covers the plan: an op table, and for the transmission angle only
+    RRR dyads (the angle of RRP and RPR dyads needs a slide's direction: the numpy route computes it)."""
+    return covers(plan) and not (transmission and any(st.kind in ("RRP", "RPR") for st in plan.steps))
+
+
+def cycle_objective(plan, params: np.ndarray, cycle_inputs: np.ndarray, tol: float, *, foot: str | None = None,
+                    ground=(1.0, 0.0), up=(0.0, 1.0), omega: float = 1.0, scale: float = 1.0,
+                    path: str | None = None, target_xy=None, transmission: bool = False):
+    """Fused reduction of the whole-cycle quantities of a population; None if the plan is not covered.
+
+    params (D, n_params); cycle_inputs (M,) one uniform turn. Returns (D, 9 + N), the columns of
+    :data:`assur.kernels.codegen.CYCLE_COLUMNS`: the unassembled samples and the groups' summed shortfall
+    past their toggles; with ``transmission`` the smallest RRR transmission angle (rad, folded to [0, π/2]);
+    with ``foot`` the sampled gait terms of :func:`assur.analysis.gait.population_gait` (``ground``, ``up``,
+    ``omega``, ``scale`` as there); with ``path`` and ``target_xy (N, 2)`` the distance of each target to the
+    closed polyline of that point's samples (SI), in the N last columns. NaN where a term does not apply.
+    """
+    if not cycle_covers(plan, transmission):
+        return None
+    fi = -1 if foot is None else plan.point_index(foot)
+    pi = -1 if path is None else plan.point_index(path)
+    dyads = tuple((plan.point_index(st.point_a), plan.point_index(st.joint), plan.point_index(st.point_b))
+                  for st in plan.steps if st.kind == "RRR") if transmission else ()
+    key = f"cycle_{fi}_{pi}_" + "_".join("-".join(map(str, t)) for t in dyads)
+    kern = _load(plan, key, lambda: codegen.generate_cycle_source(plan.ops, fi, pi, dyads))
+    designs = np.ascontiguousarray(params, dtype=float)
+    G = _constants(plan, designs)
+    q = np.ascontiguousarray(cycle_inputs, dtype=float)
+    txy = np.zeros((0, 2)) if target_xy is None or path is None else np.ascontiguousarray(target_xy, dtype=float)
+    out = np.empty((designs.shape[0], codegen.PATH_COLUMN + len(txy)))
+    kern(G, np.cos(q), np.sin(q), float(tol), np.asarray(ground, dtype=float), np.asarray(up, dtype=float),
+         float(omega), float(scale), txy, out)
+    if not dyads:
+        out[:, 2] = np.nan
+    return out
+
+
 def separable(pshape: tuple, ishape: tuple, shape: tuple):
     """Split the batch shape into (design axes, input axes): the params vary only over the leading
     axes and the inputs only over the trailing ones. Returns k (the split) or None."""
