@@ -1,0 +1,347 @@
+"""Exact synthesis: function generation (Freudenstein) and motion generation (Burmester) of four-bars.
+
+``function_generation(inputs, outputs)`` and ``motion_generation(poses)`` return ranked lists of
+:class:`~assur.Mechanism` four-bars with ground pivots ``A0`` (crank) and ``B0`` (rocker), moving pivots ``A``
+(crank) and ``B`` (rocker), and for motion generation the coupler point ``P``; ``*_candidates`` return the
+same as :class:`ExactSolution` records (inputs at the precision points, residual, transmission angle,
+Grashof type). Every candidate is re-solved by the engine (``assur.solve`` with ``on_unbuildable="nan"``) along
+the whole stretch of the input between its first and last precision point, on the one assembly branch of its
+sketch: it is kept only if that stretch is buildable without a toggle (the exact discriminant of
+``synthesis.fourbar``) and the engine reaches the precision points in their order. ``assur.synthesis.seeding``
+turns these solutions into initial design vectors of a problem (docs/synthesis.md, "Exact methods").
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SpecError
+from . import fourbar as fb
+from .burmester import Poses, burmester_points, centre_curve, snap_to_curve, three_pose_dyads
+from .freudenstein import chebyshev_points, freudenstein, precision_pairs
+
+GRASHOF_TYPES = ("crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
+GRASHOF_FILTERS = GRASHOF_TYPES + ("grashof", "crank")
+#: relative tolerance of a precision point reached by the engine (of the task's size)
+REACH_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class ExactSolution:
+    """One synthesised four-bar. ``inputs``: the driver's input at each precision point (rad), in the
+    order passed; ``residual``: the largest error of the engine's solution at the precision points (rad for
+    function generation, length for motion generation); ``transmission``: the worst transmission angle over
+    the stretch (rad, folded to [0, π/2]); ``lengths``: (ground, crank, coupler, rocker)."""
+    mechanism: object
+    inputs: np.ndarray
+    residual: float
+    transmission: float
+    grashof: str
+    lengths: tuple[float, float, float, float]
+
+
+def grashof_type(lengths) -> str:
+    """(ground, crank, coupler, rocker) → one of GRASHOF_TYPES (the driver is the crank)."""
+    lengths = np.asarray(lengths, float)
+    s = np.sort(lengths)
+    if s[0] + s[3] > s[1] + s[2] + 1e-12 * s[3]:
+        return "triple-rocker"
+    return ("double-crank", "crank-rocker", "double-rocker", "rocker-crank")[int(np.argmin(lengths))]
+
+
+def _grashof_ok(kind: str, wanted) -> bool:
+    if wanted is None:
+        return True
+    if wanted == "grashof":
+        return kind != "triple-rocker"
+    if wanted == "crank":
+        return kind in ("crank-rocker", "double-crank")
+    return kind == wanted
+
+
+def _check_grashof(grashof):
+    if grashof is not None and grashof not in GRASHOF_FILTERS:
+        raise SpecError([("grashof", f"must be one of {', '.join(GRASHOF_FILTERS)} or None: {grashof!r}")])
+
+
+# -- the engine's view of a candidate ---------------------------------------------------------------------
+@functools.lru_cache(maxsize=4)
+def _template(with_point: bool, side: str):
+    """A compiled four-bar template (m, rad) whose branch puts B on ``side`` of A → B0."""
+    from .. import compile as compile_
+    from ..io.builder import Builder
+    b = (Builder(units="m", angle="rad", name="four-bar template")
+         .point("A0", 0, 0).point("B0", 1, 0).point("A", 0, 0.4).point("B", 0.9, 0.9 if side == "left" else -0.9))
+    if with_point:
+        b.point("P", 0.5, 1.2 if side == "left" else -1.2)
+    b.frame("A0", "B0").link("crank", "A0", "A").link("coupler", "A", "B", *(("P",) if with_point else ()))
+    b.link("rocker", "B0", "B").crank("crank", pivot="A0", arm="A", zero=0, name="crank")
+    b.branch("B", side, ("A", "B0"))
+    return compile_(b.build())
+
+
+def _side(A, B, B0) -> np.ndarray:
+    w = (B0 - A).conj() * (B - A)
+    return np.where(w.imag > 0, "left", "right")
+
+
+def _solve(geo: dict, q: np.ndarray) -> dict:
+    """Population solve. geo: complex arrays A0, B0, A, B (and P) (k,) in the sketch at q[:, 0]; q (k, M)
+    crank angles from the ground line → complex positions (k, M) of A, B, (P) with NaN where unbuildable."""
+    from .. import solve
+    k, M = q.shape
+    with_point = "P" in geo
+    out = {n: np.full((k, M), np.nan + 0j) for n in ("A", "B") + (("P",) if with_point else ())}
+    sides = _side(geo["A"], geo["B"], geo["B0"])
+    for side in ("left", "right"):
+        rows = np.flatnonzero(sides == side)
+        if not len(rows):
+            continue
+        plan = _template(with_point, side)
+        A0, B0, A, B = (geo[n][rows] for n in ("A0", "B0", "A", "B"))
+        gamma = np.angle(B0 - A0)
+        p = np.tile(plan.defaults, (len(rows), 1))
+        put = {"A0.x": A0.real, "A0.y": A0.imag, "B0.x": B0.real, "B0.y": B0.imag, "crank.length": np.abs(A - A0),
+               "coupler.length": np.abs(B - A), "rocker.length": np.abs(B - B0), "crank.zero": gamma}
+        if with_point:
+            P = geo["P"][rows]
+            put["coupler.P.distance"] = np.abs(P - A)
+            put["coupler.P.angle"] = np.angle(P - A) - np.angle(B - A)
+        for name, v in put.items():
+            p[:, plan.param_index(name)] = v
+        # the crank's own offset (a crank pointing away from the ground line at q = 0) is in q
+        st = solve(plan, p[:, None, :], q[rows][..., None], order=0, on_unbuildable="nan", backend="numpy")
+        for n in out:
+            xy = st.pos[..., plan.point_index(n), :]
+            out[n][rows] = xy[..., 0] + 1j * xy[..., 1]
+    return out
+
+
+def _stretch(t: np.ndarray, per_gap: int) -> tuple[np.ndarray, np.ndarray]:
+    """Target inputs t (k, n) in passing order → dense inputs (k, (n−1)·per_gap + 1) and the targets' columns."""
+    k, n = t.shape
+    s = np.linspace(0.0, 1.0, per_gap, endpoint=False)
+    q = (t[:, :-1, None] + np.diff(t, axis=1)[:, :, None] * s).reshape(k, -1)
+    return np.concatenate([q, t[:, -1:]], axis=1), np.arange(n) * per_gap
+
+
+def _transmission(A, B, B0) -> np.ndarray:
+    """Worst transmission angle over each row (k,), folded to [0, π/2]; NaN rows stay NaN."""
+    u, v = A - B, B0[:, None] - B
+    mu = np.abs(np.angle(u.conj() * v))
+    return np.min(np.minimum(mu, np.pi - mu), axis=1)
+
+
+def _buildable(lengths: np.ndarray, start: np.ndarray, width: np.ndarray) -> np.ndarray:
+    """The crank interval [start, start + width] assembles without a toggle (exact discriminant > 0)."""
+    scale = lengths.mean(axis=1) ** 4
+    return fb.min_discriminant(lengths, start, width) > 1e-10 * scale
+
+
+def _fourbar(A0, B0, A, B, P=None, *, sense="ccw", units="m", name="four-bar", description=""):
+    from ..io.builder import Builder
+    b = Builder(units=units, angle="rad", name=name, description=description)
+    for n, z in (("A0", A0), ("B0", B0), ("A", A), ("B", B)) + ((("P", P),) if P is not None else ()):
+        b.point(n, float(z.real), float(z.imag))
+    b.frame("A0", "B0").link("crank", "A0", "A").link("coupler", "A", "B", *(("P",) if P is not None else ()))
+    b.link("rocker", "B0", "B")
+    b.crank("crank", pivot="A0", arm="A", zero=float(np.angle(B0 - A0)), sense=sense, name="crank")
+    b.branch("B", str(_side(np.array([A]), np.array([B]), np.array([B0]))[0]), ("A", "B0"))
+    return b.build()
+
+
+def _rank(sols, limit, residual_quantum):
+    sols.sort(key=lambda s: (np.floor(s[1] / residual_quantum), -s[2]))
+    return sols[:limit] if limit else sols
+
+
+# -- function generation -----------------------------------------------------------------------------------
+def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, starts=None, grashof=None,
+                        units="m", limit=20, samples=60) -> list[ExactSolution]:
+    """Four-bar function generators by Freudenstein's equation (module ``freudenstein``), ranked.
+
+    ``inputs``, ``outputs``: the input and output angles (rad, from the ground line A0 → B0) of the precision
+    points, exact for three, least squares for more. With ``spacing`` ("chebyshev" or "uniform"),
+    ``inputs`` is the input interval (lo, hi), ``outputs`` a callable ψ(φ) and ``n`` the number of points.
+    ``starts``: (φ0, ψ0) pairs added to every input and output (the free start angles of a task given as
+    angle changes); default (0, 0). ``ground``: the length A0B0 (in ``units``). Each candidate is solved by the
+    engine over the stretch between the first and last input (``samples`` per gap) and kept only if that
+    stretch is buildable and on the branch of its sketch; the list is ranked by the residual of the output
+    angles at the precision points (in steps of 1e-9 rad), then by the worst transmission angle."""
+    _check_grashof(grashof)
+    if spacing is not None:
+        if spacing not in ("chebyshev", "uniform"):
+            raise SpecError([("spacing", f"must be 'chebyshev', 'uniform' or None: {spacing!r}")])
+        if not callable(outputs):
+            raise SpecError([("outputs", "with spacing, outputs must be a callable giving the output angle of an "
+                                         "input angle")])
+        try:
+            lo, hi = (float(v) for v in inputs)
+        except (TypeError, ValueError):
+            raise SpecError([("inputs", "with spacing, inputs must be the input interval (lo, hi)")]) from None
+        x = (chebyshev_points(n, min(lo, hi), max(lo, hi)) if spacing == "chebyshev"
+             else np.linspace(min(lo, hi), max(lo, hi), n))
+        x = x if lo < hi else x[::-1]
+        outputs, inputs = np.asarray(outputs(x), dtype=float), x
+    x, y = precision_pairs(inputs, outputs)
+    if not (np.isfinite(ground) and ground > 0):
+        raise SpecError([("ground", f"must be a positive length: {ground!r}")])
+    starts = np.zeros((1, 2)) if starts is None else np.atleast_2d(np.asarray(starts, dtype=float))
+    if starts.ndim != 2 or starts.shape[1] != 2 or not np.all(np.isfinite(starts)):
+        raise SpecError([("starts", f"must be (φ0, ψ0) pairs: shape {starts.shape}")])
+    fits = []
+    for phi0, psi0 in starts:
+        phi, psi = x + phi0, y + psi0
+        f = freudenstein(phi, psi, ground)
+        if f is None:
+            continue
+        lengths = (f["d"], abs(f["a"]), f["b"], abs(f["c"]))
+        if not _grashof_ok(grashof_type(lengths), grashof):
+            continue
+        crank = np.angle(f["a"] * np.exp(1j * phi))          # the crank's direction at each point
+        width = abs(phi[-1] - phi[0])
+        start = crank[0] if phi[-1] > phi[0] else crank[0] - width
+        if not _buildable(np.array([lengths]), np.array([start]), np.array([width]))[0]:
+            continue
+        fits.append((f, phi, psi, lengths))
+    if not fits:
+        return []
+    k = len(fits)
+    geo = {"A0": np.zeros(k, complex), "B0": np.array([f["d"] for f, *_ in fits], complex)}
+    geo["A"] = np.array([f["a"] * np.exp(1j * phi[0]) for f, phi, *_ in fits])
+    geo["B"] = np.array([f["d"] + f["c"] * np.exp(1j * psi[0]) for f, _, psi, _ in fits])
+    # the engine's input is the crank's direction from the ground line: φ, or φ + π for a crank with a < 0
+    t = np.array([phi + (np.pi if f["a"] < 0 else 0.0) for f, phi, *_ in fits])
+    q, cols = _stretch(t, samples)
+    pos = _solve(geo, q)
+    mu = _transmission(pos["A"], pos["B"], geo["B0"])
+    sols = []
+    for i, (f, phi, psi, lengths) in enumerate(fits):
+        B = pos["B"][i]
+        if not np.all(np.isfinite(B)):
+            continue
+        out = np.angle(B[cols] - geo["B0"][i]) + (np.pi if f["c"] < 0 else 0.0)
+        err = float(np.max(np.abs(np.angle(np.exp(1j * (out - psi))))))
+        sols.append((i, err, float(mu[i])))
+    result = []
+    for i, err, m in _rank(sols, limit, 1e-9):
+        f, phi, psi, lengths = fits[i]
+        note = ("Function generator by Freudenstein's equation: input = crank angle φ from the ground line "
+                f"A0→B0, output = rocker angle ψ (B0→B{' + π' if f['c'] < 0 else ''}).")
+        mech = _fourbar(geo["A0"][i], geo["B0"][i], geo["A"][i], geo["B"][i], units=units,
+                        name="function generator", description=note)
+        if f["a"] < 0:      # input = φ: the crank points along φ + π
+            mech = dataclasses.replace(mech, drivers=tuple(dataclasses.replace(d, zero=np.pi) for d in mech.drivers))
+        result.append(ExactSolution(mech, phi, err, m, grashof_type(lengths), lengths))
+    return result
+
+
+def function_generation(inputs, outputs, *, spacing=None, ground=1.0, **options) -> list:
+    """Four-bar function generators (ranked list of Mechanism); see :func:`function_candidates`."""
+    return [s.mechanism for s in function_candidates(inputs, outputs, spacing=spacing, ground=ground, **options)]
+
+
+# -- motion generation -------------------------------------------------------------------------------------
+def dyads(poses, *, free=None, samples=None, radius=1.5):
+    """The RR dyads of 3, 4 or 5 poses → (centres, circle points) complex arrays in the poses' coordinates
+    (circle points in the first pose). The rule for the free choice: 3 poses — the centres ``free`` (m, 2), or
+    ``samples`` (default 24) centres on a circle of ``radius`` × the poses' spread about their mean point;
+    4 poses — the Burmester centre-point curve sampled on ``samples`` (default 36) lines through the pole
+    P_1k, or the points ``free`` moved onto the curve along their lines through that pole; 5 poses — the
+    finite set of Burmester points (``free`` not allowed)."""
+    P = Poses(poses)
+    if free is not None:
+        try:
+            F = np.asarray(free, dtype=float)
+        except (TypeError, ValueError):
+            raise SpecError([("free", "must be an (m, 2) array of points")]) from None
+        if F.ndim != 2 or F.shape[1] != 2 or not np.all(np.isfinite(F)):
+            raise SpecError([("free", f"must be an (m, 2) array of finite points: shape {F.shape}")])
+        if P.n == 5:
+            raise SpecError([("free", "five poses have a finite set of dyads: there is no free choice")])
+        Fl = P.to_local(F[:, 0] + 1j * F[:, 1])
+    if P.n == 3:
+        if free is None:
+            m = samples or 24
+            Fl = radius * np.exp(2j * np.pi * np.arange(m) / m)
+        G, Z, res = three_pose_dyads(P, Fl)
+    elif P.n == 4:
+        G, Z, res = snap_to_curve(P, Fl) if free is not None else centre_curve(P, samples or 36)
+    else:
+        G, Z, res = burmester_points(P)
+    ok = np.isfinite(Z) & (res < 1e-7) & (np.abs(Z - G) > 1e-6)
+    return P.to_world(G[ok]), P.to_world(Z[ok])
+
+
+def motion_candidates(poses, *, free=None, grashof=None, samples=None, radius=1.5, units="m", limit=20,
+                      per_gap=30) -> list[ExactSolution]:
+    """Four-bars that carry the coupler through the poses (n, 3) = (x, y, angle rad), ranked by the worst
+    transmission angle over the stretch. The dyads come from :func:`dyads`; every ordered pair (crank,
+    rocker) with distinct ground pivots is a candidate, kept only if its Grashof type passes ``grashof``, the
+    crank angles of the poses come in one turning sense within one turn, the stretch between the first and
+    last pose is buildable without a toggle, and the engine, driven along it, reaches every pose on the
+    branch of the sketch (positions of A, B and P within 1e-6 of the task's size)."""
+    _check_grashof(grashof)
+    P = Poses(poses)
+    G, Z = dyads(poses, free=free, samples=samples, radius=radius)
+    poses = np.asarray(poses, float)
+    d = poses[:, 0] + 1j * poses[:, 1]
+    R = np.exp(1j * (poses[:, 2] - poses[0, 2]))
+    moving = R[None, :] * (Z[:, None] - d[0]) + d[None, :]          # (m, n) circle points in every pose
+    m = len(G)
+    ii, jj = (g.ravel() for g in np.meshgrid(np.arange(m), np.arange(m), indexing="ij"))
+    keep = (ii != jj) & (np.abs(G[jj] - G[ii]) > 1e-6 * P.scale) & (np.abs(Z[jj] - Z[ii]) > 1e-9 * P.scale)
+    ii, jj = ii[keep], jj[keep]
+    lengths = np.stack([np.abs(G[jj] - G[ii]), np.abs(Z[ii] - G[ii]), np.abs(Z[jj] - Z[ii]),
+                        np.abs(Z[jj] - G[jj])], axis=1)
+    kinds = np.array([grashof_type(row) for row in lengths], dtype=object)
+    keep = np.array([_grashof_ok(kd, grashof) for kd in kinds], dtype=bool)
+    ii, jj, lengths = ii[keep], jj[keep], lengths[keep]
+    theta = np.angle(moving[ii] - G[ii, None]) - np.angle(G[jj] - G[ii])[:, None]      # (k, n) crank angles
+    cand = []
+    for sense, sign in (("ccw", 1.0), ("cw", -1.0)):
+        gaps = np.mod(sign * np.diff(theta, axis=1), 2 * np.pi)
+        total = gaps.sum(axis=1)
+        t = theta[:, :1] + sign * np.concatenate([np.zeros((len(theta), 1)), np.cumsum(gaps, axis=1)], axis=1)
+        ok = np.all(gaps > 1e-9, axis=1) & (total < 2 * np.pi)
+        ok &= _buildable(lengths, t[:, 0] if sign > 0 else t[:, -1], total)
+        cand += [(ii[r], jj[r], sense, t[r], lengths[r]) for r in np.flatnonzero(ok)]
+    if not cand:
+        return []
+    ii = np.array([c[0] for c in cand])
+    jj = np.array([c[1] for c in cand])
+    geo = {"A0": G[ii], "B0": G[jj], "A": Z[ii], "B": Z[jj], "P": np.full(len(cand), d[0])}
+    q, cols = _stretch(np.array([c[3] for c in cand]), per_gap)
+    pos = _solve(geo, q)
+    mu = _transmission(pos["A"], pos["B"], geo["B0"])
+    tol = REACH_TOL * P.scale
+    sols = []
+    for r, (i, j, sense, t, lengths) in enumerate(cand):
+        if not all(np.all(np.isfinite(pos[n][r])) for n in ("A", "B", "P")):
+            continue
+        err = max(np.max(np.abs(pos["P"][r, cols] - d)), np.max(np.abs(pos["A"][r, cols] - moving[i])),
+                  np.max(np.abs(pos["B"][r, cols] - moving[j])))
+        if err <= tol:
+            sols.append((r, float(err), float(mu[r])))
+    result = []
+    for r, err, mu_r in _rank(sols, limit, np.inf):
+        i, j, sense, t, lengths = cand[r]
+        note = (f"Motion generator (Burmester, {len(d)} poses), sketched in the first pose; the crank turns "
+                f"{sense} from the first pose to the last.")
+        mech = _fourbar(G[i], G[j], Z[i], Z[j], d[0], sense=sense, units=units, name="motion generator",
+                        description=note)
+        result.append(ExactSolution(mech, t if sense == "ccw" else -t, err, mu_r,
+                                    grashof_type(lengths), tuple(float(v) for v in lengths)))
+    return result
+
+
+def motion_generation(poses, *, free=None, **options) -> list:
+    """Four-bar motion generators (ranked list of Mechanism); see :func:`motion_candidates`."""
+    return [s.mechanism for s in motion_candidates(poses, free=free, **options)]
+
+
+__all__ = ["ExactSolution", "GRASHOF_FILTERS", "GRASHOF_TYPES", "chebyshev_points", "dyads", "function_candidates",
+           "function_generation", "grashof_type", "motion_candidates", "motion_generation"]
