@@ -1,4 +1,5 @@
-"""Exact synthesis: function generation (Freudenstein) and motion generation (Burmester) of four-bars.
+"""Exact synthesis: function generation (Freudenstein) of four-bars and slider-cranks, and motion generation
+(Burmester) of four-bars.
 
 ``function_generation(inputs, outputs)`` and ``motion_generation(poses)`` return ranked lists of
 :class:`~assur.Mechanism` four-bars with ground pivots ``A0`` (crank) and ``B0`` (rocker), moving pivots ``A``
@@ -9,6 +10,8 @@ the whole stretch of the input between its first and last precision point, on th
 sketch: it is kept only if that stretch is buildable without a toggle (the exact discriminant of
 ``synthesis.fourbar``) and the engine reaches the precision points in their order. ``assur.synthesis.seeding``
 turns these solutions into initial design vectors of a problem (docs/synthesis.md, "Exact methods").
+``slider_function_generation(inputs, displacements)`` returns slider-crank function generators (crank ``A0``–``A``,
+rod ``A``–``B``, slider ``B`` on a frame line through ``A0`` with an offset), checked by the engine the same way.
 """
 from __future__ import annotations
 
@@ -21,7 +24,7 @@ import numpy as np
 from ..errors import SpecError
 from . import fourbar as fb
 from .burmester import Poses, burmester_points, centre_curve, snap_to_curve, three_pose_dyads
-from .freudenstein import chebyshev_points, freudenstein, precision_pairs
+from .freudenstein import chebyshev_points, freudenstein, precision_pairs, slider_freudenstein
 
 GRASHOF_TYPES = ("crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 GRASHOF_FILTERS = GRASHOF_TYPES + ("grashof", "crank")
@@ -159,6 +162,41 @@ def _rank(sols, limit, residual_quantum):
 
 
 # -- function generation -----------------------------------------------------------------------------------
+def _spaced(inputs, outputs, spacing, n, out_name, what):
+    """The precision points of a task: as given, or ``n`` points spaced on the interval ``inputs`` = (lo, hi)
+    (``spacing`` "chebyshev" or "uniform") with the outputs from the callable ``outputs``."""
+    if spacing is None:
+        return inputs, outputs
+    if spacing not in ("chebyshev", "uniform"):
+        raise SpecError([("spacing", f"must be 'chebyshev', 'uniform' or None: {spacing!r}")])
+    if not callable(outputs):
+        raise SpecError([(out_name, f"with spacing, {out_name} must be a callable giving the {what} of an "
+                                    "input angle")])
+    try:
+        lo, hi = (float(v) for v in inputs)
+    except (TypeError, ValueError):
+        raise SpecError([("inputs", "with spacing, inputs must be the input interval (lo, hi)")]) from None
+    x = (chebyshev_points(n, min(lo, hi), max(lo, hi)) if spacing == "chebyshev"
+         else np.linspace(min(lo, hi), max(lo, hi), n))
+    x = x if lo < hi else x[::-1]
+    try:
+        y = np.asarray(outputs(x), dtype=float)
+    except (TypeError, ValueError):
+        raise SpecError([(out_name, f"the callable must return the {what}s of an array of input angles as "
+                                    "numbers")]) from None
+    return x, y
+
+
+def _starts(starts, pair):
+    try:
+        starts = np.zeros((1, 2)) if starts is None else np.atleast_2d(np.asarray(starts, dtype=float))
+    except (TypeError, ValueError):
+        raise SpecError([("starts", f"must be {pair} pairs of numbers")]) from None
+    if starts.ndim != 2 or starts.shape[1] != 2 or not np.all(np.isfinite(starts)):
+        raise SpecError([("starts", f"must be {pair} pairs: shape {starts.shape}")])
+    return starts
+
+
 def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, starts=None, grashof=None,
                         units="m", limit=20, samples=60) -> list[ExactSolution]:
     """Four-bar function generators by Freudenstein's equation (module ``freudenstein``), ranked.
@@ -172,26 +210,11 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
     stretch is buildable and on the branch of its sketch; the list is ranked by the residual of the output
     angles at the precision points (in steps of 1e-9 rad), then by the worst transmission angle."""
     _check_grashof(grashof)
-    if spacing is not None:
-        if spacing not in ("chebyshev", "uniform"):
-            raise SpecError([("spacing", f"must be 'chebyshev', 'uniform' or None: {spacing!r}")])
-        if not callable(outputs):
-            raise SpecError([("outputs", "with spacing, outputs must be a callable giving the output angle of an "
-                                         "input angle")])
-        try:
-            lo, hi = (float(v) for v in inputs)
-        except (TypeError, ValueError):
-            raise SpecError([("inputs", "with spacing, inputs must be the input interval (lo, hi)")]) from None
-        x = (chebyshev_points(n, min(lo, hi), max(lo, hi)) if spacing == "chebyshev"
-             else np.linspace(min(lo, hi), max(lo, hi), n))
-        x = x if lo < hi else x[::-1]
-        outputs, inputs = np.asarray(outputs(x), dtype=float), x
+    inputs, outputs = _spaced(inputs, outputs, spacing, n, "outputs", "output angle")
     x, y = precision_pairs(inputs, outputs)
     if not (np.isfinite(ground) and ground > 0):
         raise SpecError([("ground", f"must be a positive length: {ground!r}")])
-    starts = np.zeros((1, 2)) if starts is None else np.atleast_2d(np.asarray(starts, dtype=float))
-    if starts.ndim != 2 or starts.shape[1] != 2 or not np.all(np.isfinite(starts)):
-        raise SpecError([("starts", f"must be (φ0, ψ0) pairs: shape {starts.shape}")])
+    starts = _starts(starts, "(φ0, ψ0)")
     fits = []
     for phi0, psi0 in starts:
         phi, psi = x + phi0, y + psi0
@@ -242,6 +265,101 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
 def function_generation(inputs, outputs, *, spacing=None, ground=1.0, **options) -> list:
     """Four-bar function generators (ranked list of Mechanism); see :func:`function_candidates`."""
     return [s.mechanism for s in function_candidates(inputs, outputs, spacing=spacing, ground=ground, **options)]
+
+
+# -- slider-crank function generation ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class SliderSolution:
+    """One synthesised slider-crank. ``inputs``: the crank angles at the precision points (rad, from the slide
+    line's direction); ``residual``: the largest error of the engine's slider positions there (length);
+    ``transmission``: the worst transmission angle over the stretch (the angle between the rod and the normal
+    of the slide line, rad, in [0, π/2]; π/2 when the rod lies along the line); ``kind``: "crank-slider" when
+    the crank turns fully (crank + |offset| < rod), else "rocker-slider"; ``crank``, ``rod``, ``offset``: the
+    crank A0A and rod AB lengths and the slide line's signed offset from A0 (to the left of its direction)."""
+    mechanism: object
+    inputs: np.ndarray
+    residual: float
+    transmission: float
+    kind: str
+    crank: float
+    rod: float
+    offset: float
+
+
+def _slider_crank(a, e, phi0, s0, flip, *, units, name, description):
+    """The Mechanism: A0 at the origin, the slide line y = e along +x, sketched at crank angle phi0 (the crank
+    points along phi0 + π when ``flip``; the driver's input is phi0 either way) with B at (s0, e)."""
+    from ..io.builder import Builder
+    t = phi0 + (np.pi if flip else 0.0)
+    b_ = (Builder(units=units, angle="rad", name=name, description=description)
+          .point("A0", 0.0, 0.0).point("A", a * np.cos(t), a * np.sin(t)).point("B", float(s0), float(e))
+          .frame("A0").link("crank", "A0", "A").link("rod", "A", "B")
+          .slider(point="B", guide="frame", through="A0", angle=0.0, offset=float(e), name="slide")
+          .crank("crank", pivot="A0", arm="A", zero=float(np.pi) if flip else 0.0, name="crank"))
+    return b_.build()
+
+
+def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, units="m", limit=20,
+                      samples=60) -> list[SliderSolution]:
+    """Slider-crank function generators (module ``freudenstein``, ``slider_freudenstein``), ranked.
+
+    The crank turns about ``A0`` (the origin); the pin ``B`` of the rod ``A``–``B`` slides on a frame line of
+    direction +x through A0, offset by ``e`` (to its left, the ``offset`` of a ``[[prismatic]]`` table).
+    ``inputs``: the crank angles (rad, from the line's direction) of the precision points; ``displacements``:
+    the slider positions along the line, measured from the foot of the perpendicular from A0 (in ``units``).
+    Loop closure (s − a cos φ)² + (e − a sin φ)² = b² is linear in (2a, 2ae, a² + e² − b²): exact for three
+    points, least squares for more. With ``spacing`` ("chebyshev" or "uniform"), ``inputs`` is the input
+    interval (lo, hi), ``displacements`` a callable s(φ) and ``n`` the number of points. ``starts``: (φ0, s0)
+    pairs added to every input and position (a task given as changes from a start); default (0, 0). Each
+    candidate is solved by the engine over the stretch between the first and last input (``samples`` per gap)
+    and kept only if that stretch assembles without a toggle and no precision point lies nearer the other
+    assembly branch (B mirrored about the foot of A on the line) than the sketch's; ranked by the residual (in steps of 1e-9 of the stroke), then by the worst
+    transmission angle."""
+    from .. import compile as compile_, solve
+    inputs, displacements = _spaced(inputs, displacements, spacing, n, "displacements", "slider position")
+    x, y = precision_pairs(inputs, displacements, where=("inputs", "displacements"))
+    starts = _starts(starts, "(φ0, s0)")
+    scale = max(float(np.ptp(y)), float(np.max(np.abs(y))), 1e-300)
+    sols = []
+    for phi0, s0 in starts:
+        phi, s = x + phi0, y + s0
+        f = slider_freudenstein(phi, s)
+        if f is None:
+            continue
+        a, b, e, flip = f["a"], f["b"], f["e"], f["flip"]
+        t = phi + (np.pi if flip else 0.0)            # the crank's direction at each point
+        q, cols = _stretch(phi[None, :], samples)
+        # assembles without a toggle: |e − a sin θ| < b over the whole stretch (dense check, then the engine)
+        th = q[0] + (np.pi if flip else 0.0)
+        if not np.all(np.abs(e - a * np.sin(th)) < b * (1 - 1e-9)):
+            continue
+        kind = "crank-slider" if a + abs(e) < b else "rocker-slider"
+        note = ("Slider-crank function generator (loop closure, exact for three points): input = crank angle φ "
+                "from the slide line's direction, output = the slider's position along the line from the foot "
+                f"of A0's perpendicular{' (the crank points along φ + π)' if flip else ''}.")
+        # the sketch's branch: B ahead of or behind A's foot on the line, as at the first point
+        mech = _slider_crank(a, e, float(phi[0]), float(s[0]), flip, units=units,
+                             name="slider-crank function generator", description=note)
+        st = solve(compile_(mech), inputs=q[0], order=0, on_unbuildable="nan", backend="numpy")
+        A, B = st.point("A").pos, st.point("B").pos
+        if not (np.all(np.isfinite(B)) and np.all(np.isfinite(A))):
+            continue
+        miss = np.abs(B[cols, 0] - s)
+        # a precision point met better on the other assembly branch (B mirrored about A's foot): branch defect
+        other = np.abs(2 * A[cols, 0] - B[cols, 0] - s)
+        if np.any(other < miss - REACH_TOL * scale):
+            continue
+        err = float(np.max(miss))
+        rod = np.arctan2(B[:, 1] - A[:, 1], B[:, 0] - A[:, 0])
+        mu = float(np.min(np.pi / 2 - np.abs(np.arcsin(np.clip(np.sin(rod), -1.0, 1.0)))))
+        sols.append((SliderSolution(mech, phi, err, mu, kind, a, b, e), err, mu))
+    sols.sort(key=lambda r: (np.floor(r[1] / (1e-9 * scale)), -r[2]))
+    return [r[0] for r in (sols[:limit] if limit else sols)]
+
+
+def slider_function_generation(inputs, displacements, *, spacing=None, **options) -> list:
+    """Slider-crank function generators (ranked list of Mechanism); see :func:`slider_candidates`."""
+    return [s.mechanism for s in slider_candidates(inputs, displacements, spacing=spacing, **options)]
 
 
 # -- motion generation -------------------------------------------------------------------------------------
@@ -343,5 +461,6 @@ def motion_generation(poses, *, free=None, **options) -> list:
     return [s.mechanism for s in motion_candidates(poses, free=free, **options)]
 
 
-__all__ = ["ExactSolution", "GRASHOF_FILTERS", "GRASHOF_TYPES", "chebyshev_points", "dyads", "function_candidates",
-           "function_generation", "grashof_type", "motion_candidates", "motion_generation"]
+__all__ = ["ExactSolution", "GRASHOF_FILTERS", "GRASHOF_TYPES", "SliderSolution", "chebyshev_points", "dyads",
+           "function_candidates", "function_generation", "grashof_type", "motion_candidates", "motion_generation",
+           "slider_candidates", "slider_function_generation"]
