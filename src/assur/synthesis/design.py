@@ -27,6 +27,15 @@ def mechanism_with_params(plan, params, *, name: str | None = None, description:
     st = solve(plan, params, plan.sketch_inputs[None, :], order=0, backend="numpy")
     assembled = bool(np.all(st.valid))
     pos = st.pos.reshape(-1, plan.n_points, st.pos.shape[-1])[0]
+    if not assembled and plan.n_inputs == 1 and plan.input_kinds[0] == "rotary":
+        # a design that cannot reach the sketch's input (a rocker-crank working over a range, say): sketch it
+        # at the nearest crank angle where it assembles, on the same branch
+        turn = np.linspace(-np.pi, np.pi, 721)
+        turn = turn[np.argsort(np.abs(turn), kind="stable")]
+        tried = solve(plan, params, (plan.sketch_inputs[0] + turn)[:, None], order=0, backend="numpy")
+        ok = np.flatnonzero(tried.valid)
+        if len(ok):
+            assembled, pos = True, tried.pos[ok[0]]
     frame_points = set(m.frame.points)
     points = []
     for i, (p, xy) in enumerate(m.points):
