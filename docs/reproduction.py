@@ -74,7 +74,7 @@ def paper000():
         ("165/193/175 mm minimise eq. (5)", f"Δ1 minimal", f"Δ1 = {d_printed:.2f} mm, |∇Δ1| = {np.linalg.norm(grad):.3f}; Nelder–Mead from it reaches Δ1 = {res.fun:.2f} mm at ({res.x[0]:.1f}, {res.x[1]:.1f}, {res.x[2]:.1f}) mm",
          "not reproduced (E2): the printed design is not a minimum"),
         ("the synthesis of §4 with a global optimiser", "165/193/175 mm",
-         synth_row(), "`assur synth examples/synthesis/paper000_six_points.toml --seed 1` (DE + Nelder–Mead)"),
+         synth_row(), "`assur synth examples/synthesis/paper000_six_points.toml --seed 1` (restarted DE + Nelder–Mead)"),
         ("link naming of the text (E1): crank 165, extension 175", "—", f"lift {g_sw.lift * 1000:.1f} mm, Δ1 = {float(delta1(plan, swapped)[0]):.2f} mm",
          "the text's naming misses the 400 mm lift; eq. (4)'s naming is used"),
     ]

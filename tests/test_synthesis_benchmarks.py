@@ -206,10 +206,10 @@ def _recheck(case, r):
 @pytest.mark.slow
 @pytest.mark.parametrize("case,settings,threshold", [
     # §2.1: "a cheap seeded regression test uses the threshold f < 1e-6"
-    ("C1", dict(seed=7, starts=4, budget=240_000, popsize=15, target=1e-20), 1e-6),
+    ("C1", dict(method="de", seed=7, starts=4, budget=240_000, popsize=15, target=1e-20), 1e-6),
     # §2.2 / §2.3: the best published objective (the targets of §3.2)
-    ("C2", dict(seed=1, starts=3, budget=120_000, popsize=20, strategy="rand1bin", target=1.284000e-6), 1.284000e-6),
-    ("C3", dict(seed=1, starts=6, budget=360_000, popsize=15, target=1.607768e-2), 1.607768e-2),
+    ("C2", dict(method="de", seed=1, starts=3, budget=120_000, popsize=20, strategy="rand1bin", target=1.284000e-6), 1.284000e-6),
+    ("C3", dict(method="de", seed=1, starts=6, budget=360_000, popsize=15, target=1.607768e-2), 1.607768e-2),
 ], ids=["C1", "C2", "C3"])
 def test_seeded_runs_reach_the_thresholds(case, settings, threshold):
     """Short seeded runs (the full runs and their statistics are in benchmarks/synthesis.py); no published

@@ -70,6 +70,10 @@ def register(sub) -> None:
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--frames", type=positive(2), default=36, metavar="N",
                     help="frames of the embedded animation (default 36)")
+    sp.add_argument("--seed", type=int, default=None, metavar="S",
+                    help="a synthesis problem file: the run's random seed (default 1)")
+    sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
+                    help="a synthesis problem file: objective evaluations in all")
     add_units(sp)
     add_range(sp)
 
@@ -254,7 +258,18 @@ def cmd_animate(args) -> int:
 
 def cmd_report(args) -> int:
     """``assur report FILE -o DIR``: the page of a mechanism or of a gear or wheel-step design."""
-    if document_format(args.file) in ("assur-gears/1", "assur-wheelstep/1"):
+    fmt = document_format(args.file)
+    if fmt == "assur-synth/1":      # a synthesis problem: run it, then the page of its best design
+        from ..report.synthesis import write_synthesis_report
+        path, result = write_synthesis_report(args.file, args.output, seed=1 if args.seed is None else args.seed,
+                                              budget=args.budget)
+        print(f"wrote {path} (objective {result.objective!r} after {result.evaluations} evaluations, "
+              f"stopped: {result.stopped})" if result.feasible else f"wrote {path} (no feasible design found)")
+        return 0
+    for opt in ("seed", "budget"):
+        if getattr(args, opt) is not None:
+            raise SpecError([(f"--{opt}", "is for a synthesis problem file (format assur-synth/1)")])
+    if fmt in ("assur-gears/1", "assur-wheelstep/1"):
         from ..report.documents import write_document_report
         path = write_document_report(args.file, args.output, frames=args.frames)
         print(f"wrote {path}")

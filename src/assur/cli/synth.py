@@ -12,37 +12,50 @@ import sys
 from pathlib import Path
 
 from ..report.text import format_number
-from .args import path_arg, positive, positive_float
+from .args import output_path, path_arg, positive, positive_float
 
 #: the exit status of an interrupted run (as :mod:`assur.cli.main` uses for every command)
 INTERRUPTED = 130
+#: assur.synthesis.solver's METHODS, POLISHES and DEFAULT_BUDGET, repeated here so that the command line starts
+#: without importing the synthesis package (tests/test_synthesis_defaults.py checks that they agree)
+METHODS = ("restart", "de", "cmaes", "local")
+POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
+DEFAULT_BUDGET = 300_000
 
 
 def register(sub) -> None:
     """Add ``synth`` to the argparse sub-parsers ``sub``."""
     sp = sub.add_parser("synth", help="dimensional synthesis: optimise a mechanism's dimensions for a problem file",
-                        description="Minimise a synthesis problem (format assur-synth/1): differential evolution, "
-                                    "CMA-ES or a local polish, with multi-start, on this process, local workers or "
-                                    "a Dask cluster.")
+                        description="Minimise a synthesis problem (format assur-synth/1): differential evolution "
+                                    "restarted on stagnation (the default), one differential evolution, CMA-ES or a "
+                                    "local polish, with multi-start, on this process, local workers or a Dask "
+                                    "cluster. Options not given come from the file's [solver] table, then from the "
+                                    "built-in defaults (method restart, budget 300000 evaluations).")
     sp.add_argument("file", metavar="PROBLEM", help="synthesis problem file (.toml)")
     sp.add_argument("-o", "--output", type=path_arg, metavar="BEST", help="write the best design as a mechanism file")
-    sp.add_argument("--method", choices=("de", "cmaes", "local"), default="de", help="global method (default de)")
-    sp.add_argument("--polish", choices=("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none"), default="auto",
-                    help="local refinement of each start's best (default auto)")
+    sp.add_argument("--method", choices=METHODS, default=None,
+                    help="global method (default restart: differential evolution restarted on stagnation)")
+    sp.add_argument("--polish", choices=POLISHES, default=None,
+                    help="local refinement of each start's (or restart's) best (default auto)")
     sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
-    sp.add_argument("--budget", type=positive(1), default=None, metavar="N", help="objective evaluations in all")
+    sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
+                    help=f"objective evaluations in all (default {DEFAULT_BUDGET} with the restart method)")
     sp.add_argument("--time", type=positive_float, default=None, metavar="T", help="wall-time limit in seconds")
-    sp.add_argument("--starts", type=positive(1), default=1, metavar="K", help="independent starts (default 1)")
-    sp.add_argument("--popsize", type=positive(2), default=15, metavar="P",
+    sp.add_argument("--starts", type=positive(1), default=None, metavar="K", help="independent starts (default 1)")
+    sp.add_argument("--popsize", type=positive(2), default=None, metavar="P",
                     help="population per variable (default 15)")
-    sp.add_argument("--maxiter", type=positive(1), default=1000, metavar="G", help="generations per start")
+    sp.add_argument("--maxiter", type=positive(1), default=None, metavar="G",
+                    help="generations per start or restart (default 1000)")
     sp.add_argument("--target", type=float, default=None, metavar="F",
                     help="stop at the first feasible design with objective ≤ F (later starts are skipped)")
-    sp.add_argument("--strategy", default="best1bin", metavar="NAME",
+    sp.add_argument("--strategy", default=None, metavar="NAME",
                     help="scipy differential-evolution strategy (default best1bin; e.g. rand1bin, currenttobest1bin)")
     grp = sp.add_mutually_exclusive_group()
     grp.add_argument("--workers", type=positive(1), default=None, metavar="N", help="local worker processes")
     grp.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
+    sp.add_argument("--plot", type=output_path((".png", ".svg", ".pdf")), default=None, metavar="FIG",
+                    help="draw the targets against the best design, the per-target distances and the convergence "
+                         "history (.png, .svg or .pdf)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
     sp.set_defaults(func=cmd_synth)
@@ -55,8 +68,9 @@ def cmd_synth(args) -> int:
     from ..io.output import json_text
     check_packages(args)               # a missing optional package: say so before any work
     problem = load_problem(args.file)
-    if args.output is not None:
-        check_writable(args.output)   # fail on an unusable output before the run, not after it
+    for out in (args.output, args.plot):
+        if out is not None:
+            check_writable(out)       # fail on an unusable output before the run, not after it
     progress = not args.quiet and not args.json and sys.stderr.isatty()
     if progress and _missing("tqdm"):
         from ..synthesis.optimize import TQDM_INSTALL
@@ -74,13 +88,28 @@ def cmd_synth(args) -> int:
         with atomic_file(args.output) as tmp:
             tmp.write_text(text, encoding="utf-8")
         written = str(args.output)
+    plotted = None
+    if args.plot is not None:
+        from ..plot.draw import close
+        from ..plot.synthesis import synthesis_figure
+        fig = synthesis_figure(result)
+        try:
+            with atomic_file(args.plot) as tmp:
+                fig.savefig(tmp, format=args.plot.suffix.lower()[1:])
+        finally:
+            close(fig)
+        plotted = str(args.plot)
     if args.json:
         d = result.as_dict()
         d["written"] = written
+        d["plot"] = plotted
         print(json_text(d))
         return _status(result, written)
     u = problem.length_unit
-    unit = {"distance": f" {u}", "squared": f" {u}²"}.get(problem.deviation, "")
+    du = u                                 # the deviation's unit: function targets measure angle errors
+    if problem.targets is not None and problem.targets.kind == "function":
+        du = problem.angle_unit
+    unit = {"distance": f" {du}", "squared": f" {du}²"}.get(problem.deviation, "")
     print(f"{problem.name or Path(args.file).stem}  [{args.file}]")
     if result.feasible:
         print(f"objective: {result.objective:.10g}{unit} ({problem.deviation} deviation"
@@ -89,7 +118,11 @@ def cmd_synth(args) -> int:
         print(f"no feasible design found: least total violation {result.violation:.6g}")
     print(f"constraints: {', '.join(problem.constraints)}")
     print(f"evaluations: {result.evaluations}  wall time: {result.seconds:.2f} s  stopped: {result.stopped}  "
-          f"({args.method}, {len(result.starts)} start(s), seed {args.seed}, {result.executor})")
+          f"({result.settings['method']}, {len(result.starts)} start(s), seed {args.seed}, {result.executor})")
+    print("settings: " + settings_line(result.settings))
+    warning = result.bound_warning()
+    if warning:
+        print(warning)
     print("best design:")
     width = max(len(n) for n in problem.names)
     for name, v, var in zip(problem.names, result.x_file, problem.variables):
@@ -97,7 +130,7 @@ def cmd_synth(args) -> int:
         print(f"  {name:<{width}} = {format_number(float(v))} {vu}".rstrip())
     q = result.details["quantities"]
     if "distances" in q:
-        print("target distances: " + ", ".join(format_number(d) for d in q["distances"]) + f" {u}")
+        print("target distances: " + ", ".join(format_number(d) for d in q["distances"]) + f" {du}")
     for k in sorted(q):
         if k not in ("distances", "offsets", "deviation") and not isinstance(q[k], list):
             print(f"  {k}: {format_number(q[k])}")
@@ -112,7 +145,22 @@ def cmd_synth(args) -> int:
               f"{format_number(g.support_speed.min * s)}…{format_number(g.support_speed.max * s)} {u}/s")
     if written:
         print(f"wrote {written}")
+    if plotted:
+        print(f"wrote {plotted}")
     return _status(result, written)
+
+
+def settings_line(settings: dict) -> str:
+    """The run's settings with where each came from: ``method restart (default), budget 20000 (file), …``."""
+    sources = settings.get("sources", {})
+    shown = []
+    for key in ("method", "budget", "time", "target", "starts", "popsize", "strategy", "polish", "maxiter"):
+        v = settings.get(key)
+        if v is None:
+            continue
+        where = {"file": "file [solver]", "given": "option"}.get(sources.get(key), "default")
+        shown.append(f"{key} {format_number(v) if isinstance(v, float) else v} ({where})")
+    return ", ".join(shown)
 
 
 def _status(result, written) -> int:

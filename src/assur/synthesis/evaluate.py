@@ -19,7 +19,9 @@ from ..analysis.gait import population_gait, resolve_gait
 from ..errors import SpecError
 from ..tolerances import DEFAULT
 from . import fourbar as fb
+from .defects import defect_measures, nearest_inputs
 from .problem import Problem
+from .targets import target_offsets
 
 TWO_PI = 2.0 * np.pi
 
@@ -85,13 +87,23 @@ class Evaluator:
         self._cycle_order = (2 if any(q.startswith("forces.") for q in quantities)
                              else 1 if any(q.startswith("gait.speed") for q in quantities) else 0)
         self._quantities = quantities
-        from ..engine.planar.numba_backend import covers
+        from ..engine.planar.numba_backend import covers, cycle_covers
         t = p.targets
-        self._fusable = (self.backend == "numba" and t is not None and t.timing != "path"
-                         and quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
-                         and covers(p.plan))
-        self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if self._fusable else self.CHUNK)
         self._needs_cycle = p.needs_cycle()
+        # the whole-cycle quantities of the compiled cycle reduction (`_cycle_compiled`): buildability, gait
+        # terms, the worst transmission angle, path distances of point targets
+        self._cycle_fast = (self.backend == "numba" and self._needs_cycle and "defects" not in p.constraints
+                            and not any(q.startswith("forces.") for q in quantities)
+                            and (t is None or t.timing != "path" or getattr(t, "kind", "points") == "points")
+                            and cycle_covers(p.plan, "transmission.min" in quantities))
+        cycle_quantities = ({q for q in quantities if q.startswith("gait.")} | {"transmission.min"}
+                            if self._cycle_fast else set())
+        self._fusable = (self.backend == "numba" and t is not None and t.timing != "path" and t.kind == "points"
+                         and "defects" not in p.constraints
+                         and quantities - cycle_quantities <= {"deviation", "unbuildable"} | {q for q in quantities if q.startswith("expression:")}
+                         and covers(p.plan))
+        fast = self._fusable or (self._cycle_fast and (t is None or t.timing == "path"))
+        self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if fast else self.CHUNK)
         self._cycle_q = np.linspace(0.0, TWO_PI, p.cycle_samples, endpoint=False)   # (M,) whole-cycle inputs
 
     def __reduce__(self):
@@ -154,7 +166,7 @@ class Evaluator:
             return None
         from ..engine.planar.numba_backend import path_objective
         prob = self.problem
-        cycle = self._cycle_q if self._needs_cycle else None
+        cycle = self._cycle_q if self._needs_cycle and not self._cycle_fast else None
         q = theta[:1] if prob.targets.timing == "prescribed" else theta
         return path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
                               DEFAULT.radicand)
@@ -181,20 +193,28 @@ class Evaluator:
             Q["deviation"] = fused[:, 0 if prob.deviation == "squared" else 1] * (ls * ls if prob.deviation == "squared" else ls)
             if prob.deviation != "none":
                 f = f + prob.deviation_weight * Q["deviation"]
-            if self._needs_cycle:
+            if self._needs_cycle and not self._cycle_fast:
                 Q["unbuildable"] = fused[:, 3] / prob.cycle_samples
                 V["buildable"] = _buildable_violation(Q["unbuildable"], fused[:, 4] / prob.cycle_samples)
         elif theta is not None:
             st = solve(plan, params[:, None, :], theta[..., None], order=self._order, backend=self.backend)
-            pt = st.pos[:, :, plan.point_index(t.point), :]                        # (n, N, 2)
             valid = st.valid & finite[:, None]
             V["assembly"] = np.count_nonzero(~valid, axis=1) / t.n
-            Q["offsets"] = (pt - t.xy) * ls                                        # (n, N, 2)
-            Q["distances"] = np.linalg.norm(Q["offsets"], axis=-1)                 # (n, N)
+            from ..io.units import ANGLE
+            with np.errstate(all="ignore"):                                       # (n, N, k), (n, N)
+                Q["offsets"], Q["distances"] = target_offsets(t, plan, st, theta, ls, 1.0 / ANGLE[prob.angle_unit])
             if self._order == 2:
                 Q["acceleration"] = np.sum((st.d2pos_dq2[:, :, plan.point_index(t.point), 0, 0, 0] * ls) ** 2, axis=1)
-        if self._needs_cycle and fused is None:
+        if self._needs_cycle and self._cycle_fast and not detail:
+            self._cycle_compiled(params, finite, V, Q)
+        elif self._needs_cycle and (fused is None or self._cycle_fast):
             self._cycle(params, finite, V, Q)
+        if "defects" in prob.constraints:
+            from ..io.units import ANGLE
+            order, stretch = defect_measures(theta if theta is not None else Q.pop("_path_inputs"),
+                                             Q.pop("_cycle_valid"), self._cycle_q)
+            V["defects"] = order + stretch
+            Q["defects.order"], Q["defects.stretch"] = order / ANGLE[prob.angle_unit], stretch
         if t is not None and t.timing == "path":
             Q["distances"] = Q.pop("_path_distances")
         if "distances" in Q:
@@ -237,6 +257,8 @@ class Evaluator:
         valid = st.valid & finite[:, None]
         share = np.count_nonzero(~valid, axis=1) / M
         Q["unbuildable"] = share
+        if "defects" in prob.constraints:
+            Q["_cycle_valid"] = valid
         if "buildable" in prob.constraints:
             shortfall = None
             if self.backend == "numba" and share.any():
@@ -249,6 +271,8 @@ class Evaluator:
         if prob.targets is not None and prob.targets.timing == "path":
             path = st.pos[:, :, plan.point_index(prob.targets.point), :]        # (n, M, 2)
             Q["_path_distances"] = _polyline_distance(path, prob.targets.xy) * ls
+            if "defects" in prob.constraints:
+                Q["_path_inputs"] = nearest_inputs(path, prob.targets.xy, q)
         if any(k.startswith("gait.") for k in self._quantities):
             Q.update(_sampled_gait(plan, st, ls))
         if any(k.startswith("forces.") for k in self._quantities):
@@ -265,6 +289,39 @@ class Evaluator:
                 Q["transmission.min"] = np.where(np.isfinite(worst), worst, np.nan) / ANGLE[prob.angle_unit]
             else:
                 Q["transmission.min"] = np.full(len(params), np.nan)
+
+    def _cycle_compiled(self, params, finite, V, Q):
+        """What :meth:`_cycle` computes (buildability, gait terms, the worst transmission angle, path distances),
+        from the compiled cycle reduction (``engine.planar.numba_backend.cycle_objective``): the same sampled
+        definitions, the same numbers to round-off, only a few numbers per design stored."""
+        from ..engine.planar.numba_backend import cycle_objective
+        from ..kernels.codegen import CYCLE_COLUMNS, PATH_COLUMN
+        prob, plan = self.problem, self.problem.plan
+        M, ls = prob.cycle_samples, prob.length_scale
+        gait = {k for k in self._quantities if k.startswith("gait.")}
+        kw = {}
+        if gait:
+            foot, ground, up = resolve_gait(plan)
+            kw = dict(foot=foot, ground=ground, up=up, scale=ls,
+                      omega=abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0)
+        t = prob.targets
+        if t is not None and t.timing == "path":
+            kw.update(path=t.point, target_xy=t.xy)
+        r = cycle_objective(plan, params, self._cycle_q, DEFAULT.radicand,
+                            transmission="transmission.min" in self._quantities, **kw)
+        share = np.where(finite, r[:, 0] / M, 1.0)      # a design with NaN parameters: nothing assembles
+        Q["unbuildable"] = share
+        if "buildable" in prob.constraints:
+            V["buildable"] = _buildable_violation(share, np.where(finite, r[:, 1] / M, 0.0))
+        if "path" in kw:
+            Q["_path_distances"] = r[:, PATH_COLUMN:] * ls
+        if gait:      # every gait term, as the general route gives them (the speeds where a speed is named)
+            speeds = any(k.startswith("gait.speed") for k in gait)
+            Q.update({k: r[:, i] for i, k in enumerate(CYCLE_COLUMNS)
+                      if k.startswith("gait.") and (speeds or not k.startswith("gait.speed"))})
+        if "transmission.min" in self._quantities:
+            from ..io.units import ANGLE
+            Q["transmission.min"] = np.where(finite, r[:, 2], np.nan) / ANGLE[prob.angle_unit]
 
     def _fourbar(self, env, theta, n, V):
         """The four-bar constraint measures; env: the expressions' names → (n,), theta (n, N) or None."""

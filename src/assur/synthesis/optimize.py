@@ -3,8 +3,15 @@
 a progress bar, a budget of evaluations or of time, and Ctrl-C — none of which loses the best
 design found so far: every evaluated population passes through one :class:`Tracker` that keeps it.
 
+    result = synthesize(problem, seed=1)          # the defaults: method 'restart', the default budget
     result = synthesize(problem, method="de", seed=1, budget=200_000, starts=4)
-    result.objective, result.x_file, result.mechanism()
+    result.objective, result.x_file, result.mechanism(), result.on_bounds
+
+Settings not given come from the problem file's ``[solver]`` table, then from the built-in defaults
+(:mod:`assur.synthesis.solver`). The default method, 'restart', runs differential evolution restarted on
+stagnation (each restart from a fresh Latin-hypercube population), polishes each restart's best and goes on
+until the budget, the time limit or the target ends the run: a converged population does not end the run, it
+only starts the next restart.
 
 Designs are compared by Deb's feasibility rules (feasible beats infeasible; two infeasible by total
 violation; two feasible by objective), which is exactly the order of the penalised scalar F.
@@ -22,11 +29,11 @@ from ..errors import SynthesisError, require
 from .evaluate import Evaluation, Evaluator
 from .executors import InProcess
 from .problem import Problem
+from .solver import DE_STRATEGIES, METHODS, POLISHES, resolve
 
-METHODS = ("de", "cmaes", "local")
-DE_STRATEGIES = ("best1bin", "best1exp", "rand1bin", "rand1exp", "rand2bin", "rand2exp", "randtobest1bin",
-                 "randtobest1exp", "currenttobest1bin", "currenttobest1exp", "best2exp", "best2bin")
-POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
+#: a restart of the 'restart' method ends when its best improved by less than RESTART_TOL (relative) over
+#: RESTART_PATIENCE generations (stagnation)
+RESTART_TOL, RESTART_PATIENCE = 1e-3, 30
 
 
 class _Stop(Exception):
@@ -44,6 +51,7 @@ class StartResult:
     seconds: float
     stopped: str
     history: list
+    restarts: int = 0
 
 
 class Tracker:
@@ -56,6 +64,7 @@ class Tracker:
         self.budget, self.deadline, self.progress, self.target = budget, deadline, progress, target
         self.evaluations = evaluations
         self.best_x, self.best_F = None, math.inf
+        self.restarts = 0                  # restarts begun (the 'restart' method)
         self.history: list[tuple[int, float, float]] = []
         self.t0 = time.monotonic()
 
@@ -98,6 +107,8 @@ class SynthesisResult:
     starts: list = field(default_factory=list)       # per start: seed, F, evaluations, seconds, stopped
     history: list = field(default_factory=list)      # (evaluations, seconds, best F) over the run
     executor: str = "in-process"
+    settings: dict = field(default_factory=dict)     # the resolved settings and where each came from
+    on_bounds: list = field(default_factory=list)    # variables of the best design that sit on a bound
 
     @property
     def x_file(self) -> np.ndarray:
@@ -149,7 +160,31 @@ class SynthesisResult:
                 "evaluations": self.evaluations, "seconds": self.seconds, "stopped": self.stopped,
                 "constraints": list(self.problem.constraints), "details": self.details,
                 "gait": None if g is None else g.as_dict(), "starts": self.starts,
+                "settings": self.settings, "on_bounds": self.on_bounds,
                 "history": [list(h) for h in self.history]}
+
+    def bound_warning(self) -> str | None:
+        """One line naming the variables of the best design that sit on a bound, or None."""
+        if not self.on_bounds:
+            return None
+        shown = ", ".join(f"{b['variable']} = {b['value']:.6g} ({b['bound']} bound)" for b in self.on_bounds)
+        return (f"warning: the best design sits on a variable bound: {shown}; the optimum may lie outside "
+                "[variables] — widen the bound if the design allows it")
+
+
+def bounds_reached(problem, x, rtol: float = 1e-6) -> list:
+    """The non-periodic variables of ``x`` (SI) within ``rtol`` of the bound width from their low or high bound,
+    as ``{"variable", "bound": "low" | "high", "value"}`` in file units."""
+    out = []
+    xf = problem.to_file(np.asarray(x, dtype=float))
+    for v, xi, vf in zip(problem.variables, x, xf):
+        if v.periodic:
+            continue
+        tol = rtol * (v.high - v.low)
+        for bound, edge in (("low", v.low), ("high", v.high)):
+            if abs(xi - edge) <= tol:
+                out.append({"variable": v.name, "bound": bound, "value": float(vf)})
+    return out
 
 
 # -- one start -----------------------------------------------------------------------------------------
@@ -173,6 +208,7 @@ def initial_population(problem, size, rng) -> np.ndarray:
 
 
 def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin"):
+    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter)."""
     from scipy.optimize import differential_evolution
     D = problem.n_vars
     bounds = list(map(tuple, problem.bounds))
@@ -188,11 +224,28 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
             return False
         old, new = history[-patience - 1], history[-1]
         return old - new <= tol * max(abs(old), 1e-300)
-    differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
+    out = differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
                            maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False,
                            init=initial_population(problem, pop, rng),
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
+    return np.asarray(out.x, dtype=float)
 
+
+def _run_restarts(tracker, problem, rng, options):
+    """The 'restart' method: DE restarted on stagnation until the tracker stops the run (budget, time, target).
+
+    Each restart draws a fresh Latin-hypercube population of ``popsize`` per variable and ends when its best has
+    improved by less than RESTART_TOL (relative) over RESTART_PATIENCE generations; its best is then polished
+    and the next restart begins. Many short restarts, each polished, find narrow basins (C1's exact optimum) that
+    one long run misses; a converged population never ends the run."""
+    k = 0
+    while True:
+        k += 1
+        tracker.restarts = k
+        x = _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], RESTART_TOL, RESTART_PATIENCE,
+                    options["strategy"])
+        if options["polish"] != "none":
+            _polish(tracker, problem, x.copy(), options["polish"])
 
 #: how to install the optional packages of the synthesis
 CMA_INSTALL = "pip install cma (or pip install 'assur[synth]')"
@@ -284,7 +337,9 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     rng = np.random.default_rng(seed)
     stopped = "converged"
     try:
-        if method == "de":
+        if method == "restart":
+            _run_restarts(tracker, problem, rng, options)
+        elif method == "de":
             _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"],
                     options["patience"], options["strategy"])
         elif method == "cmaes":
@@ -295,7 +350,7 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
                 lo, width = _unit_box(problem)
                 x0 = lo + rng.uniform(0.2, 0.8, problem.n_vars) * width
             tracker(np.asarray(x0, dtype=float)[None, :])
-        if options["polish"] != "none" and tracker.best_x is not None:
+        if method != "restart" and options["polish"] != "none" and tracker.best_x is not None:
             _polish(tracker, problem, tracker.best_x.copy(), options["polish"])
     except _Stop as stop:
         stopped = stop.reason
@@ -304,7 +359,7 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     if tracker.best_x is None:
         raise SynthesisError(f"no design was evaluated (stopped: {stopped}); raise the budget or the time limit")
     return StartResult(int(seed), tracker.best_x, tracker.best_F, tracker.evaluations,
-                       time.monotonic() - tracker.t0, stopped, tracker.history)
+                       time.monotonic() - tracker.t0, stopped, tracker.history, tracker.restarts)
 
 
 def _progress_bar(total, desc):
@@ -323,22 +378,33 @@ def _progress_bar(total, desc):
     return bar, update
 
 
-def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None, budget: int | None = None,
-               time_limit: float | None = None, starts: int = 1, polish: str = "auto", popsize: int = 15,
-               maxiter: int = 1000, tol: float = 1e-12, executor=None, progress: bool = False,
-               x0=None, parallel_starts: bool | None = None, patience: int = 100,
-               strategy: str = "best1bin", target: float | None = None) -> SynthesisResult:
+def synthesize(problem: Problem, method: str | None = None, *, seed: int | None = None, budget: int | None = None,
+               time_limit: float | None = None, starts: int | None = None, polish: str | None = None,
+               popsize: int | None = None, maxiter: int | None = None, tol: float = 1e-12, executor=None,
+               progress: bool = False, x0=None, parallel_starts: bool | None = None, patience: int = 100,
+               strategy: str | None = None, target: float | None = None) -> SynthesisResult:
     """Minimise the problem's objective subject to its constraints.
 
-    method: 'de' (scipy differential evolution, vectorised), 'cmaes' (cma), or 'local' (polish only,
-    from ``x0`` in file units or a random point). budget: evaluations over all starts; time_limit:
-    seconds over all starts. starts: independent starts with seeds spawned from ``seed``; with a
-    parallel executor they run as tasks (``parallel_starts``, default when starts > 1), otherwise in
-    turn with the population evaluation on the executor. Ctrl-C, the budget and the time limit end
-    the run early and return the best design so far. A DE start also ends when its best has improved by
-    less than ``tol`` (relative) over ``patience`` generations; ``strategy`` is scipy's DE strategy.
-    ``target``: stop as soon as a feasible design with objective ≤ target is found (later starts are
-    skipped)."""
+    Every setting left None is taken from the problem file's ``[solver]`` table, else from the built-in
+    defaults (:data:`assur.synthesis.solver.DEFAULTS`); ``result.settings`` records the values used and where
+    each came from. method: 'restart' (the default: differential evolution restarted on stagnation, each
+    restart's best polished, until the budget, the time limit or the target; with neither a budget nor a time
+    limit the budget is :data:`~assur.synthesis.solver.DEFAULT_BUDGET`), 'de' (one scipy differential
+    evolution per start, vectorised), 'cmaes' (cma), or 'local' (polish only, from ``x0`` in file units or a
+    random point). budget: evaluations over all starts; time_limit: seconds over all starts. starts:
+    independent starts with seeds spawned from ``seed``; with a parallel executor they run as tasks
+    (``parallel_starts``, default when starts > 1), otherwise in turn with the population evaluation on the
+    executor. Ctrl-C, the budget and the time limit end the run early and return the best design so far. A
+    'de' start also ends when its best has improved by less than ``tol`` (relative) over ``patience``
+    generations; ``strategy`` is scipy's DE strategy. ``target``: stop as soon as a feasible design with
+    objective ≤ target is found (later starts are skipped). ``result.on_bounds`` lists the variables of the
+    best design that sit on a bound."""
+    cfg = resolve(getattr(problem, "solver", None),
+                  {"method": method, "budget": budget, "time": time_limit, "target": target, "starts": starts,
+                   "popsize": popsize, "strategy": strategy, "polish": polish, "maxiter": maxiter})
+    method, budget, time_limit, target = cfg["method"], cfg["budget"], cfg["time"], cfg["target"]
+    starts, popsize, strategy, polish, maxiter = (cfg["starts"], cfg["popsize"], cfg["strategy"], cfg["polish"],
+                                                  cfg["maxiter"])
     if method not in METHODS:
         raise SynthesisError(f"method must be one of {', '.join(METHODS)}: {method!r}")
     if polish not in POLISHES:
@@ -405,8 +471,12 @@ def synthesize(problem: Problem, method: str = "de", *, seed: int | None = None,
                            violation=row["violation"], details=row, evaluations=sum(r.evaluations for r in results),
                            seconds=time.monotonic() - t0, stopped=stopped, method=method, seed=seed,
                            starts=[{"seed": r.seed, "best_F": r.penalised, "evaluations": r.evaluations,
-                                    "seconds": r.seconds, "stopped": r.stopped} for r in results],
-                           history=history, executor=executor.name)
+                                    "seconds": r.seconds, "stopped": r.stopped, "restarts": r.restarts} for r in results],
+                           history=history, executor=executor.name,
+                           settings={k: cfg[k] for k in ("method", "budget", "time", "target", "starts", "popsize",
+                                                         "strategy", "polish", "maxiter", "sources")},
+                           on_bounds=bounds_reached(problem, best.x))
 
 
-__all__ = ["METHODS", "POLISHES", "StartResult", "SynthesisResult", "Tracker", "run_start", "synthesize"]
+__all__ = ["METHODS", "POLISHES", "StartResult", "SynthesisResult", "Tracker", "bounds_reached", "run_start",
+           "synthesize"]

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -47,10 +47,11 @@ from ..io.toml_reader import read_toml
 from ..io.units import ANGLE, LENGTH
 from ..kinetostatics.gait import phase_shifts
 from ..model.mechanism import Mechanism
+from .solver import read_solver
+from .targets import FUNCTION_OUTPUTS, TARGET_KINDS, TIMINGS, Targets, parse_targets
 
 FORMAT = "assur-synth/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
-TIMINGS = ("prescribed", "free", "uniform", "path")
 DEVIATIONS = ("distance", "squared", "none")
 KINDS = PARAM_KINDS
 #: quantities a term or a limit may name (besides expressions); units: the file's
@@ -83,6 +84,8 @@ CONSTRAINTS = {
     "cyclic_order_any": "free timing: in order within one turn, either direction",
     "cidetec_order": "four-bar: r1 + r2 ≤ r3 + r4 and r2 ≤ r3 ≤ r4 ≤ r1",
     "ascending": "free timing: crank angles ascending without wrap-around",
+    "defects": "the targets are met in their order (increasing input) on the design's assembly branch, with the "
+               "whole stretch between them buildable (on by default for function and poses targets)",
 }
 FOURBAR_CONSTRAINTS = {"grashof", "continuous_motion", "nondegenerate", "r2_shortest", "cidetec_order"}
 FREE_TIMING_CONSTRAINTS = {"cyclic_order", "cyclic_order_any", "ascending"}
@@ -99,24 +102,6 @@ class Variable:
     high: float
     kind: str = "length"
     periodic: bool = False
-
-
-@dataclass(frozen=True, slots=True)
-class Targets:
-    """Target points of one mechanism point. xy: (N, 2) SI. timing 'prescribed': ``inputs`` (N,);
-    'free': ``input_variables`` (N names); 'uniform': ``start`` variable + ``step`` (rad);
-    'path': no timing (distance to the nearest point of the sampled path)."""
-    point: str
-    xy: np.ndarray
-    timing: str
-    inputs: np.ndarray | None = None
-    input_variables: tuple[str, ...] = ()
-    start: str | None = None
-    step: float = 0.0
-
-    @property
-    def n(self) -> int:
-        return len(self.xy)
 
 
 @dataclass(frozen=True, slots=True)
@@ -159,6 +144,7 @@ class Problem:
     mechanism_source: str | None = None
     length_unit: str = "m"
     angle_unit: str = "rad"
+    solver: dict = field(default_factory=dict)    # the file's [solver] defaults (synthesis/solver.py)
 
     @property
     def n_vars(self) -> int:
@@ -193,13 +179,14 @@ class Problem:
     def needs_cycle(self) -> bool:
         """Whether an evaluation samples the whole input cycle (buildability, gait, transmission, path)."""
         q = {t.quantity for t in self.terms} | {lim.quantity for lim in self.limits}
-        return ("buildable" in self.constraints or (self.targets is not None and self.targets.timing == "path")
+        return ("buildable" in self.constraints or "defects" in self.constraints
+                or (self.targets is not None and self.targets.timing == "path")
                 or any(s.startswith(CYCLE_FAMILIES) or s == "unbuildable" for s in q))
 
 
 # -- reading ------------------------------------------------------------------------------------------
 _TOP = {"format", "name", "description", "mechanism", "variables", "parameters", "targets", "objective",
-        "constraints", "options"}
+        "constraints", "options", "solver"}
 
 
 def load_problem(path) -> Problem:
@@ -318,7 +305,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         if e is not None:
             mapping.append((name, e))
     unused = var_names - params - {n for _, e in mapping for n in e.names}
-    targets = _targets(data.get("targets"), plan, L, A, number, P)
+    targets = parse_targets(data.get("targets"), plan, L, A, number, P)
     if targets is not None:
         for vn in (*targets.input_variables, *([targets.start] if targets.start else [])):
             unused.discard(vn)
@@ -342,7 +329,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             terms.append(Term(q, 1.0 if w is None else w, extra.get("target"), e))
     # constraints
     con = P.section(data, "constraints")
-    P.unknown_keys(con, ("use", "fourbar", "limits"), "constraints")
+    P.unknown_keys(con, ("use", "fourbar", "limits", "defects"), "constraints")
     use = con.get("use", [])
     if not isinstance(use, list):
         P.add("constraints.use", "must be a list of constraint names")
@@ -355,6 +342,14 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
     if (targets is not None and targets.timing == "path") or any(q.startswith(CYCLE_FAMILIES) for q in named):
         implied.append("buildable")
+    defects = con.get("defects", targets is not None and targets.kind != "points")
+    if not isinstance(defects, bool):
+        P.add("constraints.defects", f"must be true or false: {defects!r}")
+        defects = False
+    if defects:
+        implied.append("defects")
+    elif "defects" in use and "defects" in con:
+        P.add("constraints.defects", "is false, but constraints.use lists 'defects'")
     constraints = tuple(dict.fromkeys(["assembly", *use, *implied]))
     fourbar = []
     raw_fb = con.get("fourbar")
@@ -373,6 +368,9 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             P.add("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")")
         if c == "continuous_motion" and targets is not None and targets.timing == "path":
             P.add("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path")
+        if c == "defects" and (targets is None or plan.n_inputs != 1 or plan.input_kinds[0] != "rotary"):
+            P.add("constraints.use" if "defects" in use else "constraints.defects",
+                  "'defects' needs [targets] and a mechanism with one rotary input")
     limits = []
     for i, t in enumerate(con.get("limits", [])):
         item = _quantity_item(t, f"constraints.limits[{i}]", ("min", "max"), expression, number, P, targets)
@@ -397,13 +395,15 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         P.add(f"variables.{vn}", "is used by no parameter, timing or expression")
     if plan.n_inputs != 1 and targets is not None:
         P.add("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}")
+    solver = read_solver(data.get("solver"), P)
     if P:
         fail()
     return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
                    deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
                    limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
                    violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
-                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle)
+                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
+                   solver=solver)
 
 
 def _did_you_mean(name: str, known) -> str:
@@ -457,6 +457,8 @@ def _quantity_item(t, where, keys, expression, number, P, targets):
         return None
     if q in ("deviation", "acceleration") and targets is None:
         P.add(f"{where}.quantity", f"{q!r} needs [targets]")
+    elif q == "acceleration" and targets.kind == "function":
+        P.add(f"{where}.quantity", "'acceleration' needs targets of a point (kind points or poses)")
     extra = {}
     for k in keys:
         if k in t:
@@ -464,58 +466,6 @@ def _quantity_item(t, where, keys, expression, number, P, targets):
     return q, e, extra
 
 
-def _targets(raw, plan, L, A, number, P) -> Targets | None:
-    if raw is None:
-        return None
-    if not isinstance(raw, dict):
-        P.add("targets", "must be a table")
-        return None
-    P.unknown_keys(raw, ("point", "xy", "timing", "inputs", "variables", "start", "step"), "targets")
-    point = raw.get("point")
-    if point not in plan.point_names:
-        P.add("targets.point", f"unknown point {point!r} (known: {', '.join(plan.point_names)})")
-        return None
-    xy = raw.get("xy")
-    try:
-        xy = np.array(xy, dtype=float)
-    except (TypeError, ValueError):
-        xy = None
-    if xy is None or xy.ndim != 2 or xy.shape[1] != 2 or len(xy) < 1 or not np.all(np.isfinite(xy)):
-        P.add("targets.xy", "must be a list of [x, y] points")
-        return None
-    n = len(xy)
-    timing = raw.get("timing", "prescribed" if "inputs" in raw else "path")
-    if timing not in TIMINGS:
-        P.add("targets.timing", f"must be one of {', '.join(TIMINGS)}: {timing!r}")
-        return None
-    unit = A if plan.input_kinds[0] == "rotary" else L
-    t = Targets(point, xy * L, timing)
-    if timing == "prescribed":
-        try:
-            q = np.array(raw.get("inputs"), dtype=float)
-        except (TypeError, ValueError):
-            q = None
-        if q is None or q.shape != (n,) or not np.all(np.isfinite(q)):
-            P.add("targets.inputs", f"must list one input value per target ({n})")
-            return None
-        return Targets(point, xy * L, timing, inputs=q * unit)
-    if timing == "free":
-        names = raw.get("variables")
-        if not (isinstance(names, list) and len(names) == n and all(isinstance(s, str) for s in names)):
-            P.add("targets.variables", f"free timing needs one design variable name per target ({n})")
-            return None
-        return Targets(point, xy * L, timing, input_variables=tuple(names))
-    if timing == "uniform":
-        start, step = raw.get("start"), number("targets.step", raw.get("step"))
-        if not isinstance(start, str):
-            P.add("targets.start", "uniform timing needs the design variable of the first input")
-            return None
-        if step is None or step == 0:
-            P.add("targets.step", "uniform timing needs a non-zero step")
-            return None
-        return Targets(point, xy * L, timing, start=start, step=step * unit)
-    return t
-
-
-__all__ = ["CONSTRAINTS", "FORMAT", "Limit", "Problem", "QUANTITIES", "Targets", "Term", "Variable",
+__all__ = ["CONSTRAINTS", "FORMAT", "FUNCTION_OUTPUTS", "Limit", "Problem", "QUANTITIES", "TARGET_KINDS", "Targets",
+           "Term", "Variable",
            "load_problem", "problem_from_dict"]

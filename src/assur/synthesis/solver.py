@@ -1,0 +1,105 @@
+"""Solver settings: the defaults of ``synthesize`` and ``assur synth``, and the ``[solver]`` table a problem
+file may carry.
+
+The settings of a run are resolved in this order, each level overriding the one before it:
+
+1. the built-in defaults (:data:`DEFAULTS`);
+2. the problem file's ``[solver]`` table;
+3. what the command line (or the Python call) gives explicitly.
+
+    [solver]
+    method = "restart"        # restart | de | cmaes | local
+    budget = 300000           # objective evaluations in all
+    target = 1e-20            # stop at the first feasible design with objective ≤ target
+    starts = 1
+    popsize = 15
+    strategy = "best1bin"
+    polish = "auto"
+    maxiter = 1000
+    time = 60                 # seconds
+"""
+from __future__ import annotations
+
+import math
+
+#: the global methods: 'restart' is the default (differential evolution restarted on stagnation, each
+#: restart's best polished, until the budget, the time limit or the target ends the run)
+METHODS = ("restart", "de", "cmaes", "local")
+DE_STRATEGIES = ("best1bin", "best1exp", "rand1bin", "rand1exp", "rand2bin", "rand2exp", "randtobest1bin",
+                 "randtobest1exp", "currenttobest1bin", "currenttobest1exp", "best2exp", "best2bin")
+POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
+
+#: the default evaluation budget of a run when neither the file nor the caller gives a budget or a time limit
+DEFAULT_BUDGET = 300_000
+
+#: built-in defaults (level 1); for the 'restart' method ``budget`` None means DEFAULT_BUDGET unless a time limit
+#: is given
+DEFAULTS = {"method": "restart", "budget": None, "time": None, "target": None, "starts": 1, "popsize": 15,
+            "strategy": "best1bin", "polish": "auto", "maxiter": 1000}
+
+#: what each key of [solver] holds
+KEYS = {
+    "method": f"global method: {' | '.join(METHODS)}",
+    "budget": "objective evaluations in all (integer ≥ 1)",
+    "time": "wall-time limit in seconds (> 0)",
+    "target": "stop at the first feasible design with objective ≤ target (file units)",
+    "starts": "independent starts (integer ≥ 1)",
+    "popsize": "population per variable (integer ≥ 2)",
+    "strategy": "scipy differential-evolution strategy",
+    "polish": f"local refinement: {' | '.join(POLISHES)}",
+    "maxiter": "generations per start or restart (integer ≥ 1)",
+}
+
+
+def read_solver(raw, P) -> dict:
+    """Validate a parsed ``[solver]`` table; every problem goes to ``P`` (an ``io.problems.Problems``) with its
+    location (``solver.KEY``). Returns the valid settings (only the keys the file gives)."""
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        P.add("solver", "must be a table of solver settings (method, budget, target, starts, …)")
+        return {}
+    P.unknown_keys(raw, tuple(KEYS), "solver")
+    out = {}
+    for key, v in raw.items():
+        if key not in KEYS:
+            continue
+        where = f"solver.{key}"
+        if key in ("method", "strategy", "polish"):
+            choices = {"method": METHODS, "strategy": DE_STRATEGIES, "polish": POLISHES}[key]
+            if v not in choices:
+                P.add(where, f"must be one of {', '.join(choices)}: {v!r}")
+                continue
+            out[key] = v
+        elif key in ("budget", "starts", "popsize", "maxiter"):
+            low = 2 if key == "popsize" else 1
+            if isinstance(v, bool) or not isinstance(v, int) or v < low:
+                P.add(where, f"must be an integer ≥ {low}: {v!r}")
+                continue
+            out[key] = int(v)
+        else:   # time, target
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                P.add(where, f"must be a finite number: {v!r}")
+                continue
+            if key == "time" and not v > 0:
+                P.add(where, f"must be positive: {v!r}")
+                continue
+            out[key] = float(v)
+    return out
+
+
+def resolve(file_settings: dict | None, given: dict) -> dict:
+    """The settings of a run: DEFAULTS ← the file's [solver] ← the caller's explicit (non-None) values. A run with
+    neither a budget nor a time limit gets DEFAULT_BUDGET with the 'restart' method. Adds ``sources``: key → 'default' | 'file' | 'given'."""
+    settings, sources = dict(DEFAULTS), {k: "default" for k in DEFAULTS}
+    for level, values in (("file", file_settings or {}), ("given", given)):
+        for k, v in values.items():
+            if v is not None and k in settings:
+                settings[k], sources[k] = v, level
+    if settings["method"] == "restart" and settings["budget"] is None and settings["time"] is None:
+        settings["budget"] = DEFAULT_BUDGET        # restarts go on until something ends them
+    settings["sources"] = sources
+    return settings
+
+
+__all__ = ["DEFAULTS", "DEFAULT_BUDGET", "DE_STRATEGIES", "KEYS", "METHODS", "POLISHES", "read_solver", "resolve"]
