@@ -175,7 +175,6 @@ def cmd_analyze(args) -> int:
 
 def cmd_plot(args) -> int:
     """``assur plot FILE -o OUT``: the figure of a turn (a 3D view of a spatial file; .html: interactive)."""
-    from ..plot.draw import close
     m, plan = compile_file(args.file)
     ext = args.output.suffix.lower()
     if plan.dimension != 3 and ext == ".html":
@@ -199,6 +198,12 @@ def cmd_plot(args) -> int:
         from ..plot.figures import mechanism_figure
         fig = mechanism_figure(plan, args.steps, ranges=ranges, positions=args.positions, dpi=args.dpi,
                                units=args.units)
+    return _save_figure(fig, args, ext)
+
+
+def _save_figure(fig, args, ext) -> int:
+    """Write a figure to ``args.output`` atomically (in the format of its extension) and close it."""
+    from ..plot.draw import close
     try:
         with atomic_file(args.output) as tmp:
             fig.savefig(tmp, format=ext[1:], dpi=args.dpi)
@@ -211,7 +216,6 @@ def cmd_plot(args) -> int:
 def _plot_forces(args, plan, ext) -> int:
     """``assur plot FILE --forces -o OUT``: the sheet of force figures."""
     from ..kinetostatics.overview import check_one_driver, force_cycle
-    from ..plot.draw import close
     from ..plot.forces import forces_figure
     from .forces import parse_at
     if plan.dimension == 3:
@@ -219,13 +223,7 @@ def _plot_forces(args, plan, ext) -> int:
     check_one_driver(plan)
     at = None if args.at is None else float(parse_at(plan, [args.at])[0])
     fig = forces_figure(plan, at=at, cycle=force_cycle(plan, steps=args.steps), dpi=args.dpi)
-    try:
-        with atomic_file(args.output) as tmp:
-            fig.savefig(tmp, format=ext[1:], dpi=args.dpi)
-    finally:
-        close(fig)
-    print(f"wrote {args.output}")
-    return 0
+    return _save_figure(fig, args, ext)
 
 
 def cmd_animate(args) -> int:

@@ -199,6 +199,31 @@ def driven_slides(gr, g, gd, pr, ln, z, p, orient, F, M, lam):
         set_pair(pr, ln, k, -dot(1j * u, f), -MQ, -dot(u, f), z, p, orient, F, M, lam)
 
 
+def side_unknown(pr, ln, o, M_J, J, z, p, orient):
+    """A side of a dyad hinged at J, by its outer pair o: (K, e, Q) — the part of the pair's force that the
+    side's moment about J fixes, the direction of the one unknown left, and the slide's reference point.
+    A revolute at X: K = p·i·ê with p = −M_J/|X − J| across ê = (X − J)/|X − J|, the unknown along ê; a slide:
+    K = 0, the unknown along its normal n (its couple follows from the moment afterwards)."""
+    if pr[o, 0] == PAIR_R:
+        d = z[pr[o, 3]] - J
+        ad = np.abs(d)
+        e = d / ad
+        return 1j * e * (-M_J / ad), e, J
+    u, Q = line_uq(ln, pr[o, 4], z, p, orient)
+    e = 1j * u
+    return 0j * e, e, Q
+
+
+def set_side(pr, ln, o, K, mu, e, M_J, Q, J, z, p, orient, F, M, lam):
+    """Record a dyad side's outer pair o from the solved unknown mu: a revolute's force K + mu·e, or a slide's
+    normal force mu with the couple that balances the side's moment about J."""
+    if pr[o, 0] == PAIR_R:
+        f = K + mu * e
+        set_pair(pr, ln, o, f.real, f.imag, 0.0, z, p, orient, F, M, lam)
+    else:
+        set_pair(pr, ln, o, mu, -M_J - mu * cross(Q - J, e), 0.0, z, p, orient, F, M, lam)
+
+
 def inner_revolute(gr, g, gb, gd, pr, ln, z, p, orient, F, M, lam):
     """A dyad whose sides are hinged to each other at J (RRR, RRP, PRP): the closed form of :mod:`.groups`."""
     a0, an, b0, bn = gr[g, GR_A0], gr[g, GR_AN], gr[g, GR_B0], gr[g, GR_BN]
@@ -208,41 +233,12 @@ def inner_revolute(gr, g, gb, gd, pr, ln, z, p, orient, F, M, lam):
     Fb, Mb = side_sum(gb, b0, bn, F, M)
     MaJ = Ma - cross(J, Fa)
     MbJ = Mb - cross(J, Fb)
-    # side a: a revolute's force across X − J is fixed by the side's moment about J; the rest is along X − J
-    Qa = J
-    if pr[oa, 0] == PAIR_R:
-        d = z[pr[oa, 3]] - J
-        ad = np.abs(d)
-        ea = d / ad
-        Ka = 1j * ea * (-MaJ / ad)
-    else:
-        u, Qa = line_uq(ln, pr[oa, 4], z, p, orient)
-        ea = 1j * u
-        Ka = 0j * ea
-    Qb = J
-    if pr[ob, 0] == PAIR_R:
-        d = z[pr[ob, 3]] - J
-        bd = np.abs(d)
-        eb = d / bd
-        Kb = 1j * eb * (-MbJ / bd)
-    else:
-        u, Qb = line_uq(ln, pr[ob, 4], z, p, orient)
-        eb = 1j * u
-        Kb = 0j * eb
+    Ka, ea, Qa = side_unknown(pr, ln, oa, MaJ, J, z, p, orient)
+    Kb, eb, Qb = side_unknown(pr, ln, ob, MbJ, J, z, p, orient)
     G = -(Fa + Fb + Ka + Kb)
     det = cross(ea, eb)
-    mua = cross(G, eb) / det
-    mub = cross(ea, G) / det
-    if pr[oa, 0] == PAIR_R:
-        f = Ka + mua * ea
-        set_pair(pr, ln, oa, f.real, f.imag, 0.0, z, p, orient, F, M, lam)
-    else:
-        set_pair(pr, ln, oa, mua, -MaJ - mua * cross(Qa - J, ea), 0.0, z, p, orient, F, M, lam)
-    if pr[ob, 0] == PAIR_R:
-        f = Kb + mub * eb
-        set_pair(pr, ln, ob, f.real, f.imag, 0.0, z, p, orient, F, M, lam)
-    else:
-        set_pair(pr, ln, ob, mub, -MbJ - mub * cross(Qb - J, eb), 0.0, z, p, orient, F, M, lam)
+    set_side(pr, ln, oa, Ka, cross(G, eb) / det, ea, MaJ, Qa, J, z, p, orient, F, M, lam)
+    set_side(pr, ln, ob, Kb, cross(ea, G) / det, eb, MbJ, Qb, J, z, p, orient, F, M, lam)
     if gr[g, GR_LATER_B] == 1:
         Fl, Ml = side_sum(gb, b0, bn, F, M)
     else:
