@@ -35,7 +35,7 @@ def _rewrite(args: list[str], out: Path) -> tuple[list[str], Path | None]:
     if "--time" in args:
         args[args.index("--time") + 1] = "10"
     target = None
-    for flag in ("-o", "--output", "--csv"):
+    for flag in ("-o", "--output", "--csv", "--plot"):
         if flag in args:
             target = Path(args[args.index(flag) + 1])
     return args, target
@@ -54,6 +54,7 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
     assert extras.stdout.strip() == "[]"
     out = tmp_path / "out"
     out.mkdir()
+    before = sorted(p.name for p in ROOT.iterdir())      # the tour writes only under out/: nothing in the project
     for command in tour_commands():
         args, target = _rewrite(command, out)
         args[0] = str(env_dir / "bin" / "assur")
@@ -65,3 +66,4 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
             assert target.is_dir() and any(target.iterdir()) or target.is_file() and target.stat().st_size > 0, shown
         else:
             assert run.stdout.strip(), f"{shown}: printed nothing"
+    assert sorted(p.name for p in ROOT.iterdir()) == before, "a tour command wrote into the project directory"
