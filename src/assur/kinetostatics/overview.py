@@ -95,7 +95,6 @@ def force_summary(cycle: ForceCycle, *, friction: bool = False) -> dict:
     f, q = cycle.forces, cycle.q
     plan = f.plan
     nb = len(f.shape)
-    Q = np.asarray(f.driver[..., 0], dtype=float)
     rotary = plan.input_kinds[0] == "rotary"
     out = {"driver": plan.input_names[0], "effort": "torque" if rotary else "force",
            "effort_unit": "N·m" if rotary else "N", "cycle": "turn" if cycle.turn else "stroke",

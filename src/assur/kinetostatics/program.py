@@ -13,7 +13,8 @@ import numpy as np
 
 from .kernel import (ANG_LINE, ANG_POINTS, ANG_STILL, DEF_BAR, DEF_GIVEN, DEF_POLYGON, G_CRANK, G_GENERIC,
                      G_INNER_P, G_INNER_R, PAIR_P, PAIR_R, PAIR_T)
-from .tables import ForceTables, force_tables
+from .loads import point_body
+from .tables import ForceTables, body_index, force_tables
 
 _KINDS = {"R": PAIR_R, "P": PAIR_P, "T": PAIR_T}
 
@@ -118,8 +119,6 @@ def build_program(t: ForceTables) -> Program:
     dyn = t.dynamics
     lpts, lforce, torque = [], [], np.zeros(nb)
     loads_in_kernel = True
-    from .loads import point_body       # the one rule for the body a point load acts on
-    from .tables import body_index
     for load in dyn.loads:
         if load.law is not None or load.opposes is not None:
             loads_in_kernel = False

@@ -309,7 +309,6 @@ def _build(plan, tol) -> _Tables:
     dyn = m.dynamics or Dynamics()
     names = plan.body_names
     pidx = {p: i for i, p in enumerate(plan.point_names)}
-    frame = names[0]
     cranks, dyads, hinged, rank = [], [], {}, {0: 0}
     for st in plan.steps:
         if st.kind == "crank":

@@ -44,10 +44,6 @@ class ForcePair:
     driven: int = -1
     name: str = ""
 
-    @property
-    def label(self) -> str:
-        return self.name
-
 
 @dataclass(frozen=True, slots=True)
 class BodyMass:
@@ -96,10 +92,6 @@ class ForceTables:
     @property
     def n_bodies(self) -> int:
         return self.plan.n_bodies
-
-    def pair_names(self) -> tuple[str, ...]:
-        b = self.plan.body_names
-        return tuple(f"{p.name} ({b[p.earlier]} → {b[p.later]})" for p in self.pairs)
 
 
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

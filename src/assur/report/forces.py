@@ -5,7 +5,6 @@ length unit of a linear driver).
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 

@@ -327,7 +327,6 @@ def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, 
         if f is None:
             continue
         a, b, e, flip = f["a"], f["b"], f["e"], f["flip"]
-        t = phi + (np.pi if flip else 0.0)            # the crank's direction at each point
         q, cols = _stretch(phi[None, :], samples)
         # assembles without a toggle: |e − a sin θ| < b over the whole stretch (dense check, then the engine)
         th = q[0] + (np.pi if flip else 0.0)

@@ -48,7 +48,7 @@ from ..io.units import ANGLE, LENGTH
 from ..kinetostatics.gait import phase_shifts
 from ..model.mechanism import Mechanism
 from .solver import read_solver
-from .targets import FUNCTION_OUTPUTS, TARGET_KINDS, TIMINGS, Targets, parse_targets
+from .targets import FUNCTION_OUTPUTS, TARGET_KINDS, Targets, parse_targets
 
 FORMAT = "assur-synth/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
