@@ -187,6 +187,16 @@ def load_kernel(source: str, cache_dir):
     return module.kernel
 
 
+def _cycle_loop(body, count: str, before=(), after=()) -> list[str]:
+    """The loop of a design's kernel over the cycle samples (cosines ``cq``, sines ``sq``): it counts the samples
+    that do not assemble (``cbad``) and sums the groups' shortfall past their toggles (``shortfall``).
+    ``before``: lines (indented) run once before the loop; ``after``: lines run inside it after each sample."""
+    i8, i12 = " " * 8, " " * 12
+    return [f"{i8}cbad = 0", f"{i8}shortfall = 0.0", *before, f"{i8}for u in range({count}):", f"{i12}c = cq[u]",
+            f"{i12}s = sq[u]", f"{i12}ok = True", f"{i12}deficit = 0.0", *[i12 + ln for ln in body],
+            f"{i12}cbad += 0 if ok else 1", f"{i12}shortfall += deficit", *[i12 + ln for ln in after]]
+
+
 def generate_objective_source(ops, point: int) -> str:
     """Python source of a fused numba kernel that reduces a path-synthesis objective per design.
 
@@ -235,16 +245,7 @@ def generate_objective_source(ops, point: int) -> str:
         f"{i12}e2sum += e2 if ok else 0.0",
         f"{i12}esum += math.sqrt(e2) if ok else 0.0",
         f"{i12}bad += 0.0 if ok else 1.0",
-        f"{i8}cbad = 0",
-        f"{i8}shortfall = 0.0",
-        f"{i8}for u in range(cq.shape[0]):",
-        f"{i12}c = cq[u]",
-        f"{i12}s = sq[u]",
-        f"{i12}ok = True",
-        f"{i12}deficit = 0.0",
-        *[i12 + ln for ln in body],
-        f"{i12}cbad += 0 if ok else 1",
-        f"{i12}shortfall += deficit",
+        *_cycle_loop(body, "cq.shape[0]"),
         f"{i8}out[d, 0] = e2sum",
         f"{i8}out[d, 1] = esum",
         f"{i8}out[d, 2] = bad",
@@ -322,18 +323,7 @@ def generate_cycle_source(ops, foot: int = -1, path: int = -1, rrr=()) -> str:
         "    for d in range(G.shape[0]):",
         *[i8 + ln for ln in _loads(slots)],
         *[i8 + ln for ln in _frame_lines(ops, body)],
-        f"{i8}cbad = 0",
-        f"{i8}shortfall = 0.0",
-        *([f"{i8}ft[:] = math.inf"] if rrr else []),
-        f"{i8}for u in range(M):",
-        f"{i12}c = cq[u]",
-        f"{i12}s = sq[u]",
-        f"{i12}ok = True",
-        f"{i12}deficit = 0.0",
-        *[i12 + ln for ln in body],
-        f"{i12}cbad += 0 if ok else 1",
-        f"{i12}shortfall += deficit",
-        *[i12 + ln for ln in sample],
+        *_cycle_loop(body, "M", before=[f"{i8}ft[:] = math.inf"] if rrr else [], after=sample),
         f"{i8}out[d, 0] = cbad",
         f"{i8}out[d, 1] = shortfall",
         f"{i8}tmin = math.inf",
