@@ -141,36 +141,33 @@ def _default_at(cycle: ForceCycle) -> float:
     return float(cycle.q[0])
 
 
-def torque_figure(plan, steps: int = 360, *, cycle=None, dpi: int = 100):
+def _one_panel(draw, figsize, dpi, projection=None):
+    """A figure of one panel drawn by ``draw(ax)``."""
     _, plt = mpl()
-    fig, ax = plt.subplots(figsize=(7, 3.6), dpi=dpi)
-    draw_torque(ax, cycle or _cycle(plan, steps))
+    fig = plt.figure(figsize=figsize, dpi=dpi)
+    draw(fig.add_subplot(projection=projection))
     fig.tight_layout()
     return fig
+
+
+def torque_figure(plan, steps: int = 360, *, cycle=None, dpi: int = 100):
+    """Driving torque (or actuator force) and power against the input."""
+    return _one_panel(lambda ax: draw_torque(ax, cycle or _cycle(plan, steps)), (7, 3.6), dpi)
 
 
 def hodograph_figure(plan, steps: int = 360, *, cycle=None, dpi: int = 100):
-    _, plt = mpl()
-    fig = plt.figure(figsize=(7, 4.5), dpi=dpi)
-    draw_hodographs(fig.add_subplot(projection="polar"), cycle or _cycle(plan, steps))
-    fig.tight_layout()
-    return fig
+    """The reaction hodographs (polar) of every joint over the cycle."""
+    return _one_panel(lambda ax: draw_hodographs(ax, cycle or _cycle(plan, steps)), (7, 4.5), dpi, "polar")
 
 
 def arrows_figure(plan, at: float, *, dpi: int = 100):
-    _, plt = mpl()
-    fig, ax = plt.subplots(figsize=(7, 5), dpi=dpi)
-    draw_arrows(ax, plan, at)
-    fig.tight_layout()
-    return fig
+    """The forces as arrows on the kinematic diagram at input ``at`` (SI)."""
+    return _one_panel(lambda ax: draw_arrows(ax, plan, at), (7, 5), dpi)
 
 
 def lever_figure(plan, at: float, *, dpi: int = 100):
-    _, plt = mpl()
-    fig, ax = plt.subplots(figsize=(6, 6), dpi=dpi)
-    draw_lever(ax, plan, at)
-    fig.tight_layout()
-    return fig
+    """Zhukovsky's lever at input ``at`` (SI)."""
+    return _one_panel(lambda ax: draw_lever(ax, plan, at), (6, 6), dpi)
 
 
 def forces_figure(plan, steps: int = 360, *, at: float | None = None, cycle=None, dpi: int = 100):
