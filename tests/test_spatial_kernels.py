@@ -266,3 +266,17 @@ def test_newton_rss_recovers_the_closed_form():
     x, ok = V.newton_rss(A, D, e, 50.0, 0.0, 70.0, B + np.array([1.0, -2.0, 1.5]), tol=1e-10)
     assert ok
     np.testing.assert_allclose(x, B, atol=1e-10)
+
+
+def test_atan2_of_jets_has_the_derivatives_of_the_angle():
+    """θ(s) = atan2(y(s), x(s)) for y = 1 + 2s − s², x = 3 − s + 0.5s² at s = 0.3: the jet's first and second
+    derivatives against central differences of θ computed with math.atan2 (h = 1e-4: O(h²) ≈ 1e-8 error)."""
+    s, h = 0.3, 1e-4
+    y = lambda t: 1 + 2 * t - t * t            # noqa: E731
+    x = lambda t: 3 - t + 0.5 * t * t          # noqa: E731
+    theta = lambda t: math.atan2(y(t), x(t))   # noqa: E731
+    jet = V.atan2(Jet(np.array(y(s)), np.array(2 - 2 * s), np.array(-2.0)),
+                  Jet(np.array(x(s)), np.array(-1 + s), np.array(1.0)))
+    assert float(jet.v) == pytest.approx(theta(s), abs=1e-15)
+    assert float(jet.d) == pytest.approx((theta(s + h) - theta(s - h)) / (2 * h), abs=1e-7)
+    assert float(jet.dd) == pytest.approx((theta(s + h) - 2 * theta(s) + theta(s - h)) / h ** 2, abs=1e-5)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jet import Jet, bilinear as _bilinear, linear as _linear, unary as _unary
+from .jet import Jet, bilinear as _bilinear, parts as _parts, unary as _unary
 
 #: status codes of :func:`unit_vector`; BRANCH_POINT (|disc| within the tolerance: the two branches
 #: meet, derivatives are infinite there) is still a valid assembly
