@@ -17,7 +17,7 @@ LAYER = {"kernels": 0, "errors": 0, "tolerances": 0,
          "model": 1, "structure": 1,
          "engine": 2, "compile": 2, "plan": 2, "solve": 2, "state": 2, "compiled_backend": 2, "spatial_plan": 2,
          "analysis": 3, "io": 3, "gears": 3, "kinetostatics": 3, "wheelstep": 3,
-         "synthesis": 4, "plot": 4, "report": 4, "cli": 4, "__main__": 4, "__root__": 4}
+         "synthesis": 4, "plot": 4, "report": 4, "cli": 4, "designer": 4, "__main__": 4, "__root__": 4}
 
 
 # ---------------------------------------------------------------------------------------------------------------

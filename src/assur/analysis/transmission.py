@@ -74,12 +74,14 @@ class DeadCentre:
         return dataclass_table(self, "Dead centre", units={"angle": "rad"})
 
 
-def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
+def dead_centres(plan, params=None, steps: int = 1440, *, grid_pos=None) -> list[DeadCentre]:
     """Input angles where a crank is collinear with the link hinged at its arm (one-input plans).
 
     plan: a plan (at ``params``, default its defaults) or a :class:`~assur.analysis.sampling.Cycle` (its plan
     and parameters). The crank's turn is scanned at ``steps`` inputs for sign changes of the collinearity,
-    each then refined by a root solve."""
+    each then refined by a root solve. With ``grid_pos`` (steps, n_points, 2), the positions already solved on
+    that uniform grid, nothing is solved: each root is the linear interpolation of the collinearity between
+    its two samples (an error of O(h²) in the angle, h = 2π/steps)."""
     plan, params, _ = cycle_source(plan, params)
     if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
         return []
@@ -101,20 +103,27 @@ def dead_centres(plan, params=None, steps: int = 1440) -> list[DeadCentre]:
     J, link = follower
     io, ia, ij = (plan.point_index(p) for p in (pivot, arm, J))
 
-    def cross_dot(q):
-        s = cyc.state(np.atleast_1d(q))
-        z = s.pos[..., 0] + 1j * s.pos[..., 1]
+    def collinearity(pos):
+        z = pos[..., 0] + 1j * pos[..., 1]
         a, b = z[..., ia] - z[..., io], z[..., ij] - z[..., ia]
         c = np.conj(a) * b
         return c.imag, c.real
 
+    def cross_dot(q):
+        return collinearity(cyc.state(np.atleast_1d(q)).pos)
+
     q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    cr, dt = cross_dot(q)
+    cr, dt = cross_dot(q) if grid_pos is None else collinearity(np.asarray(grid_pos))
     out = []
     for i in sign_changes(q, cr):
         a, b = q[i], q[i] + (q[1] - q[0])
-        root = root_between(lambda t: float(cross_dot(t)[0][0]), a, b)
-        d = float(cross_dot(root)[1][0])
+        if grid_pos is None:
+            root = root_between(lambda t: float(cross_dot(t)[0][0]), a, b)
+            d = float(cross_dot(root)[1][0])
+        else:
+            j = (i + 1) % steps
+            w = cr[i] / (cr[i] - cr[j])
+            root, d = a + w * (b - a), float(dt[i] + w * (dt[j] - dt[i]))
         out.append(DeadCentre(plan.input_names[0], float(root % TWO_PI), "extended" if d > 0 else "folded", link))
     return out
 

@@ -1,0 +1,295 @@
+"""What the designer's page draws: one solve of the whole cycle of a document, as named float64 arrays and a
+small JSON description (the protocol of ``docs/designer.md``).
+
+:func:`describe` compiles a document and solves its cycle once (positions, velocities and accelerations in
+time at the driver's speed), then derives everything the page shows from that one state: the links' angular
+rates and instant centres, the groups' transmission angles, the dead centres, the gait of a walking leg, the
+feet on the ground of a module and, when the file has masses, the driving torque and power.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import AssurError
+
+#: samples of the input's cycle the page receives (one turn of a crank, or a linear driver's stroke)
+DESIGNER_STEPS = 360
+
+
+@dataclass
+class Description:
+    """A described document: ``meta`` (JSON-ready: ``model``, ``cycle``, ``diagnostics``), ``arrays`` (name →
+    float64 array, SI), the compiled ``plan`` (None when the document is not a mechanism yet) and the
+    ``params`` the cycle was solved with."""
+    meta: dict
+    arrays: dict = field(default_factory=dict)
+    plan: object = None
+    params: object = None
+    mechanism: object = None
+
+
+def _diagnostic(level: str, code: str, message: str, where: str = "") -> dict:
+    return {"level": level, "code": code, "message": message, "where": where}
+
+
+def _model_of_doc(doc: dict) -> dict:
+    """The names and topology the page needs, read from the document itself (so a document that is not a
+    mechanism yet still draws)."""
+    from .document import link_points, locks
+    links = doc.get("links", {})
+    lp, ll = locks(doc)
+    drivers = []
+    for d in doc.get("drivers", []):
+        drivers.append({k: d.get(k) for k in ("name", "kind", "link", "pivot", "arm", "actuator", "speed")})
+    gait = doc.get("gait", {})
+    return {
+        "dimension": int(doc.get("dimension", 2)),
+        "points": list(doc.get("points", {})),
+        "frame_points": link_points(links.get("frame", [])),
+        "links": [{"name": n, "points": link_points(e)} for n, e in links.items()],
+        "sliders": [{k: s.get(k) for k in ("name", "guide", "through", "point", "link")}
+                    for s in doc.get("prismatic", [])],
+        "actuators": [{"name": n, "between": list(t.get("between", []))} for n, t in doc.get("actuators", {}).items()],
+        "drivers": drivers,
+        "locks": {"points": lp, "links": ll},
+        "foot": gait.get("foot"),
+        "groups": [], "mobility": None, "formula": None, "params": [],
+    }
+
+
+def branched_steps(plan) -> list:
+    """The steps with an assembly branch, in solve order: (step index, step)."""
+    return [(i, st) for i, st in enumerate(plan.steps) if st.key_point is not None]
+
+
+def group_records(plan, structure) -> list[dict]:
+    """One record per branched step: its label, kind, point, branch sign and whether the page may flip it."""
+    labels = {}
+    if structure is not None:
+        from ..structure.assur import roman
+        for g in structure.groups:
+            names = ", ".join(dict.fromkeys(structure.graph.bodies[b].source or structure.body_label(b)
+                                            for b in g.bodies))
+            for b in g.bodies:
+                labels[b] = f"{roman(g.group_class)}({names})"
+    out = []
+    for k, (i, st) in enumerate(branched_steps(plan)):
+        label = next((labels[b] for b in st.bodies if b in labels), f"{st.kind}({st.key_point})")
+        out.append({"index": k, "step": i, "label": label, "kind": st.kind, "point": st.key_point,
+                    "points_in": list(st.points_in()), "branch": int(st.branch),
+                    "flippable": plan.dimension == 2})
+    return out
+
+
+def _instant_centres(plan, state) -> np.ndarray:
+    """(n, B, 2): each link's instant centre relative to the frame, I = P + k×v_P/ω from one of its points
+    (NaN for the frame, bodies without a named point, and where |ω| is below round-off)."""
+    pos, vel, omega = state.pos, state.vel, state.body_omega
+    n, B = omega.shape[0], omega.shape[-1]
+    out = np.full((n, B, 2), np.nan)
+    index = {p: i for i, p in enumerate(plan.point_names)}
+    by_name = {lk.name: lk.points for lk in plan.mechanism.links}
+    scale = max(1e-12, float(np.nanmax(np.abs(vel)))) if np.isfinite(vel).any() else 1.0
+    for b, name in enumerate(plan.body_names):
+        pts = by_name.get(name)
+        if b == 0 or not pts:
+            continue
+        i = index[pts[0]]
+        w = omega[:, b]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ok = np.abs(w) * max(1.0, float(np.nanmax(np.abs(pos)))) > 1e-9 * scale
+            out[:, b, 0] = np.where(ok, pos[:, i, 0] - vel[:, i, 1] / w, np.nan)
+            out[:, b, 1] = np.where(ok, pos[:, i, 1] + vel[:, i, 0] / w, np.nan)
+    return out
+
+
+def _cycle_planar(plan, params, meta: dict, arrays: dict, steps: int, exact: bool) -> None:
+    from ..analysis.sampling import Cycle, sweep_inputs
+    from ..analysis.transmission import dead_centres, transmission_angles
+    q, k, turn = sweep_inputs(plan, steps)
+    if turn and plan.n_inputs == 1:
+        cycle = Cycle(plan, params, order=2, steps=steps)
+        _, state = cycle.grid()
+    else:
+        cycle = None
+        from ..engine import solve
+        state = solve(plan, params, q, order=2)
+    valid = np.asarray(state.valid, dtype=bool)
+    arrays.update(q=q[:, k], valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc,
+                  omega=state.body_omega, alpha=state.body_alpha, ic=_instant_centres(plan, state))
+    mu = transmission_angles(plan, state, params)
+    groups = meta["model"]["groups"]
+    arrays["transmission"] = np.stack([mu.get(g["point"], np.full(valid.shape, np.nan)) for g in groups], axis=-1) \
+        if groups else np.zeros((len(valid), 0))
+    d = plan.mechanism.drivers[k]
+    c = meta["cycle"] = {
+        "n": int(len(valid)), "turn": bool(turn),
+        "input": {"name": plan.input_names[k], "kind": plan.input_kinds[k], "index": int(k),
+                  "speed": float(plan.speeds[k]), "sketch": float(plan.sketch_inputs[k])},
+        "assembled": int(valid.sum()), "driver": d.name,
+        "dead_centres": [], "gait": None, "module": None, "forces": None,
+    }
+    if turn and plan.n_inputs == 1:
+        c["dead_centres"] = [{"q": float(dc.angle), "kind": dc.kind, "link": dc.link}
+                             for dc in dead_centres(plan, params, steps=steps, grid_pos=state.pos)]
+    if c["assembled"] < len(valid):
+        meta["diagnostics"].append(_diagnostic(
+            "warning", "unbuildable",
+            f"the mechanism cannot be assembled at {len(valid) - c['assembled']} of {len(valid)} samples "
+            f"of the input {plan.input_names[k]} (drawn as gaps)", plan.input_names[k]))
+    if cycle is not None and plan.mechanism.gait is not None:
+        _gait(plan, cycle, state, meta, arrays, exact)
+    if plan.n_inputs == 1:
+        _forces(plan, params, q, state, turn, meta, arrays)
+
+
+def _gait(plan, cycle, state, meta, arrays, exact: bool) -> None:
+    """The gait of the foot: refined to its roots (``exact``, as ``assur analyze``) or on the cycle's samples
+    (:func:`~assur.analysis.gait.population_gait`, for previews during a drag). Both give the same keys."""
+    from ..analysis.gait import arc_mask, gait_metrics, population_contact, population_gait
+    g = plan.mechanism.gait
+    i = plan.point_index(g.foot)
+    ground, up = g.ground, g.up_vector
+    valid = np.asarray(state.valid, dtype=bool)
+    if not valid.all():
+        meta["diagnostics"].append(_diagnostic("warning", "gait", "no gait: the leg does not assemble over the "
+                                                                  "whole turn", g.foot))
+        return
+    if exact:
+        try:
+            m = gait_metrics(cycle)
+        except AssurError as exc:
+            meta["diagnostics"].append(_diagnostic("warning", "gait", str(exc), g.foot))
+            return
+        gait = {"step_length": m.step_length, "lift": m.lift, "sag": m.sag, "duty_factor": m.duty_factor,
+                "support_speed_mean": m.support_speed.mean,
+                "support_speed_spread": (m.support_speed.max - m.support_speed.min) / m.support_speed.mean,
+                "support": m.support}
+    else:
+        pg = population_gait(state.pos[None, :, i], valid[None], state.dpos_dq[None, :, i, :, 0],
+                             ground=ground, up=up, omega=abs(float(plan.speeds[0])))
+        gait = {"step_length": pg["step"][0], "lift": pg["lift"][0], "sag": pg["sag"][0],
+                "duty_factor": pg["duty"][0], "support_speed_mean": pg["speed_mean"][0],
+                "support_speed_spread": pg["speed_spread"][0], "support": None}
+    meta["cycle"]["gait"] = {k: (float(v) if k != "support" else v) for k, v in gait.items()} | \
+        {"foot": g.foot, "exact": bool(exact)}
+    if len(g.phases) > 1:
+        M = len(valid)
+        start, width = population_contact(state.pos[None, :, i], ground=ground, up=up)
+        contact = arc_mask(start, width, M)[0]
+        shifts = np.rint(np.asarray(g.phases) / (2 * math.pi) * M).astype(int)
+        feet = sum(np.roll(contact, -k) for k in shifts).astype(float)
+        arrays["feet"] = feet
+        meta["cycle"]["module"] = {"phases": [float(p) for p in g.phases], "min_feet": int(feet.min()),
+                                   "max_feet": int(feet.max())}
+
+
+def _forces(plan, params, q, state, turn, meta, arrays) -> None:
+    from ..kinetostatics.api import forces
+    from ..kinetostatics.overview import has_loads
+    if not has_loads(plan.mechanism):
+        return
+    try:
+        f = forces(plan, params, q, state=state)
+    except AssurError as exc:
+        meta["diagnostics"].append(_diagnostic("warning", "forces", str(exc)))
+        return
+    arrays["torque"] = np.asarray(f.driver)[..., 0]
+    arrays["power"] = np.asarray(f.power)
+    unit = "N·m" if plan.input_kinds[0] == "rotary" else "N"
+    meta["cycle"]["forces"] = {"effort_unit": unit, "peak_effort": float(np.nanmax(np.abs(arrays["torque"]))),
+                               "peak_power": float(np.nanmax(np.abs(arrays["power"]))),
+                               "mean_power": float(np.nanmean(arrays["power"]))}
+
+
+def _cycle_spatial(plan, params, meta, arrays, steps: int) -> None:
+    from ..analysis.sampling import sweep_inputs
+    from ..engine import solve
+    q, k, turn = sweep_inputs(plan, steps)
+    state = solve(plan, params, q, order=2)
+    valid = np.asarray(state.valid, dtype=bool)
+    arrays.update(q=q[:, k], valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc)
+    meta["cycle"] = {"n": int(len(valid)), "turn": bool(turn),
+                     "input": {"name": plan.input_names[k], "kind": plan.input_kinds[k], "index": int(k),
+                               "speed": float(plan.speeds[k]), "sketch": float(plan.sketch_inputs[k])},
+                     "assembled": int(valid.sum()), "dead_centres": [], "gait": None, "module": None,
+                     "forces": None}
+
+
+def parameter_records(plan, params) -> list[dict]:
+    """The sliders of the spatial view: every parameter with its value and a range around it (SI)."""
+    out = []
+    for i, name in enumerate(plan.param_names):
+        v = float(params[i])
+        kind = plan.param_kind_of(name)
+        span = max(abs(v), 1e-3) if kind == "length" else math.pi / 4
+        lo, hi = (max(1e-6, v - 0.5 * span), v + 0.5 * span) if kind == "length" else (v - span, v + span)
+        out.append({"name": name, "kind": kind, "value": v, "min": lo, "max": hi})
+    return out
+
+
+def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STEPS, exact: bool = True) -> Description:
+    """Compile and solve a document (see the module docstring). Never raises for a document that is not a
+    mechanism: the reason is a diagnostic and ``cycle`` is None. ``exact``: gait metrics refined to their roots
+    (else on the samples, for the previews of a drag)."""
+    from ..engine import compile as compile_plan
+    from ..io.mechanism_file import from_dict
+    from ..structure.assur import analyse
+    meta = {"model": _model_of_doc(doc), "cycle": None, "diagnostics": []}
+    arrays: dict = {}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            mech = from_dict(doc, source="the designer's document")
+            structure = analyse(mech)
+            plan = compile_plan(mech)
+        except AssurError as exc:
+            meta["diagnostics"].append(_diagnostic("error", "structure", str(exc)))
+            _sketch(doc, arrays)
+            return Description(meta, arrays)
+        m = meta["model"]
+        m["mobility"], m["formula"] = int(structure.mobility), structure.structural_formula
+        m["groups"] = group_records(plan, structure)
+        m["point_order"] = list(plan.point_names)
+        m["body_names"] = list(plan.body_names)
+        params = plan.defaults.copy()
+        for name, value in (overrides or {}).items():
+            if name in plan.param_names:
+                params[plan.param_index(name)] = float(value)
+        if plan.dimension == 3:
+            m["params"] = parameter_records(plan, params)
+        try:
+            if plan.dimension == 2:
+                _cycle_planar(plan, params, meta, arrays, steps, exact)
+            else:
+                _cycle_spatial(plan, params, meta, arrays, steps)
+        except AssurError as exc:
+            meta["diagnostics"].append(_diagnostic("error", "cycle", str(exc)))
+        arrays["sketch"] = np.array([mech.sketch(p) for p in plan.point_names], dtype=float)
+    for w in caught:
+        meta["diagnostics"].append(_diagnostic("warning", type(w.message).__name__, str(w.message)))
+    return Description(meta, arrays, plan, params, mech)
+
+
+def _sketch(doc: dict, arrays: dict) -> None:
+    from .document import length_factor
+    fL = length_factor(doc)
+    pts = list(doc.get("points", {}).values())
+    if pts:
+        arrays["sketch"] = np.array([[c * fL for c in p] for p in pts], dtype=float)
+
+
+def pack(arrays: dict) -> tuple[dict, bytes]:
+    """(index, blob): every array as little-endian float64 in one blob; ``index`` maps a name to
+    ``[offset, length, shape]`` in float64 elements."""
+    index, parts, offset = {}, [], 0
+    for name, a in arrays.items():
+        a = np.ascontiguousarray(a, dtype="<f8")
+        index[name] = [offset, int(a.size), list(a.shape)]
+        parts.append(a.tobytes())
+        offset += a.size
+    return index, b"".join(parts)
