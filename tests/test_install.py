@@ -41,6 +41,25 @@ def _rewrite(args: list[str], out: Path) -> tuple[list[str], Path | None]:
     return args, target
 
 
+def _check_design_server(args, shown) -> None:
+    import re
+    import signal
+    import urllib.request
+    if "--no-browser" not in args:       # the test machine has no screen to open a browser on
+        args = [*args, "--no-browser"]
+    p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = p.stdout.readline()
+        url = re.search(r"http://127\.0\.0\.1:\d+/\?token=\S+", line)
+        assert url, f"{shown}: printed {line!r}"
+        with urllib.request.urlopen(url.group(0), timeout=60) as r:
+            assert r.status == 200 and b'type="module"' in r.read(), shown
+    finally:
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=60)
+    assert p.returncode == 0, f"{shown}\n{err[-4000:]}"
+
+
 @pytest.mark.slow
 def test_plain_install_runs_the_cli_tour(tmp_path):
     env_dir = tmp_path / "venv"
@@ -58,8 +77,11 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
     for command in tour_commands():
         args, target = _rewrite(command, out)
         args[0] = str(env_dir / "bin" / "assur")
-        run = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=900)
         shown = " ".join(command)
+        if command[1] == "design":      # a server: it must print its URL and serve the page, then stop on Ctrl-C
+            _check_design_server(args, shown)
+            continue
+        run = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=900)
         assert run.returncode == 0, f"{shown}\n{run.stdout[-2000:]}\n{run.stderr[-4000:]}"
         if target is not None:
             assert target.exists(), f"{shown}: no {target}"

@@ -1,7 +1,7 @@
 """The import rules of src/assur.
 
 * Layers: a module imports only from its own layer or below (L0 kernels, errors, tolerances; L1 model, structure;
-  L2 the engine; L3 analysis, io, gears; L4 synthesis, plot, report, cli).
+  L2 the engine; L3 analysis, io, gears; L4 synthesis, plot, report, cli, designer).
 * No import cycles: the import graph of the modules has no strongly connected component of more than one module.
   Module-level imports, function-level imports and ``importlib.import_module`` strings all count.
 * No module imports a ``_private`` name (or a ``_private`` module) of another package.

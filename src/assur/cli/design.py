@@ -29,6 +29,8 @@ def cmd_design(args) -> int:
     try:
         serve(Session(doc, path), port=args.port, open_browser=not args.no_browser,
               announce=lambda line: print(line, flush=True))
+    except KeyboardInterrupt:      # Ctrl-C is how a server is stopped: not an error
+        print("assur design: stopped", flush=True)
     except OSError as exc:
         from ..errors import OutputError
         raise OutputError(f"cannot serve on 127.0.0.1:{args.port}: {exc.strerror or exc}") from None
