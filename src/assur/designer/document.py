@@ -329,22 +329,23 @@ def set_speed(doc: dict, driver: str, speed: float) -> dict:
     return new
 
 
-def lock_point(doc: dict, point: str, locked: bool = True) -> dict:
-    point = _point(doc, point)
+def _lock(doc: dict, which: int, name: str, locked: bool) -> dict:
+    """``doc`` with ``name`` added to (or removed from) the locked points (``which`` 0) or links (1)."""
     new = copy.deepcopy(doc)
-    lp, ll = locks(new)
-    lp = sorted(set(lp) | {point}) if locked else [p for p in lp if p != point]
-    _set_locks(new, lp, ll)
+    lists = list(locks(new))
+    lists[which] = sorted(set(lists[which]) | {name}) if locked else [x for x in lists[which] if x != name]
+    _set_locks(new, *lists)
     return new
+
+
+def lock_point(doc: dict, point: str, locked: bool = True) -> dict:
+    """Lock (or unlock) a point: a drag does not move it."""
+    return _lock(doc, 0, _point(doc, point), locked)
 
 
 def lock_link(doc: dict, link: str, locked: bool = True) -> dict:
-    link = _link(doc, link)
-    new = copy.deepcopy(doc)
-    lp, ll = locks(new)
-    ll = sorted(set(ll) | {link}) if locked else [x for x in ll if x != link]
-    _set_locks(new, lp, ll)
-    return new
+    """Lock (or unlock) a link's length: its first two points keep their distance in a drag."""
+    return _lock(doc, 1, _link(doc, link), locked)
 
 
 #: the edits the page may send (``flip`` needs the compiled plan and lives in :mod:`.session`)
