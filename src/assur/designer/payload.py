@@ -232,25 +232,39 @@ def parameter_records(plan, params) -> list[dict]:
     return out
 
 
-def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STEPS, exact: bool = True) -> Description:
-    """Compile and solve a document (see the module docstring). Never raises for a document that is not a
-    mechanism: the reason is a diagnostic and ``cycle`` is None. ``exact``: gait metrics refined to their roots
-    (else on the samples, for the previews of a drag)."""
+def compile_document(doc: dict):
+    """(mechanism, structure, plan, warnings) of a document, the warnings of reading and compiling it caught;
+    AssurError when it is not a mechanism."""
     from ..engine import compile as compile_plan
     from ..io.mechanism_file import from_dict
     from ..structure.assur import analyse
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mech = from_dict(doc, source="the designer's document")
+        out = mech, analyse(mech), compile_plan(mech)
+    return (*out, list(caught))
+
+
+def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STEPS, exact: bool = True,
+             compiled=None) -> Description:
+    """Compile and solve a document (see the module docstring). Never raises for a document that is not a
+    mechanism: the reason is a diagnostic and ``cycle`` is None. ``exact``: gait metrics refined to their roots
+    (else on the samples, for the previews of a drag). ``compiled``: the document's :func:`compile_document`
+    result, or the AssurError it raised, when already known."""
     meta = {"model": _model_of_doc(doc), "cycle": None, "diagnostics": []}
     arrays: dict = {}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            mech = from_dict(doc, source="the designer's document")
-            structure = analyse(mech)
-            plan = compile_plan(mech)
+            if isinstance(compiled, AssurError):
+                raise compiled
+            mech, structure, plan, warned = compiled if compiled is not None else compile_document(doc)
         except AssurError as exc:
             meta["diagnostics"].append(_diagnostic("error", "structure", str(exc)))
             _sketch(doc, arrays)
             return Description(meta, arrays)
+        for w in warned:
+            meta["diagnostics"].append(_diagnostic("warning", type(w.message).__name__, str(w.message)))
         m = meta["model"]
         m["mobility"], m["formula"] = int(structure.mobility), structure.structural_formula
         m["groups"] = group_records(plan, structure)

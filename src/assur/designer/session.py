@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from ..errors import AssurError
 from . import document as D
-from .payload import Description, branched_steps, describe, pack
+from .payload import Description, branched_steps, compile_document, describe, pack
 
 #: the largest history a session keeps (older entries are dropped)
 HISTORY_LIMIT = 500
@@ -80,7 +80,8 @@ class Session:
         self.overrides: dict = {}
         self.job = None
         self.best_toml: str | None = None
-        self._signatures: dict = {}
+        self._texts: dict = {}        # id(doc) → (doc, its TOML text): history documents are never changed
+        self._compiled: dict = {}     # TOML text → compile_document(doc) or the AssurError it raised
 
     # -- the document ------------------------------------------------------------------------------------------
     @property
@@ -89,7 +90,29 @@ class Session:
 
     def history_entries(self) -> list[str]:
         """Every history entry as ``assur/1`` TOML text (oldest first)."""
-        return [toml_of(d) for d in self.history]
+        return [self.text(d) for d in self.history]
+
+    def text(self, doc: dict) -> str:
+        """The document's TOML text (kept for the documents of the session, which never change)."""
+        hit = self._texts.get(id(doc))
+        if hit is None or hit[0] is not doc:
+            if len(self._texts) > 4 * HISTORY_LIMIT:
+                live = {id(d) for d in self.history}
+                self._texts = {k: v for k, v in self._texts.items() if k in live}
+            hit = self._texts[id(doc)] = (doc, toml_of(doc))
+        return hit[1]
+
+    def compiled(self, doc: dict):
+        """:func:`~.payload.compile_document` of ``doc`` (or the AssurError it raised), kept by its text."""
+        key = self.text(doc)
+        if key not in self._compiled:
+            if len(self._compiled) > 32:
+                self._compiled.clear()
+            try:
+                self._compiled[key] = compile_document(doc)
+            except AssurError as exc:
+                self._compiled[key] = exc
+        return self._compiled[key]
 
     def _push(self, doc: dict) -> None:
         del self.history[self.position + 1:]
@@ -121,25 +144,15 @@ class Session:
         return doc
 
     def _signature(self, doc: dict) -> dict:
-        """The branch sign of every branched point as the sketch shows it (the ``[branches]`` hints set aside),
-        or {} when the document does not compile."""
-        from ..engine import compile as compile_plan
-        from ..io.mechanism_file import from_dict
-        key = toml_of(doc)
-        if key in self._signatures:
-            return self._signatures[key]
-        sig: dict = {}
-        for d in ({k: v for k, v in doc.items() if k != "branches"}, doc):
-            try:
-                plan = compile_plan(from_dict(d, source="the designer's document"))
-            except AssurError:
-                continue
-            sig = {(st.key_point, st.kind): (int(st.branch), st.points_in()) for _, st in branched_steps(plan)}
-            break
-        if len(self._signatures) > 64:
-            self._signatures.clear()
-        self._signatures[key] = sig
-        return sig
+        """The branch sign of every branched step as the sketch shows it (the ``[branches]`` hints set aside),
+        keyed by (point, kind), or {} when the document does not compile."""
+        sketch_only = {k: v for k, v in doc.items() if k != "branches"} if "branches" in doc else doc
+        c = self.compiled(sketch_only)
+        if isinstance(c, AssurError) and sketch_only is not doc:
+            c = self.compiled(doc)
+        if isinstance(c, AssurError):
+            return {}
+        return {(st.key_point, st.kind): (int(st.branch), st.points_in()) for _, st in branched_steps(c[2])}
 
     def check_branches(self, before: dict, after: dict, flipped=()) -> None:
         """Refuse a new sketch that shows a group on its other branch: only ``flip`` changes a branch (the points
@@ -160,13 +173,11 @@ class Session:
         """(``doc`` with group ``index`` assembled on its other branch: the sketch of the group and of everything it
         carries is re-solved at the sketch inputs on the new branch, and a ``[branches]`` hint of its point flips; the
         group's point)."""
-        from ..engine import compile as compile_plan
         from ..engine import solve
-        from ..io.mechanism_file import from_dict
-        try:
-            plan = compile_plan(from_dict(doc, source="the designer's document"))
-        except AssurError as exc:
-            raise D.EditRefused(f"nothing to flip: the document is not a mechanism yet ({exc})", "flip") from None
+        c = self.compiled(doc)
+        if isinstance(c, AssurError):
+            raise D.EditRefused(f"nothing to flip: the document is not a mechanism yet ({c})", "flip")
+        plan = c[2]
         steps = branched_steps(plan)
         if not isinstance(index, int) or not 0 <= index < len(steps):
             raise D.EditRefused(f"no group {index!r} to flip (the mechanism has {len(steps)} branched groups)", "flip")
@@ -195,9 +206,9 @@ class Session:
     # -- answers -----------------------------------------------------------------------------------------------
     def result(self, seq, doc: dict | None = None, committed: bool = True, exact: bool = True) -> Reply:
         doc = self.doc if doc is None else doc
-        desc: Description = describe(doc, self.overrides, exact=exact)
+        desc: Description = describe(doc, self.overrides, exact=exact, compiled=self.compiled(doc))
         index, blob = pack(desc.arrays)
-        msg = {"type": "result", "seq": seq, "committed": committed, "doc": doc, "toml": toml_of(doc),
+        msg = {"type": "result", "seq": seq, "committed": committed, "doc": doc, "toml": self.text(doc),
                "history": {"undo": self.position, "redo": len(self.history) - 1 - self.position,
                            "dirty": self.position != self.saved_position},
                "file": self.path, "units": doc.get("units", {}), **desc.meta,
@@ -258,7 +269,7 @@ class Session:
         if self.path is None:
             raise D.EditRefused("this designer was opened on a mechanism, not a file: there is no file to save to; "
                                 "copy the document (Share) instead", "save")
-        text = toml_of(self.doc)
+        text = self.text(self.doc)
         try:
             with atomic_file(self.path) as tmp:
                 tmp.write_text(text, encoding="utf-8")
