@@ -356,3 +356,14 @@ def test_the_server_listens_on_loopback_only(server):
         with socket.socket() as s:
             s.settimeout(2)
             assert s.connect_ex((addr, server.port)) != 0
+
+
+def test_a_drag_never_changes_the_assembly_mode_of_a_triad():
+    """A Newton-solved group (the triad of examples/triad_sixbar.toml) keeps the sign of its equilibrated Jacobian
+    determinant: a sketch drawn in another assembly mode (D moved to (25, 300) mm, where that sign is the other
+    one) is refused, a small move is not."""
+    s = session_of("triad_sixbar.toml")
+    msg, _ = reply(s, op="preview", edits=[{"kind": "move_point", "point": "D", "to": [0.121, 0.131]}])
+    assert msg["type"] == "result" and msg["cycle"]["assembled"] > 0
+    msg, _ = reply(s, op="preview", edits=[{"kind": "move_point", "point": "D", "to": [0.025, 0.300]}])
+    assert msg["type"] == "refused" and "assembly" in msg["message"] and "ab, tern, r1, r2" in msg["where"]

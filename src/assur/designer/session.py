@@ -152,7 +152,14 @@ class Session:
             c = self.compiled(doc)
         if isinstance(c, AssurError):
             return {}
-        return {(st.key_point, st.kind): (int(st.branch), st.points_in()) for _, st in branched_steps(c[2])}
+        plan = c[2]
+        sig = {(st.key_point, st.kind): (int(st.branch), st.points_in()) for _, st in branched_steps(plan)}
+        if plan.dimension == 2 and any(st.kind == "newton" for st in plan.steps):
+            from ..engine.planar.compile import newton_branch_signs
+            for i, sign in newton_branch_signs(plan).items():
+                names = tuple(plan.body_names[b] for b in plan.steps[i].bodies)
+                sig[(", ".join(names), "newton")] = (sign, names)
+        return sig
 
     def check_branches(self, before: dict, after: dict, flipped=()) -> None:
         """Refuse a new sketch that shows a group on its other branch: only ``flip`` changes a branch (the points
@@ -163,6 +170,10 @@ class Session:
         for key, (sign, known) in new.items():
             point, kind = key
             if key in old and key not in flipped and old[key][0] != sign and old[key][1] == known:
+                if kind == "newton":
+                    raise D.EditRefused(
+                        f"refused: this would draw the group {point} (solved by Newton iterations) in another "
+                        f"assembly mode; a drag never changes an assembly", point)
                 line = " → ".join(known)
                 across = f"across the line {line}" if kind == "RRR" and len(known) == 2 else "to its other assembly"
                 raise D.EditRefused(

@@ -20,7 +20,7 @@ from ...tolerances import DEFAULT
 from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, NewtonStep, PlanarPlan, PPRStep, PRPStep,
                     RPRStep, RRPStep, RRRStep, Side)
 from .optable import build_op_table
-from .newton_group import sketch_misfit
+from .newton_group import sketch_branch_sign, sketch_misfit
 from .steps import context_at, run_steps
 
 
@@ -223,6 +223,17 @@ def _check_sketch_closes(plan: PlanarPlan, params, q0, tol) -> None:
                                     f"iterations seeded by the sketch): at {where} it is {off:.4g} m off "
                                     f"({100 * off / plan.length_scale:.2g} % of the mechanism's size); correct the "
                                     f"sketch or the lengths")])
+
+
+def newton_branch_signs(plan: PlanarPlan) -> dict[int, int]:
+    """The assembly of each Newton-solved group as the sketch draws it: {step index: the sign of its
+    equilibrated Jacobian determinant at the sketch} (what the solver keeps every sample on)."""
+    out = {}
+    for i, st in enumerate(plan.steps):
+        if st.kind == "newton":
+            c = context_at(plan, plan.steps[:i], plan.defaults, plan.sketch_inputs)
+            out[i] = sketch_branch_sign(c, st, plan.sketch_poses)
+    return out
 
 
 def _sketch_frames(B: _Builder, g) -> tuple:

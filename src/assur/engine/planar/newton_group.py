@@ -106,6 +106,30 @@ def sketch_misfit(c, st, poses):
     return math.sqrt(off[where]), where
 
 
+def _residual_and_jacobian(c, st, x, shape):
+    """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``."""
+    n = 3 * len(st.bodies)
+    cols = []
+    F = None
+    for j in range(n):
+        X = [Jet(x[..., i], np.full(shape, 1.0 if i == j else 0.0), None) for i in range(n)]
+        r = _residual(c, st, X, derivs=False)
+        if len(r) != n:
+            raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
+        if F is None:
+            F = np.stack([np.broadcast_to(ri.v, shape) for ri in r], axis=-1)
+        cols.append(np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1))
+    return F, np.stack(cols, axis=-1)
+
+
+def sketch_branch_sign(c, st, poses) -> int:
+    """The branch invariant of a Newton-solved group as the sketch draws it: the sign of the equilibrated
+    Jacobian determinant of its loop equations at the drawn body poses (x, y, θ) ``poses`` (``c``: a context with
+    the group's known bodies placed, as for :func:`sketch_misfit`). The solver keeps every sample on this sign."""
+    x = np.array([v for b in st.bodies for v in poses[b]], dtype=float)
+    return int(np.sign(_equilibrated_det(_residual_and_jacobian(c, st, x, ())[1])))
+
+
 def solve_group(c, st):
     """Solve one group for every sample of the context by Newton's method, warm-started from
     ``c.warm[step]`` (the previous continuation stage) or from the plan's sketch poses."""
@@ -124,17 +148,7 @@ def solve_group(c, st):
         x = x.copy()
 
     def F_and_J(x):
-        cols = []
-        F = None
-        for j in range(n):
-            X = [Jet(x[..., i], np.full(shape, 1.0 if i == j else 0.0), None) for i in range(n)]
-            r = _residual(c, st, X, derivs=False)
-            if len(r) != n:
-                raise StructureError(f"group of {k} bodies gave {len(r)} equations, expected {n}")
-            if F is None:
-                F = np.stack([np.broadcast_to(ri.v, shape) for ri in r], axis=-1)
-            cols.append(np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1))
-        return F, np.stack(cols, axis=-1)
+        return _residual_and_jacobian(c, st, x, shape)
 
     scale = c.plan.length_scale
     sign_key = (key, "det_sign")
