@@ -398,7 +398,10 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     'de' start also ends when its best has improved by less than ``tol`` (relative) over ``patience``
     generations; ``strategy`` is scipy's DE strategy. ``target``: stop as soon as a feasible design with
     objective ≤ target is found (later starts are skipped). ``result.on_bounds`` lists the variables of the
-    best design that sit on a bound."""
+    best design that sit on a bound. ``progress``: True for a tqdm bar on stderr, or a callable
+    ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
+    run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
+    keeping the best design so far."""
     cfg = resolve(getattr(problem, "solver", None),
                   {"method": method, "budget": budget, "time": time_limit, "target": target, "starts": starts,
                    "popsize": popsize, "strategy": strategy, "polish": polish, "maxiter": maxiter})
@@ -430,7 +433,10 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     evaluator = Evaluator(problem)
     if parallel_starts is None:
         parallel_starts = starts > 1 and executor.workers > 1
-    bar, update = _progress_bar(budget, problem.name or "synth") if progress else (None, None)
+    if callable(progress):   # a caller's hook: progress(evaluations, best F) after every evaluated population
+        bar, update = None, progress
+    else:
+        bar, update = _progress_bar(budget, problem.name or "synth") if progress else (None, None)
     try:
         if parallel_starts:
             args = [(problem, method, s, per_budget, time_limit, options) for s in seeds]
