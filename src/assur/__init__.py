@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from .engine import PlanarPlan, SolvePlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
     from .errors import (AssurError, SpecError, StructureError, SynthesisError, UnbuildableError,
                          UnbuildableWarning)
+    from .designer.widget import Designer
     from .io.builder import Builder
     from .kinetostatics.api import forces
     from .io.mechanism_file import dump, dumps, load, loads
@@ -35,6 +36,7 @@ _LAZY = {
                                                   "UnbuildableError", "UnbuildableWarning")},
     **{name: ("assur.io.mechanism_file", name) for name in ("dump", "dumps", "load", "loads")},
     "Builder": ("assur.io.builder", "Builder"),
+    "Designer": ("assur.designer.widget", "Designer"),
     "Mechanism": ("assur.model.mechanism", "Mechanism"),
     **{name: ("assur.structure.assur", name) for name in ("AssurGroup", "GroupKind", "Structure", "analyse")},
     #: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
@@ -69,7 +71,7 @@ def __dir__():
     return sorted({*globals(), *_LAZY})
 
 
-__all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
+__all__ = ["AssurError", "AssurGroup", "Builder", "Designer", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
            "SpatialState", "State", "Structure", "StructureError", "SynthesisError", "UnbuildableError",
            "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
            "dumps", "load", "loads", "solve", "__version__", "summarize", "analyze", "gait_metrics", "gait_curves",
