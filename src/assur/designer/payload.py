@@ -221,13 +221,20 @@ def _cycle_spatial(plan, params, meta, arrays, steps: int) -> None:
 
 
 def parameter_records(plan, params) -> list[dict]:
-    """The sliders of the spatial view: every parameter with its value and a range around it (SI)."""
+    """The sliders of the spatial view: every parameter with its value and a range around it (SI): a link's
+    length from half to one and a half times its value, a coordinate or offset ± half the mechanism's size around
+    its value, an angle ± 45°."""
     out = []
+    scale = float(plan.length_scale)
     for i, name in enumerate(plan.param_names):
         v = float(params[i])
         kind = plan.param_kind_of(name)
-        span = max(abs(v), 1e-3) if kind == "length" else math.pi / 4
-        lo, hi = (max(1e-6, v - 0.5 * span), v + 0.5 * span) if kind == "length" else (v - span, v + span)
+        if kind == "length" and name.endswith(".length"):
+            lo, hi = 0.5 * v, 1.5 * v
+        elif kind == "length":
+            lo, hi = v - 0.5 * scale, v + 0.5 * scale
+        else:
+            lo, hi = v - math.pi / 4, v + math.pi / 4
         out.append({"name": name, "kind": kind, "value": v, "min": lo, "max": hi})
     return out
 
