@@ -162,7 +162,8 @@ def bind(port: int = 0) -> socket.socket:
 
 def _uvicorn_server(app):
     import uvicorn
-    config = uvicorn.Config(app, log_level="warning", ws="websockets-sansio", lifespan="off")
+    config = uvicorn.Config(app, log_level="warning", ws="websockets-sansio", lifespan="off",
+                            ws_per_message_deflate=False)   # loopback: compressing 150 kB per answer costs ms
     return uvicorn.Server(config)
 
 
