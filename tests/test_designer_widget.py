@@ -485,8 +485,6 @@ def test_designer_js_renders_the_widget_in_chromium(browser, served, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="designer.js does not yet evaluate the widget's _plotly_js trait when window.Plotly is "
-                          "missing (see assur.designer.widget)", strict=False)
 def test_designer_js_draws_a_spatial_file_with_the_widgets_plotly(browser, served):
     widget = Designer(EX / "rssr.toml")
     assert widget._plotly_js                        # plotly.js travels with the widget's state, not from a CDN
