@@ -42,9 +42,23 @@ def _model_of_doc(doc: dict) -> dict:
     from .document import link_points, locks
     links = doc.get("links", {})
     lp, ll = locks(doc)
+    from ..io.units import parse_speed
+    from ..model.mechanism import Units
+    from .document import angle_factor
+    try:
+        units = Units(**{k: v for k, v in doc.get("units", {}).items() if k in ("length", "angle")})
+        fA = angle_factor(doc)
+    except (TypeError, KeyError):
+        units, fA = Units(), math.pi / 180
     drivers = []
     for d in doc.get("drivers", []):
-        drivers.append({k: d.get(k) for k in ("name", "kind", "link", "pivot", "arm", "actuator", "speed")})
+        rec = {k: d.get(k) for k in ("name", "kind", "link", "pivot", "arm", "actuator", "speed")}
+        try:    # SI (rad/s or m/s) by the file reader's own rule: the page never parses "27 rpm"
+            rec["speed_si"] = parse_speed(d.get("speed", 1.0 if d.get("kind", "rotary") == "rotary" else 0.0),
+                                          d.get("kind", "rotary"), units)
+        except (AssurError, ValueError, TypeError, KeyError):
+            rec["speed_si"] = None
+        drivers.append(rec)
     gait = doc.get("gait", {})
     return {
         "dimension": int(doc.get("dimension", 2)),
@@ -52,6 +66,7 @@ def _model_of_doc(doc: dict) -> dict:
         "frame_points": link_points(links.get("frame", [])),
         "links": [{"name": n, "points": link_points(e)} for n, e in links.items()],
         "sliders": [{k: s.get(k) for k in ("name", "guide", "through", "point", "link")}
+                    | {"angle_si": float(s["angle"]) * fA if isinstance(s.get("angle"), (int, float)) else 0.0}
                     for s in doc.get("prismatic", [])],
         "actuators": [{"name": n, "between": list(t.get("between", []))} for n, t in doc.get("actuators", {}).items()],
         "drivers": drivers,

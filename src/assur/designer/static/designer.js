@@ -60,25 +60,6 @@ class UnitConverter {
   }
 }
 
-// A driver speed of the document ("27 rpm", "100 mm/s", or a bare number in the file's unit per second) in SI
-const ANGULAR_SPEED_UNITS = { rpm: (2 * Math.PI) / 60, "rev/s": 2 * Math.PI, "1/s": 2 * Math.PI, "rad/s": 1, "deg/s": Math.PI / 180 };
-const FILE_LENGTHS = { m: 1, mm: 1e-3, cm: 1e-2, dm: 0.1, km: 1e3, in: 0.0254, ft: 0.3048 };
-const FILE_ANGLES = { rad: 1, deg: Math.PI / 180 };
-
-function speedToSI(speed, linear, fileUnits = {}) {
-  if (typeof speed === "number") {
-    return linear ? speed * (FILE_LENGTHS[fileUnits.length] ?? 1) : speed * (FILE_ANGLES[fileUnits.angle] ?? Math.PI / 180);
-  }
-  const match = /^\s*([-+0-9.eE]+)\s*(\S+)?\s*$/.exec(String(speed ?? ""));
-  if (!match) return NaN;
-  const value = Number(match[1]);
-  const unit = match[2];
-  if (!unit) return speedToSI(value, linear, fileUnits);
-  if (!linear) return unit in ANGULAR_SPEED_UNITS ? value * ANGULAR_SPEED_UNITS[unit] : NaN;
-  const length = unit.replace(/\/s$/, "");
-  return length in FILE_LENGTHS ? value * FILE_LENGTHS[length] : NaN;
-}
-
 // ---------------------------------------------------------------------------------------------------------
 // Small DOM helpers
 
@@ -989,14 +970,9 @@ class Designer {
     this.ui.drivers.replaceChildren(...rows);
   }
 
-  // a driver's speed in SI: the solved input's, else the document's text read in its units
+  // a driver's speed in SI, as the server read it from the document (NaN when the text is not a speed)
   driverSpeedSI(driver) {
-    const snapshot = this.snapshot;
-    if (Number.isFinite(driver.speed_si)) return driver.speed_si;
-    const cycle = snapshot.cycle;
-    if (cycle && cycle.input && cycle.driver === driver.name && Number.isFinite(cycle.input.speed)) return cycle.input.speed;
-    const fileUnits = (snapshot.message.doc && snapshot.message.doc.units) || snapshot.message.units || {};
-    return speedToSI(driver.speed, driver.kind === "linear", fileUnits);
+    return Number.isFinite(driver.speed_si) ? driver.speed_si : NaN;
   }
 
   drawParams() {
@@ -1403,13 +1379,9 @@ class Designer {
     this.ui.canvas.guides.replaceChildren(...children);
   }
 
-  // a slider's line direction (rad): the model's, else the document's [[prismatic]] angle in the file's unit
+  // a slider's line direction (rad), as the server read it from the document
   sliderAngle(slider) {
-    if (Number.isFinite(slider.angle_si)) return slider.angle_si;
-    const doc = this.snapshot.message.doc || {};
-    const entry = (doc.prismatic || []).find((item) => item.name === slider.name) || slider;
-    const angle = Number(entry.angle) || 0;
-    return angle * (FILE_ANGLES[(doc.units || {}).angle] ?? Math.PI / 180);
+    return Number.isFinite(slider.angle_si) ? slider.angle_si : 0;
   }
 
   drawGround(snapshot, at) {
