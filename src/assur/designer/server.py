@@ -155,6 +155,9 @@ def bind(port: int = 0) -> socket.socket:
     """A listening socket on 127.0.0.1 (``port`` 0: any free port)."""
     sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    # no Nagle delay (accepted sockets inherit it): an answer's binary frame right after its text frame otherwise
+    # waits for the delayed ACK of the first, some 40 ms, now and then
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
     sock.bind(("127.0.0.1", int(port)))
     sock.listen(64)
     return sock
@@ -165,6 +168,16 @@ def _uvicorn_server(app):
     config = uvicorn.Config(app, log_level="warning", ws="websockets-sansio", lifespan="off",
                             ws_per_message_deflate=False)   # loopback: compressing 150 kB per answer costs ms
     return uvicorn.Server(config)
+
+
+def _warm(session: Session) -> None:
+    """Answer the document once (kernels loaded, caches filled), then move every object alive so far out of the
+    garbage collector's generations (``gc.freeze``): a full collection of the imported libraries' objects would
+    otherwise stall a drag now and then."""
+    import gc
+    session.handle({"op": "hello", "seq": None})
+    gc.collect()
+    gc.freeze()
 
 
 def start_server(session: Session, port: int = 0) -> RunningServer:
@@ -187,6 +200,7 @@ def serve(session: Session, port: int = 0, open_browser: bool = True, announce=p
     port = sock.getsockname()[1]
     url = f"http://127.0.0.1:{port}/?token={token}"
     server = _uvicorn_server(create_app(session, token))
+    _warm(session)
     announce(f"assur design: {url}")
     announce("(Ctrl-C stops the server)")
     if open_browser:
