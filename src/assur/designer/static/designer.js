@@ -962,7 +962,10 @@ class Designer {
         if (Math.abs(si - now) <= 1e-12 * Math.max(1, Math.abs(now))) return;   // nothing changed
         this.commit([{ kind: "set_speed", driver: driver.name, speed: si }]);
       });
-      return html("label", { class: "asd-row" }, `${driver.name} (${driver.kind || "rotary"}) `, input, ` ${convert.driverSpeedLabel(linear)}`);
+      const remove = html("button", { type: "button", testid: `delete-driver-${driver.name}`, title: `delete the driver ${driver.name}` }, "×");
+      remove.addEventListener("click", () => this.commit([{ kind: "delete_driver", name: driver.name }]));
+      return html("div", { class: "asd-row" },
+        html("label", {}, `${driver.name} (${driver.kind || "rotary"}) `, input, ` ${convert.driverSpeedLabel(linear)} `), remove);
     });
     // a number being typed (not yet sent) stays
     const active = document.activeElement;
