@@ -32,7 +32,7 @@ def build_parser():
     import argparse
 
     from .. import __version__
-    from . import design, forces, gears, mechanism, synth
+    from . import atlas, design, forces, gears, mechanism, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -41,6 +41,7 @@ def build_parser():
     synth.register(sub)
     gears.register(sub)   # `assur gears` and `assur wheelstep`
     design.register(sub)
+    atlas.register(sub)
     return p
 
 
