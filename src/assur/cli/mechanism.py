@@ -111,6 +111,7 @@ def cmd_info(args) -> int:
     _emit(text.info_head_lines(m, _title(m, args.file), args.file, s))
     if m.dimension == 3:
         _emit(text.point_lines(m))
+        _emit(["atlas: spatial mechanism (the atlas holds planar chains only)"])
         if not any(j.axis for j in m.joints):
             _emit(text.structural_description_lines(m))
             return 0
@@ -119,6 +120,10 @@ def cmd_info(args) -> int:
         return 0
     from ..structure.assur import analyse
     _emit(text.group_lines(s, getattr(analyse(m), "undetermined", ())))
+    from ..structure.atlas.identify import identify
+    entry = identify(m)
+    _emit([entry.line() if entry else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
+                                       "or a body is joined to nothing)"])
     plan = compile_(m)
     _emit(text.parameter_lines(plan) + text.gait_lines(m))
     return 0

@@ -46,6 +46,17 @@ def structure_html(summary: dict) -> str:
     return "\n".join(parts)
 
 
+def atlas_html(mechanism) -> str:
+    """The mechanism's entry in the atlas of chains (docs/atlas.md): chain ID, name and inversion."""
+    from ..structure.atlas.identify import identify
+    entry = identify(mechanism)
+    if entry is None:
+        return ""
+    return (f'<p>Atlas: chain <span class="formula">{escape(entry.chain_id)}</span> {escape(entry.label)} '
+            f'(frame: <span class="formula">{escape(entry.inversion_id)}</span>; {entry.links} links, '
+            f'{entry.joints} pairs, F = {entry.dof}).</p>')
+
+
 def parameters_html(plan) -> str:
     """The parameters in the file's units and in SI."""
     return table(["parameter", "value", "unit", "SI value", "SI unit"], parameter_rows(plan), num_cols=(1, 3))
@@ -203,7 +214,7 @@ def _planar_figures(plan, run, gait, frames: int, ranges, units: str = "file", p
 
 def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges, units: str = "file") -> list[str]:
     summary = an.summary
-    out = [section("Structure", structure_html(summary)),
+    out = [section("Structure", structure_html(summary) + "\n" + atlas_html(plan.mechanism)),
            section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
            section("Analysis", analysis_html(summary, plan, units))]
     mod = module_html(summary, plan, an.gait, steps)
