@@ -27,6 +27,8 @@ def test_cli_tour_commands_and_files_exist():
     commands = re.findall(r"^assur (\w+) (\S+)", tour, flags=re.M)
     assert len(commands) >= 7
     for command, path in commands:
+        if path.startswith("-"):    # a command without a file (assur atlas --links …)
+            continue
         assert (ROOT / path).exists(), path
     # each sub-command is known to the parser: its help returns 0 (an unknown one is a usage error, 2)
     for command in {c for c, _ in commands}:
