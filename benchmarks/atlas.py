@@ -23,6 +23,8 @@ import numpy as np
 
 from assur.structure.atlas.chains import chains, clear_cache
 
+from tables import publish
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -52,11 +54,7 @@ def main(argv=None) -> int:
         found = {c for _, c in runs}
         assert len(found) == 1, found
         lines.append(f"| {links} | 1 | {found.pop()} | {min(times):.4g} | {statistics.median(times):.4g} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out != "-":
-        Path(args.out).write_text(text, encoding="utf-8")
-    return 0
+    return publish(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -35,6 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
+from tables import publish
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or "/usr/bin/chromium"
@@ -204,11 +206,7 @@ def main(argv=None) -> int:
              "|---|---|---|---|---|---|---|---|"]
     for name, point, n, lo, p50, p95, hi, srv in rows:
         lines.append(f"| {name} | {point} | {n} | {lo:.1f} | {p50:.1f} | {p95:.1f} | {hi:.1f} | {srv:.1f} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out != "-":
-        Path(args.out).write_text(text, encoding="utf-8")
-    return 0
+    return publish(lines, args.out)
 
 
 def _cores() -> int:

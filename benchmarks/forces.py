@@ -32,6 +32,8 @@ import numpy as np
 
 import assur
 
+from tables import publish
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 
@@ -85,11 +87,7 @@ def main(argv=None) -> int:
         for name, ts in times.items():
             med = statistics.median(ts)
             lines.append(f"| {case} | {name} | {min(ts):.4g} | {med:.4g} | {med / base:.2f} |")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out != "-":
-        Path(args.out).write_text(text, encoding="utf-8")
-    return 0
+    return publish(lines, args.out)
 
 
 def _has_numba() -> bool:
