@@ -51,12 +51,13 @@ def _masks(n: int, edges) -> list[int]:
     return adj
 
 
-def _no_rigid_proper_subchain(n: int, edges) -> bool:
-    """Every set S of 2 ≤ |S| < n links has 3(|S| − 1) − 2 j(S) ≥ 1 (j(S) by a recurrence over the subsets)."""
+def _no_rigid_proper_subchain(n: int, edges, whole: bool = False) -> bool:
+    """Every set S of 2 ≤ |S| < n links (≤ n with ``whole``) has 3(|S| − 1) − 2 j(S) ≥ 1, i.e.
+    2 j(S) ≤ 3|S| − 4 (j(S) by a recurrence over the subsets)."""
     adj = _masks(n, edges)
-    full = (1 << n) - 1
+    top = (1 << n) if whole else (1 << n) - 1
     e = [0] * (1 << n)
-    for s in range(1, full):
+    for s in range(1, top):
         low = s & -s
         v = low.bit_length() - 1
         rest = s ^ low
@@ -103,25 +104,10 @@ def _sparse_graphs(k: int, e0: int) -> list[tuple[tuple[int, int], ...]]:
                     continue
                 cand = tuple(sorted(have | {p}))
                 ce, _ = canonical(k, cand)
-                if ce not in nxt and _no_rigid_proper_subchain_all(k, ce):
+                if ce not in nxt and _no_rigid_proper_subchain(k, ce, whole=True):
                     nxt.add(ce)
         level = nxt
     return sorted(level)
-
-
-def _no_rigid_proper_subchain_all(k: int, edges) -> bool:
-    """2 e(S) ≤ 3|S| − 4 for every S of ≥ 2 vertices, the whole set included."""
-    adj = _masks(k, edges)
-    e = [0] * (1 << k)
-    for s in range(1, 1 << k):
-        low = s & -s
-        v = low.bit_length() - 1
-        rest = s ^ low
-        e[s] = e[rest] + (adj[v] & rest).bit_count()
-        size = s.bit_count()
-        if size >= 2 and 2 * e[s] > 3 * size - 4:
-            return False
-    return True
 
 
 def _binary_placements(k: int, h0, nb: int):
