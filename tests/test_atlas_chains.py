@@ -282,21 +282,22 @@ def test_cli_text(capsys):
 
 
 def test_cli_output_is_reproducible(tmp_path, capsys):
+    # 10 links: the atlas file alone (mechanism files are written up to 8 links; tests/test_atlas_layout.py)
     a, b = tmp_path / "a", tmp_path / "b"
-    assert main(["atlas", "--links", "8", "--dof", "1", "-o", str(a)]) == 0
-    assert main(["atlas", "--links", "8", "--dof", "1", "-o", str(b)]) == 0
+    assert main(["atlas", "--links", "10", "--dof", "1", "-o", str(a)]) == 0
+    assert main(["atlas", "--links", "10", "--dof", "1", "-o", str(b)]) == 0
     first = (a / "atlas.json").read_bytes()
     assert first == (b / "atlas.json").read_bytes()
-    assert main(["atlas", "--links", "8", "--dof", "1", "-o", str(a)]) == 0      # a later run replaces it
+    assert main(["atlas", "--links", "10", "--dof", "1", "-o", str(a)]) == 0      # a later run replaces it
     assert (a / "atlas.json").read_bytes() == first
     doc = json.loads(first)
-    assert doc["format"] == "assur-atlas/1" and (doc["links"], doc["dof"]) == (8, 1)
-    assert [c["id"] for c in doc["chains"]] == [e.id for e in chains(8, 1)]
+    assert doc["format"] == "assur-atlas/1" and (doc["links"], doc["dof"]) == (10, 1)
+    assert [c["id"] for c in doc["chains"]] == [e.id for e in chains(10, 1)]
     for c in doc["chains"]:
         head, body = c["edges"].split(":")
         edges = [tuple(map(int, p.split("-"))) for p in body.split(",")]
-        assert int(head) == 8 and ChainGraph.of(8, edges).id == c["id"]
-        assert_valid_chain(8, 1, edges)
+        assert int(head) == 10 and ChainGraph.of(10, edges).id == c["id"]
+        assert_valid_chain(10, 1, edges)
 
 
 @pytest.mark.parametrize("argv", [

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import assur
-from assur.designer.document import EditRefused, move_point
+from assur.designer.document import move_point
 from assur.designer.payload import describe
 from assur.designer.session import Session, document_of, toml_of
 

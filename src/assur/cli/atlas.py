@@ -2,9 +2,10 @@
 
 ``assur atlas --links N --dof F`` prints how many chains of N links and mobility F there are (planar ones, their
 mechanisms, by link assortment; the chains themselves when there are few); ``--json`` prints one JSON object;
-``-o DIR`` writes the whole list as ``DIR/atlas.json`` (format ``assur-atlas/1``, the same bytes on every run).
-``assur atlas --assur-groups --links N`` counts the Assur groups of N links. Drawings of the chains are not
-written yet, nor is ``--walking-legs``.
+``-o DIR`` writes the whole list as ``DIR/atlas.json`` (format ``assur-atlas/1``, the same bytes on every run)
+and, for 1-DOF chains of at most :data:`MECHANISM_LINKS` links, each inversion as a mechanism file and an SVG
+drawing (docs/atlas.md, "Each entry as a mechanism"). ``assur atlas --assur-groups --links N`` counts the Assur
+groups of N links. ``--walking-legs`` is not available yet.
 """
 from __future__ import annotations
 
@@ -29,8 +30,8 @@ def register(sub) -> None:
     sp = sub.add_parser("atlas", help=help_, description=(
         "Enumerate the planar kinematic chains of revolute pairs with N links and mobility F, each once: "
         "connected, no cut link, no rigid sub-chain (every set of links keeps a mobility of at least 1), "
-        "isomorphs removed by canonical labelling, non-planar chains kept and flagged. Drawings of the chains "
-        "are not written yet."))
+        "isomorphs removed by canonical labelling, non-planar chains kept and flagged. With -o, 1-DOF "
+        "chains of at most 8 links also get each mechanism as a file that assembles and an SVG drawing."))
     sp.add_argument("--links", type=_int, required=True, metavar="N", help="number of links")
     sp.add_argument("--dof", type=_int, default=None, metavar="F", help="mobility of the chains (e.g. 1)")
     sp.add_argument("--assur-groups", action="store_true",
@@ -38,7 +39,8 @@ def register(sub) -> None:
     sp.add_argument("--walking-legs", action="store_true", help="walking-leg mechanisms: not yet")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("-o", "--output", type=path_arg, default=None, metavar="DIR",
-                    help="write the atlas as DIR/atlas.json (format assur-atlas/1)")
+                    help="write the atlas as DIR/atlas.json (format assur-atlas/1) and, for 1-DOF chains of at most "
+                         "8 links, each mechanism's file DIR/<id>.toml and drawing DIR/<id>.svg (8 links: a few minutes, the engine assembles each one)")
     sp.set_defaults(func=cmd_atlas)
 
 
@@ -85,16 +87,60 @@ def atlas_document(links: int, dof: int, summary: dict, entries) -> dict:
             "chains": [e.as_dict() for e in entries]}
 
 
+#: the largest 1-DOF chains whose mechanisms ``-o`` writes as mechanism files and drawings (8 links: about two
+#: minutes; 10 links would take about an hour)
+MECHANISM_LINKS = 8
+
+
+#: the mechanisms computed in this process, by inversion ID (a second ``-o`` of the same atlas reuses them)
+_MECHANISMS: dict = {}
+
+
+def mechanism_files(entries) -> tuple[list[dict], dict[str, str]]:
+    """(one row per inversion, {file name: text}): the mechanism file ``<stem>.toml`` and drawing ``<stem>.svg``
+    of each inversion of ``entries`` with its first crank placement (docs/atlas.md, "Each entry as a
+    mechanism")."""
+    from ..io.atlas import mechanism_entry, svg
+    from ..io.toml_writer import dumps
+    from ..structure.assur import analyse, roman
+    from ..structure.atlas.mechanisms import inversions
+    rows, files = [], {}
+    for e in entries:
+        for inv in inversions(e.graph):
+            m = _MECHANISMS.get(inv.id)
+            if m is None:
+                m = _MECHANISMS[inv.id] = mechanism_entry(inv)
+            s = analyse(m.mechanism)
+            stem = m.name
+            files[f"{stem}.toml"] = dumps(m.document)
+            files[f"{stem}.svg"] = svg(m.sketch, m.document["name"])
+            rows.append({"inversion": inv.id, "chain": e.id, "name": inv.name, "frame": inv.frame,
+                         "crank": m.sketch.crank, "file": f"{stem}.toml", "drawing": f"{stem}.svg",
+                         "structural_formula": s.structural_formula,
+                         "group_classes": [roman(g.group_class) for g in s.groups],
+                         "assembles": m.assembles, "full_turn": m.full_turn, "turn": round(m.turn, 4),
+                         "sketch_attempt": m.sketch.attempt})
+    return rows, files
+
+
 def _write(out_dir, links, dof, summary, entries) -> None:
     import json
 
     from ..io.output import atomic_directory
     doc = atlas_document(links, dof, summary, entries)
     rows = [json.dumps(c, ensure_ascii=False) for c in doc.pop("chains")]
+    mech_rows, files = ([], {})
+    if dof == 1 and links <= MECHANISM_LINKS:
+        mech_rows, files = mechanism_files(entries)
     head = json.dumps(doc, ensure_ascii=False, indent=1)[:-2]      # without the closing "\n}"
-    text = head + ',\n "chains": [\n  ' + ",\n  ".join(rows) + "\n ]\n}\n"   # one chain per line
+    text = head + ',\n "chains": [\n  ' + ",\n  ".join(rows) + "\n ]"   # one chain per line
+    if mech_rows:
+        text += ',\n "mechanisms": [\n  ' + ",\n  ".join(json.dumps(r, ensure_ascii=False) for r in mech_rows) + "\n ]"
+    text += "\n}\n"
     with atomic_directory(out_dir) as tmp:
         (tmp / "atlas.json").write_text(text, encoding="utf-8")
+        for name, body in files.items():
+            (tmp / name).write_text(body, encoding="utf-8")
 
 
 def _print(summary: dict, entries) -> None:
