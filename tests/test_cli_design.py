@@ -60,7 +60,7 @@ def test_design_refuses_bad_input(tmp_path, capsys):
     assert main(["design", str(ROOT / "examples" / "jansen.toml"), "--port", "70000", "--no-browser"]) == 1
     assert "--port" in capsys.readouterr().err
     bad = tmp_path / "bad.toml"
-    bad.write_text('format = "assur/1"\n[points]\nA = [0, "x"]\n')
+    bad.write_text('format = "assur/1"\n[units]\nlength = "mm"\nangle = "deg"\n[points]\nA = [0, "x"]\n')
     assert main(["design", str(bad), "--no-browser"]) == 1
     err = capsys.readouterr().err
     assert err.startswith("error:") and "Traceback" not in err

@@ -329,3 +329,9 @@ def pack(arrays: dict) -> tuple[dict, bytes]:
         parts.append(a.tobytes())
         offset += a.size
     return index, b"".join(parts)
+
+
+def unpack(index: dict, blob: bytes) -> dict:
+    """The arrays of :func:`pack` back: name → read-only float64 array of its shape (views on ``blob``)."""
+    return {name: np.frombuffer(blob, dtype="<f8", count=length, offset=8 * offset).reshape(shape)
+            for name, (offset, length, shape) in index.items()}

@@ -28,19 +28,13 @@ class Reply:
 
 def document_of(mechanism_or_path) -> tuple[dict, str | None]:
     """(document, path or None) of a file path or a :class:`~assur.Mechanism`; a file's ``[style]`` table is kept."""
-    from ..io.mechanism_file import load
     from ..io.mechanism_writer import as_dict
     from ..model.mechanism import Mechanism
     if isinstance(mechanism_or_path, Mechanism):
         return as_dict(mechanism_or_path), None
-    from ..io.toml_reader import read_toml
+    from ..io.toml_reader import read_text
     path = str(mechanism_or_path)
-    mech = load(path)
-    doc = as_dict(mech)
-    style = read_toml(path).get("style")
-    if isinstance(style, dict):
-        doc["style"] = style
-    return doc, path
+    return doc_of_toml(read_text(path), path), path
 
 
 def toml_of(doc: dict) -> str:
@@ -49,17 +43,14 @@ def toml_of(doc: dict) -> str:
 
 
 def doc_of_toml(text: str, where: str = "the document") -> dict:
-    """A document from ``assur/1`` text: it must load as a mechanism file (its ``[style]`` is kept)."""
-    import tomllib
-
+    """A document from ``assur/1`` text (the file reader's size and nesting limits, every problem located): it
+    must load as a mechanism file; its ``[style]`` table is kept."""
     from ..io.mechanism_file import from_dict
     from ..io.mechanism_writer import as_dict
-    if not isinstance(text, str) or len(text) > 4 * 1024 * 1024:
-        raise D.EditRefused(f"{where} must be TOML text of at most 4 MiB", "toml")
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise D.EditRefused(f"{where} is not valid TOML: {exc}", "toml") from None
+    from ..io.toml_reader import MAX_FILE_BYTES, parse_toml
+    if not isinstance(text, str) or len(text.encode("utf-8", "surrogatepass")) > MAX_FILE_BYTES:
+        raise D.EditRefused(f"{where} must be TOML text of at most {MAX_FILE_BYTES // 2**20} MiB", "toml")
+    raw = parse_toml(text, where)
     if raw.get("format") != "assur/1":
         raise D.EditRefused(f"{where} is not an assur/1 mechanism file (format = {raw.get('format')!r})", "format")
     doc = as_dict(from_dict(raw, source=where))

@@ -20,7 +20,7 @@ import threading
 from pathlib import Path
 
 from ..errors import require
-from .session import Reply, Session, doc_of_toml, document_of, toml_of
+from .session import Reply, Session, doc_of_toml, document_of
 
 anywidget = require("anywidget", "assur.Designer", "pip install 'assur[widget]'")
 import traitlets  # noqa: E402  (anywidget's dependency)
@@ -88,7 +88,7 @@ class Designer(anywidget.AnyWidget):
     def toml(self) -> str:
         """The committed document as ``assur/1`` text."""
         with self._lock:
-            return toml_of(self.session.doc)
+            return self.session.text(self.session.doc)
 
     @property
     def mechanism(self):
@@ -99,14 +99,10 @@ class Designer(anywidget.AnyWidget):
     def result(self) -> tuple[dict, dict]:
         """(message, arrays) of the committed document as the page receives them: the ``result`` message
         (``cycle``, ``model``, ``diagnostics``, …) and its arrays by name (numpy, SI)."""
-        import numpy as np
+        from .payload import unpack
         with self._lock:
             reply = self.session.result(None)
-        arrays = {}
-        for name, (offset, length, shape) in reply.message.get("arrays", {}).items():
-            a = np.frombuffer(reply.blob, dtype="<f8", count=length, offset=offset * 8)
-            arrays[name] = a.reshape(shape)
-        return reply.message, arrays
+        return reply.message, unpack(reply.message.get("arrays", {}), reply.blob)
 
     # -- the comm ------------------------------------------------------------------------------------------
     def handle(self, request: dict) -> list[Reply]:
