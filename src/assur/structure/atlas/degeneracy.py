@@ -34,6 +34,25 @@ def _adjacency_masks(n: int, edges) -> np.ndarray:
     return adj
 
 
+def _joints_inside(n: int, adj: np.ndarray) -> np.ndarray:
+    """e(S) for every subset S of the links of each graph: (B, 2**n) from adjacency masks ``adj`` (B, n), by the
+    recurrence over the highest link of S."""
+    size = 1 << n
+    subsets = np.arange(size, dtype=np.int64)
+    e = np.zeros((adj.shape[0], size), dtype=np.int16)
+    for b in range(1, n):
+        low = subsets[: 1 << b]
+        lower_neighbours = adj[:, b] & ((1 << b) - 1)                # neighbours of b below b
+        e[:, 1 << b: 1 << (b + 1)] = e[:, : 1 << b] + _popcount(low[None, :] & lower_neighbours[:, None])
+    return e
+
+
+def _too_dense(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(subset sizes (2**n,), the largest 2 e(S) of a sub-chain of mobility ≥ 1: 3|S| − 4)."""
+    pop = _popcount(np.arange(1 << n, dtype=np.int64)).astype(np.int16)
+    return pop, 3 * pop - 4
+
+
 def rigid_mask(n: int, edge_lists) -> np.ndarray:
     """For each graph of ``edge_lists`` (all with ``n`` vertices): True when some subset of ≥ 2 of its links is a
     sub-chain of mobility ≤ 0 (degenerate). Shape (len(edge_lists),) bool."""
@@ -43,36 +62,26 @@ def rigid_mask(n: int, edge_lists) -> np.ndarray:
     out = np.zeros(len(edge_lists), dtype=bool)
     if not edge_lists:
         return out
-    size = 1 << n
-    subsets = np.arange(size, dtype=np.int64)
-    pop = _popcount(subsets).astype(np.int16)
-    limit = 3 * pop - 4                       # 2 e(S) ≤ 3|S| − 4 ⇔ mobility of S ≥ 1
+    pop, limit = _too_dense(n)
     relevant = pop >= 2
-    chunk = max(1, (1 << 22) // size)         # about 4 M table entries per block
+    chunk = max(1, (1 << 22) // (1 << n))     # about 4 M table entries per block
     for start in range(0, len(edge_lists), chunk):
         block = edge_lists[start:start + chunk]
-        adj = np.stack([_adjacency_masks(n, e) for e in block])          # (B, n)
-        e = np.zeros((len(block), size), dtype=np.int16)
-        for b in range(1, n):
-            low = subsets[: 1 << b]
-            lower_neighbours = adj[:, b] & ((1 << b) - 1)                # neighbours of b below b
-            e[:, 1 << b: 1 << (b + 1)] = e[:, : 1 << b] + _popcount(low[None, :] & lower_neighbours[:, None])
+        e = _joints_inside(n, np.stack([_adjacency_masks(n, e) for e in block]))     # (B, 2**n)
         bad = (2 * e > limit[None, :]) & relevant[None, :]
         out[start:start + len(block)] = bad.any(axis=1)
     return out
 
 
-def rigid_subchain(n: int, edges) -> tuple[int, ...] | None:
-    """The links of a smallest rigid sub-chain (mobility ≤ 0, at least two links) of the graph, or None."""
-    size = 1 << n
-    subsets = np.arange(size, dtype=np.int64)
-    pop = _popcount(subsets).astype(np.int16)
-    adj = _adjacency_masks(n, edges)
-    e = np.zeros(size, dtype=np.int16)
-    for b in range(1, n):
-        low = subsets[: 1 << b]
-        e[1 << b: 1 << (b + 1)] = e[: 1 << b] + _popcount(low & (int(adj[b]) & ((1 << b) - 1)))
-    bad = np.flatnonzero((2 * e > 3 * pop - 4) & (pop >= 2))
+def rigid_subchain(n: int, edges, proper: bool = False) -> tuple[int, ...] | None:
+    """The links of a smallest rigid sub-chain (mobility ≤ 0, at least two links) of the graph, or None;
+    ``proper``: only sub-chains with fewer than all ``n`` links."""
+    pop, limit = _too_dense(n)
+    e = _joints_inside(n, _adjacency_masks(n, edges)[None, :])[0]
+    bad = (2 * e > limit) & (pop >= 2)
+    if proper:
+        bad[-1] = False
+    bad = np.flatnonzero(bad)
     if bad.size == 0:
         return None
     s = int(bad[np.argmin(pop[bad])])

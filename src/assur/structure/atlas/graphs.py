@@ -48,6 +48,21 @@ def automorphism_orbits(n: int, edges, colours=None) -> tuple[int, ...]:
     return tuple(int(o) for o in orbits)
 
 
+def connected(n: int, edges) -> bool:
+    """True when the graph of ``n`` vertices and ``edges`` is connected."""
+    adj: list[list[int]] = [[] for _ in range(n)]
+    for u, v in edges:
+        adj[u].append(v)
+        adj[v].append(u)
+    seen, stack = {0}, [0]
+    while stack:
+        for w in adj[stack.pop()]:
+            if w not in seen:
+                seen.add(w)
+                stack.append(w)
+    return len(seen) == n
+
+
 def edge_text(n: int, edges) -> str:
     """``"n:u-v,u-v,…"``: a graph as text (the atlas's edge lists)."""
     return f"{n}:" + ",".join(f"{u}-{v}" for u, v in edges)

@@ -36,56 +36,18 @@ import itertools
 from dataclasses import dataclass
 from functools import cached_property
 
-from .graphs import ChainGraph, automorphism_orbits, canonical, chain_id
+from .degeneracy import rigid_subchain
+from .graphs import ChainGraph, automorphism_orbits, canonical, chain_id, connected
 
 __all__ = ["AssurGroupType", "DYAD_KINDS", "assur_group_counts", "assur_groups", "baranov_trusses",
            "dyad_kinds", "group_class", "is_baranov_truss", "type_assignments"]
 
 
 # -- the definition, checked on all subsets ------------------------------------------------------------------
-def _masks(n: int, edges) -> list[int]:
-    adj = [0] * n
-    for u, v in edges:
-        adj[u] |= 1 << v
-        adj[v] |= 1 << u
-    return adj
-
-
-def _no_rigid_proper_subchain(n: int, edges, whole: bool = False) -> bool:
-    """Every set S of 2 ≤ |S| < n links (≤ n with ``whole``) has 3(|S| − 1) − 2 j(S) ≥ 1, i.e.
-    2 j(S) ≤ 3|S| − 4 (j(S) by a recurrence over the subsets)."""
-    adj = _masks(n, edges)
-    top = (1 << n) if whole else (1 << n) - 1
-    e = [0] * (1 << n)
-    for s in range(1, top):
-        low = s & -s
-        v = low.bit_length() - 1
-        rest = s ^ low
-        e[s] = e[rest] + (adj[v] & rest).bit_count()
-        size = s.bit_count()
-        if size >= 2 and 2 * e[s] > 3 * size - 4:
-            return False
-    return True
-
-
-def _connected(n: int, edges) -> bool:
-    adj = _masks(n, edges)
-    seen, stack = 1, [0]
-    while stack:
-        v = stack.pop()
-        new = adj[v] & ~seen
-        seen |= new
-        while new:
-            low = new & -new
-            stack.append(low.bit_length() - 1)
-            new ^= low
-    return seen == (1 << n) - 1
-
-
 def is_baranov_truss(n: int, edges) -> bool:
     """The definition of the module's docstring (simple graph assumed)."""
-    return (n >= 3 and 3 * (n - 1) == 2 * len(edges) and _connected(n, edges)
-            and _no_rigid_proper_subchain(n, edges))
+    return (n >= 3 and 3 * (n - 1) == 2 * len(edges) and connected(n, edges)
+            and rigid_subchain(n, edges, proper=True) is None)
 
 
 # -- generation ------------------------------------------------------------------------------------------------
@@ -104,7 +66,7 @@ def _sparse_graphs(k: int, e0: int) -> list[tuple[tuple[int, int], ...]]:
                     continue
                 cand = tuple(sorted(have | {p}))
                 ce, _ = canonical(k, cand)
-                if ce not in nxt and _no_rigid_proper_subchain(k, ce, whole=True):
+                if ce not in nxt and rigid_subchain(k, ce) is None:
                     nxt.add(ce)
         level = nxt
     return sorted(level)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from ...model.mechanism import Mechanism
 from ..graph import build_graph
+from .graphs import connected
 from .mechanisms import chain_name, inversion_at
 
 __all__ = ["Identification", "identify"]
@@ -70,7 +71,7 @@ def identify(mechanism: Mechanism) -> Identification | None:
         if p.kind == "P":
             prismatic += 1
             frame_prismatic = frame_prismatic or 0 in (u, v)
-    if n < 2 or not _connected(n, edges):
+    if n < 2 or not connected(n, edges):
         return None
     inv = inversion_at(n, edges, 0)
     cname = chain_name(inv.chain)
@@ -83,17 +84,3 @@ def identify(mechanism: Mechanism) -> Identification | None:
     return Identification(inv.chain.id, cname, inv.id, name, n, len(edges), inv.chain.mobility, prismatic,
                           inv.frame)
 
-
-def _connected(n: int, edges) -> bool:
-    adj: list[list[int]] = [[] for _ in range(n)]
-    for u, v in edges:
-        adj[u].append(v)
-        adj[v].append(u)
-    seen = {0}
-    stack = [0]
-    while stack:
-        for w in adj[stack.pop()]:
-            if w not in seen:
-                seen.add(w)
-                stack.append(w)
-    return len(seen) == n
