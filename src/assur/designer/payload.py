@@ -39,12 +39,11 @@ def _diagnostic(level: str, code: str, message: str, where: str = "") -> dict:
 def _model_of_doc(doc: dict) -> dict:
     """The names and topology the page needs, read from the document itself (so a document that is not a
     mechanism yet still draws)."""
-    from .document import link_points, locks
-    links = doc.get("links", {})
-    lp, ll = locks(doc)
     from ..io.units import parse_speed
     from ..model.mechanism import Units
-    from .document import angle_factor
+    from .document import angle_factor, link_points, locks
+    links = doc.get("links", {})
+    lp, ll = locks(doc)
     try:
         units = Units(**{k: v for k, v in doc.get("units", {}).items() if k in ("length", "angle")})
         fA = angle_factor(doc)
@@ -122,6 +121,15 @@ def _instant_centres(plan, state) -> np.ndarray:
     return out
 
 
+def _cycle_meta(plan, k: int, turn: bool, valid) -> dict:
+    """The ``cycle`` description of a solved cycle of input ``k`` (the analyses fill in their entries)."""
+    return {"n": int(len(valid)), "turn": bool(turn),
+            "input": {"name": plan.input_names[k], "kind": plan.input_kinds[k], "index": int(k),
+                      "speed": float(plan.speeds[k]), "sketch": float(plan.sketch_inputs[k])},
+            "assembled": int(valid.sum()), "driver": plan.mechanism.drivers[k].name,
+            "dead_centres": [], "gait": None, "module": None, "forces": None}
+
+
 def _cycle_planar(plan, params, meta: dict, arrays: dict, steps: int, exact: bool) -> None:
     from ..analysis.sampling import Cycle, sweep_inputs
     from ..analysis.transmission import dead_centres, transmission_angles
@@ -140,14 +148,7 @@ def _cycle_planar(plan, params, meta: dict, arrays: dict, steps: int, exact: boo
     groups = meta["model"]["groups"]
     arrays["transmission"] = np.stack([mu.get(g["point"], np.full(valid.shape, np.nan)) for g in groups], axis=-1) \
         if groups else np.zeros((len(valid), 0))
-    d = plan.mechanism.drivers[k]
-    c = meta["cycle"] = {
-        "n": int(len(valid)), "turn": bool(turn),
-        "input": {"name": plan.input_names[k], "kind": plan.input_kinds[k], "index": int(k),
-                  "speed": float(plan.speeds[k]), "sketch": float(plan.sketch_inputs[k])},
-        "assembled": int(valid.sum()), "driver": d.name,
-        "dead_centres": [], "gait": None, "module": None, "forces": None,
-    }
+    c = meta["cycle"] = _cycle_meta(plan, k, turn, valid)
     if turn and plan.n_inputs == 1:
         c["dead_centres"] = [{"q": float(dc.angle), "kind": dc.kind, "link": dc.link}
                              for dc in dead_centres(plan, params, steps=steps, grid_pos=state.pos)]
@@ -228,11 +229,7 @@ def _cycle_spatial(plan, params, meta, arrays, steps: int) -> None:
     state = solve(plan, params, q, order=2)
     valid = np.asarray(state.valid, dtype=bool)
     arrays.update(q=q[:, k], valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc)
-    meta["cycle"] = {"n": int(len(valid)), "turn": bool(turn),
-                     "input": {"name": plan.input_names[k], "kind": plan.input_kinds[k], "index": int(k),
-                               "speed": float(plan.speeds[k]), "sketch": float(plan.sketch_inputs[k])},
-                     "assembled": int(valid.sum()), "dead_centres": [], "gait": None, "module": None,
-                     "forces": None}
+    meta["cycle"] = _cycle_meta(plan, k, turn, valid)
 
 
 def parameter_records(plan, params) -> list[dict]:
