@@ -1,34 +1,52 @@
 """The atlas of planar kinematic chains (assur.structure.atlas.chains) and ``assur atlas``.
 
 Conditions (docs/atlas.md): simple graph, connected, mobility 3(n − 1) − 2j = F, no cut link (2-connected), no
-sub-chain of ≥ 2 links with mobility ≤ 0. Every count is checked against a literature number (sources in the
-comments); every output chain is checked by tests written here from first principles (all link subsets by
-itertools, networkx for connectivity), not by the enumeration's own tests.
+sub-chain of ≥ 2 links with mobility ≤ 0. Every count is checked against a literature number where one was
+found (sources below and in the comments), and every output chain by tests written here from first principles
+(all link subsets by itertools or numpy, networkx for connectivity, nauty's geng for all graphs), not by the
+enumeration's own tests.
 
-Literature (the counts below):
+Literature (the counts below), each with what it counts:
 
+* [OEIS] OEIS A233288, "Number of (3/2,2)-tight graphs with 2n vertices, or kinematic chains with 2n links"
+  (D. Eppstein 2013; https://oeis.org/A233288): 1, 1, 2, 16, 230, 6856, 318162, 19819281 for 2, 4, …, 16
+  links. Its comment defines the chains as here: 1 DOF, every joint pins two links, no rigid sub-system. (It also
+  notes that Sunkari & Schmidt's paper has a typo for 14 links.)
 * [Tsai] L.-W. Tsai, *Mechanism Design: Enumeration of Kinematic Structures According to Function*, CRC Press,
   2001, ch. 4 (number of planar 1-DOF chains of revolute pairs: 4 links 1, 6 links 2 (Watt, Stephenson),
   8 links 16, 10 links 230, 12 links 6 856; and by link assortment).
+* [AME] "Automatic topological structural synthesis algorithm of planar simple joint kinematic chains",
+  *Advances in Mechanical Engineering* (2016), doi:10.1177/1687814016638055
+  (https://sage.cnpereading.com/doi/10.1177/1687814016638055), introduction: by Franke's notation (Davies &
+  Crossley; Soni) "40 types of 9-link 2-degree of freedom (2-DOF) and 230 types of 10-link 1-DOF planar simple
+  joint kinematic chains" were synthesized. Here 9 links, 2 DOF gives 35 chains without a cut link and 5 with
+  one, so that 40 is the total including the fractionated chains (the count without them is 35).
+* [Tuttle] E. R. Tuttle, "Generation of planar kinematic chains", *Mechanism and Machine Theory* 31 (1996)
+  729–748 (abstract: https://c.coek.info/pdf-generation-of-planar-kinematic-chains-.html): its tables count the
+  *non-fractionated* chains only (2–6 loops, 1–3 DOF), i.e. the ``chains`` column here, not the totals. Its
+  table values were not readable for these tests.
 * [SS] P. Sunkari, L. C. Schmidt, "Structural synthesis of planar kinematic chains by adapting a Mckay-type
-  algorithm", *Mechanism and Machine Theory* 41 (2006) 1021–1030 (1-DOF up to 14 links; multi-DOF tables).
-* [HH] W.-M. Hwang, Y.-W. Hwang, "Computer-aided structural synthesis of planar kinematic chains with simple
-  joints", *Mechanism and Machine Theory* 27 (1992) 189–199 (chains up to 12 links and several DOF).
+  algorithm", *Mechanism and Machine Theory* 41 (2006) 1021–1030, and [HH] W.-M. Hwang, Y.-W. Hwang,
+  "Computer-aided structural synthesis of planar kinematic chains with simple joints", *Mechanism and Machine
+  Theory* 27 (1992) 189–199: multi-DOF tables, not read for these tests.
 
-The 1-DOF chain counts and the eight-link assortment split are the textbook values and agree in every source
-(for 1 DOF no chain with a cut link can be non-degenerate: its two sides' mobilities add up to 1, so one side
-would be rigid). For 2 and 3 DOF the sources differ in what they count: totals with the fractionated chains
-(chains with a cut link) and totals without them. The numbers here, both ways, are as remembered from [HH]/[SS]
-and could not be checked against the printed tables while writing these tests: they are marked "(unverified)"
-and docs/atlas.md says so.
+The 1-DOF chain counts agree in every source (for 1 DOF no chain with a cut link can be non-degenerate: its two
+sides' mobilities add up to 1, so one side would be rigid). For 2 and 3 DOF the sources differ in what they
+count: totals with the fractionated chains (chains with a cut link, [AME]) and totals without them ([Tuttle]).
+Only the 9-link 2-DOF total (40, [AME]) was verified against a printed source; every other multi-DOF number
+below is marked "(no literature table read)" and is checked instead, chain for chain, by an exhaustive
+enumeration of all graphs (nauty's ``geng``, when installed: test_chains_equal_exhaustive_enumeration).
 """
 from __future__ import annotations
 
 import itertools
 import json
 import random
+import shutil
+import subprocess
 
 import networkx as nx
+import numpy as np
 import pytest
 
 from assur.cli.main import main
@@ -63,11 +81,11 @@ def assert_valid_chain(n: int, dof: int, edges) -> None:
 # Counts against the literature
 
 @pytest.mark.parametrize("links, expected", [
-    (4, 1),      # the four-bar [Tsai]
-    (6, 2),      # Watt and Stephenson [Tsai]
-    (8, 16),     # [Tsai], [SS]
-    (10, 230),   # [Tsai], [SS] (219 of them planar: see the planarity test)
-    pytest.param(12, 6856, marks=pytest.mark.slow),   # [Tsai], [SS]
+    (4, 1),      # the four-bar [OEIS], [Tsai]
+    (6, 2),      # Watt and Stephenson [OEIS], [Tsai]
+    (8, 16),     # [OEIS], [Tsai]
+    (10, 230),   # [OEIS], [Tsai], [AME] (219 of them planar: see the planarity test)
+    pytest.param(12, 6856, marks=pytest.mark.slow),   # [OEIS], [Tsai]
 ])
 def test_one_dof_chain_counts(links, expected):
     assert count(links, 1)["chains"] == expected
@@ -92,13 +110,13 @@ def test_one_dof_link_assortments():
 
 
 @pytest.mark.parametrize("links, dof, without_cut, with_cut", [
-    (5, 2, 1, 0),       # the five-bar (a single loop)
-    (7, 2, 3, 1),       # 3 + 1 fractionated (two four-bars sharing a quaternary link): 4 in all (unverified)
-    (9, 2, 35, 5),      # 35 + 5 = 40 (unverified: [HH] total 40, [SS] non-fractionated 35)
-    (11, 2, 753, 86),   # 753 + 86 = 839 (unverified: [HH] total 839, [SS] non-fractionated 753)
-    (6, 3, 1, 0),       # the six-bar loop
-    (8, 3, 5, 2),       # 5 + 2 = 7 (unverified)
-    (10, 3, 74, 24),    # 74 + 24 = 98 (unverified: [HH] total 98)
+    (5, 2, 1, 0),       # the five-bar (a single loop: 3·4 − 2·5 = 2)
+    (7, 2, 3, 1),       # 3 + 1 fractionated (two four-bars sharing a quaternary link); also by brute force below
+    (9, 2, 35, 5),      # 35 + 5 = 40 = [AME]'s 40 nine-link 2-DOF chains (its total includes the fractionated)
+    (11, 2, 753, 86),   # 753 + 86 = 839 (no literature table read: exhaustive enumeration below)
+    (6, 3, 1, 0),       # the six-bar loop (3·5 − 2·6 = 3)
+    (8, 3, 5, 2),       # 5 + 2 = 7 (no literature table read: exhaustive enumeration below)
+    (10, 3, 74, 24),    # 74 + 24 = 98 (no literature table read: exhaustive enumeration below)
 ])
 def test_multi_dof_chain_counts(links, dof, without_cut, with_cut):
     c = count(links, dof)
@@ -111,6 +129,63 @@ def test_seven_link_two_dof_fractionated_chain_by_hand():
     frac = [e for e in chains(7, 2, cut_links=True) if e.cut_link]
     assert [e.id for e in frac] == [shared.id]
     assert shared.id not in {e.id for e in chains(7, 2)}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Completeness by an exhaustive enumeration of all graphs with nauty's geng (a different program: every connected
+# simple graph with n vertices, j edges and minimum degree 2, once up to isomorphism), filtered by an all-subsets
+# mobility test written here with numpy. Skipped where geng is not installed (Debian package "nauty").
+
+GENG = shutil.which("nauty-geng") or shutil.which("geng")
+needs_geng = pytest.mark.skipif(GENG is None, reason="nauty's geng is not installed (Debian package nauty)")
+
+
+def geng_graphs(n: int, j: int) -> list:
+    out = subprocess.run([GENG, "-cq", "-d2", str(n), f"{j}:{j}"], capture_output=True, text=True, check=True)
+    return [nx.from_graph6_bytes(line.encode()) for line in out.stdout.split()]
+
+
+def without_rigid_subset(n: int, graphs, proper: bool = False) -> list[bool]:
+    """For each graph: no set S of ≥ 2 links (< n with ``proper``) has 3(|S| − 1) − 2e(S) ≤ 0."""
+    subsets = np.arange(1 << n)
+    bits = ((subsets[:, None] >> np.arange(n)) & 1).astype(np.uint8)            # (2**n, n)
+    size = bits.sum(axis=1).astype(np.int64)
+    checked = (size >= 2) & ((size < n) if proper else True)
+    result = []
+    for start in range(0, len(graphs), 1000):
+        block = graphs[start:start + 1000]
+        us = np.array([[u for u, _ in g.edges] for g in block])
+        vs = np.array([[v for _, v in g.edges] for g in block])
+        inside = (bits[:, us] & bits[:, vs]).sum(axis=2, dtype=np.int64)           # (2**n, graphs): e(S)
+        ok = (3 * (size[:, None] - 1) - 2 * inside >= 1) | ~checked[:, None]
+        result.extend(ok.all(axis=0).tolist())
+    return result
+
+
+@needs_geng
+@pytest.mark.parametrize("links, dof", [(10, 1), (9, 2), (11, 2), (8, 3), (10, 3)])
+def test_chains_equal_exhaustive_enumeration(links, dof):
+    graphs = geng_graphs(links, (3 * (links - 1) - dof) // 2)
+    good = [g for g, ok in zip(graphs, without_rigid_subset(links, graphs)) if ok]
+    whole = {ChainGraph.of(links, list(g.edges)).id for g in good if nx.is_biconnected(g)}
+    fractionated = {ChainGraph.of(links, list(g.edges)).id for g in good if not nx.is_biconnected(g)}
+    entries = chains(links, dof, cut_links=True)
+    assert {e.id for e in entries if not e.cut_link} == whole
+    assert {e.id for e in entries if e.cut_link} == fractionated
+    if (links, dof) == (9, 2):
+        assert len(whole) + len(fractionated) == 40                  # [AME]: 40 nine-link 2-DOF chains in all
+    # the mechanisms (link orbits, by networkx's VF2 here, not nauty) and the planar chains of docs/atlas.md
+    blocks = [g for g in good if nx.is_biconnected(g)]
+    orbits = 0
+    for g in blocks:
+        orbit = {v: {v} for v in g}
+        for m in nx.algorithms.isomorphism.GraphMatcher(g, g).isomorphisms_iter():
+            for v, w in m.items():
+                orbit[v].add(w)
+        orbits += len({frozenset(o) for o in orbit.values()})
+    c = count(links, dof)
+    assert c["mechanisms"] == orbits
+    assert c["planar_chains"] == sum(nx.check_planarity(g)[0] for g in blocks)
 
 
 # ---------------------------------------------------------------------------------------------------------------
