@@ -111,6 +111,35 @@ def test_support_speeds_closed_forms(plan):
     assert g.support_vx.mean == pytest.approx(ref["d"] * 2 / math.pi, rel=1e-6)
 
 
+@pytest.mark.parametrize("fraction", [0.8, 0.9])
+def test_central_vx_spread_closed_form(plan, fraction):
+    """§6: x_A = −d·sin φ, |v_x| = d·ω·|cos φ| on the contact arc [90°, 270°]. The central fraction f of the stride
+    [−d, d] is |sin φ| ≤ f, i.e. φ = π ± asin f: there |v_x| runs from d·√(1 − f²) (the window's ends) to d (φ = π)
+    and its mean is d·f/asin f (independent integral of cos over ±asin f), so the spread is
+    (1 − √(1 − f²))·asin f / f. The metric takes samples: its error shrinks with the grid."""
+    exact = (1 - math.sqrt(1 - fraction ** 2)) * math.asin(fraction) / fraction
+    coarse = gait_metrics(plan, steps=360).vx_spread[f"{fraction:g}"]
+    fine = gait_metrics(plan, steps=2880).vx_spread[f"{fraction:g}"]
+    assert abs(fine - exact) < abs(coarse - exact) or abs(fine - exact) < 1e-9
+    assert fine == pytest.approx(exact, rel=2e-3)
+
+
+def test_population_vx_spread_is_the_same_window(plan):
+    """The sampled (synthesis) form at 0.8 and 0.9 equals the definition applied by hand to the same samples."""
+    from assur.analysis.gait import population_gait
+    M = 720
+    q = np.linspace(0, 2 * math.pi, M, endpoint=False)
+    st = assur.solve(plan, inputs=q[:, None], order=1)
+    i = plan.point_index("A")
+    pg = population_gait(st.pos[None, :, i], st.valid[None], st.dpos_dq[None, :, i, :, 0], ground=(1, 0), up=(0, 1))
+    x, vx = st.pos[:, i, 0], np.abs(st.dpos_dq[:, i, 0, 0])
+    contact = (q >= math.pi / 2 - 1e-12) & (q <= 3 * math.pi / 2 + 1e-12)      # the closed-form contact arc
+    for f, key in ((0.8, "vx_spread"), (0.9, "vx_spread_90")):
+        c, half = 0.5 * (x.max() + x.min()), 0.5 * f * (x.max() - x.min())
+        w = vx[contact & (np.abs(x - c) <= half)]
+        assert pg[key][0] == pytest.approx((w.max() - w.min()) / w.mean(), rel=1e-12)
+
+
 def test_metrics_converge_with_sampling(plan):
     a = gait_metrics(plan, steps=180)
     b = gait_metrics(plan, steps=1440)

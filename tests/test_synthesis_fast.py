@@ -15,7 +15,8 @@ from assur.synthesis import Evaluator, load_problem, problem_from_dict
 
 SYN = Path(__file__).resolve().parent.parent / "examples" / "synthesis"
 WALKER = SYN / "walker_fourbar_gait.toml"
-GAIT = ("gait.step", "gait.lift", "gait.sag", "gait.duty", "gait.speed_mean", "gait.speed_spread")
+GAIT = ("gait.step", "gait.lift", "gait.sag", "gait.duty", "gait.speed_mean", "gait.speed_spread", "gait.vx_spread",
+        "gait.vx_spread_90")
 needs_numba = pytest.mark.skipif(not available(), reason="numba not installed: no compiled route")
 
 
@@ -28,7 +29,9 @@ def _gait_problem():
     """The walking-leg example with every gait term named (as limits with no effect on feasibility)."""
     data = tomllib.loads(WALKER.read_text(encoding="utf-8"))
     data["constraints"]["limits"] += [{"quantity": "gait.duty", "min": 0.0},
-                                      {"quantity": "gait.speed_mean", "min": 0.0}]
+                                      {"quantity": "gait.speed_mean", "min": 0.0},
+                                      {"quantity": "gait.vx_spread", "min": 0.0},
+                                      {"quantity": "gait.vx_spread_90", "min": 0.0}]
     return problem_from_dict(data, base_dir=SYN)
 
 

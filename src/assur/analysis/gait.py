@@ -11,6 +11,9 @@ away from the ground side); the height is ``h = v − min v``.
 - duty factor: contact-arc width / 2π;
 - support speed |v| = ω·|dP/dq| over the contact arc: max, min, time-mean and midrange;
   the same for the absolute horizontal component |v_x|; the horizontal acceleration range;
+- the horizontal-speed spread ``vx_spread[f]`` for the central fractions f = 0.8, 0.9 of the stride: (max − min)/mean
+  of |v_x| over the contact-arc samples whose foot x lies in the central fraction f of the stride
+  ``[x_min, x_max]`` (:func:`central_vx_spread`); 0 for a foot that carries the body at constant speed;
 - the frame pivot's absolute path while the foot is planted (paper 004, Fig. 6 b–c):
   with the foot fixed, the body moves by the negative of the foot's relative displacement.
 
@@ -27,7 +30,7 @@ cycle shared with other analyses) or a State solved over the uniform grid of one
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from scipy.integrate import simpson
@@ -67,6 +70,7 @@ class GaitMetrics:
     support_vx: Stats            # |v_x| over the contact arc, m/s
     support_ax: tuple[float, float]   # (min, max) horizontal acceleration over the contact arc, m/s²
     samples: int
+    vx_spread: dict = field(default_factory=dict)   # {"0.8": …, "0.9": …}: central_vx_spread of the contact arc
 
     @property
     def contact_ratio(self) -> float:
@@ -85,6 +89,31 @@ class GaitMetrics:
                  "sag": "m", "support_speed": "m/s", "support_vx": "m/s", "support_ax": "m/s²"}
         rows = [(k, getattr(self, k)) for k in self.__dataclass_fields__] + [("contact_ratio", self.contact_ratio)]
         return html_table(f"Gait metrics of {self.foot}", rows, units=units)
+
+
+#: the central fractions of the stride whose horizontal-speed spread the gait metrics report
+VX_FRACTIONS = (0.8, 0.9)
+
+
+def central_vx_spread(x, vx, contact, fraction: float, x_min, x_max):
+    """(max − min)/mean of |vx| over the samples with ``contact`` whose x lies in the central ``fraction`` of the
+    stride ``[x_min, x_max]`` (``|x − (x_min + x_max)/2| ≤ fraction·(x_max − x_min)/2``), the sample mean.
+
+    x, vx, contact: (..., M) stride coordinates, horizontal velocities and contact flags of M samples;
+    x_min, x_max: (...,) the stride's ends. Returns (...,): NaN where no sample lies in the window."""
+    x, vx = np.asarray(x, dtype=float), np.abs(np.asarray(vx, dtype=float))
+    lo, hi = np.asarray(x_min, dtype=float)[..., None], np.asarray(x_max, dtype=float)[..., None]
+    inside = np.asarray(contact, dtype=bool) & (np.abs(x - 0.5 * (lo + hi)) <= 0.5 * fraction * (hi - lo))
+    count = np.count_nonzero(inside, axis=-1)
+    with np.errstate(all="ignore"):
+        vmax = np.where(inside, vx, -np.inf).max(axis=-1)
+        vmin = np.where(inside, vx, np.inf).min(axis=-1)
+        mean = np.where(inside, vx, 0.0).sum(axis=-1) / count
+        return np.where(count > 0, (vmax - vmin) / mean, np.nan)
+
+
+def _vx_spreads(x, vx, contact, x_min, x_max) -> dict:
+    return {f"{f:g}": float(central_vx_spread(x, vx, contact, f, x_min, x_max)) for f in VX_FRACTIONS}
 
 
 @dataclass(frozen=True)
@@ -266,7 +295,8 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                               float(lift), float(sag), float(width / TWO_PI),
                               Stats.of(w * av["speed"], qq, w * spmax, w * spmin),
                               Stats.of(w * av["absdx"], qq, w * vxmax, w * vxmin),
-                              (float(ax.min()), float(ax.max())), steps)
+                              (float(ax.min()), float(ax.max())), steps,
+                              _vx_spreads(av["x"], w * av["dx"], np.ones(len(qq), bool), xa, xb))
         contact = ((q - start) % TWO_PI) <= width
         body_q = qq
         xs, vs = av["x"], av["v"]
@@ -296,7 +326,8 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                                     0.5 * float(speed.max() + speed.min())),
                               Stats(float(vxa.max()), float(vxa.min()), float(vxa.mean()),
                                     0.5 * float(vxa.max() + vxa.min())),
-                              (float((w * w * d2x).min()), float((w * w * d2x).max())), steps)
+                              (float((w * w * d2x).min()), float((w * w * d2x).max())), steps,
+                              _vx_spreads(x, w * dx, contact, x[contact].min(), x[contact].max()))
         body_q = np.sort((q[contact] - start) % TWO_PI) + start
         xs, vs = x[contact][order], v[contact][order]
         body_x, body_v = xs[0] - xs, vs[0] - vs
@@ -313,8 +344,10 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     pos: (n, M, 2) foot positions at M uniform inputs over one turn; valid: (n, M) bool; dpos_dq: (n, M, 2) their
     derivatives by the input, or None; ground, up: (2,) directions; omega: the input speed magnitude (rad/s);
     scale: a factor on every length (e.g. SI → the file's unit).
-    Returns ``{"step", "lift", "sag", "duty"}`` and, with ``dpos_dq``, ``{"speed_mean", "speed_spread"}``, each
-    (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an invalid sample."""
+    Returns ``{"step", "lift", "sag", "duty"}`` and, with ``dpos_dq``, ``{"speed_mean", "speed_spread",
+    "vx_spread", "vx_spread_90"}`` (the last two: :func:`central_vx_spread` at the fractions 0.8 and 0.9 of the
+    sampled stride), each (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an
+    invalid sample."""
     g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
     x, v = pos @ g * scale, pos @ u * scale
     M = x.shape[1]
@@ -331,6 +364,11 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
         smean = np.where(contact, speed, 0).sum(axis=1) / np.count_nonzero(contact, axis=1)
         out["speed_mean"] = smean
         out["speed_spread"] = (smax - smin) / smean
+        vx = dpos_dq @ g * omega * scale
+        x_min = np.take_along_axis(x, ia[:, None], 1)[:, 0]
+        x_max = np.take_along_axis(x, ib[:, None], 1)[:, 0]
+        out["vx_spread"] = central_vx_spread(x, vx, contact, 0.8, x_min, x_max)
+        out["vx_spread_90"] = central_vx_spread(x, vx, contact, 0.9, x_min, x_max)
     bad = ~np.all(valid, axis=1)
     return {key: np.where(bad, np.nan, val) for key, val in out.items()}
 

@@ -258,7 +258,7 @@ def generate_objective_source(ops, point: int) -> str:
 
 #: columns of the cycle kernel's output (``generate_cycle_source``); the path distances follow from PATH_COLUMN
 CYCLE_COLUMNS = ("unassembled", "shortfall", "transmission", "gait.step", "gait.lift", "gait.sag", "gait.duty",
-                 "gait.speed_mean", "gait.speed_spread")
+                 "gait.speed_mean", "gait.speed_spread", "gait.vx_spread", "gait.vx_spread_90")
 PATH_COLUMN = len(CYCLE_COLUMNS)
 
 
@@ -296,7 +296,8 @@ def generate_cycle_source(ops, foot: int = -1, path: int = -1, rrr=()) -> str:
         F = f"P{int(foot)}"
         sample += [f"fx[u] = ({F}[0] * g[0] + {F}[1] * g[1]) * scale",
                    f"fv[u] = ({F}[0] * up[0] + {F}[1] * up[1]) * scale",
-                   f"fs[u] = math.sqrt({F}[2] * {F}[2] + {F}[3] * {F}[3]) * omega * scale"]
+                   f"fs[u] = math.sqrt({F}[2] * {F}[2] + {F}[3] * {F}[3]) * omega * scale",
+                   f"fw[u] = ({F}[2] * g[0] + {F}[3] * g[1]) * omega * scale"]
     if path >= 0:
         sample += [f"px[u] = P{int(path)}[0]", f"py[u] = P{int(path)}[1]"]
     lines = [
@@ -317,6 +318,7 @@ def generate_cycle_source(ops, foot: int = -1, path: int = -1, rrr=()) -> str:
         "    fx = np.empty(M)",
         "    fv = np.empty(M)",
         "    fs = np.empty(M)",
+        "    fw = np.empty(M)",
         "    px = np.empty(M)",
         "    py = np.empty(M)",
         "    ft = np.empty(M)",
@@ -334,7 +336,7 @@ def generate_cycle_source(ops, foot: int = -1, path: int = -1, rrr=()) -> str:
         f"{i8}if cbad == 0:",
     ]
     if foot >= 0:
-        lines.append(f"{i12}gait_reduce(fx, fv, fs, out, d, 3)")
+        lines.append(f"{i12}gait_reduce(fx, fv, fs, fw, out, d, 3)")
     if path >= 0:
         lines.append(f"{i12}polyline_distance(px, py, txy, out, d, {PATH_COLUMN})")
     lines += [f"{i12}pass", ""]

@@ -148,10 +148,12 @@ def crank(c, s, sense, k):
 # -- per-design reductions of sampled cycles (called by the generated cycle kernels) -----------------
 
 @njit(cache=True, error_model="numpy")
-def gait_reduce(x, v, sp, out, d, col):
+def gait_reduce(x, v, sp, vx, out, d, col):
     """The sampled gait terms of one design (the definitions of ``analysis.gait.population_gait``) into
-    ``out[d, col:col + 6]``: step, lift, sag, duty, speed mean, speed spread. x, v, sp (M,): stride
-    coordinate, height and foot speed at M uniform inputs over one turn, every sample assembled. The contact
+    ``out[d, col:col + 8]``: step, lift, sag, duty, speed mean, speed spread and the spreads of |vx| over the
+    central fractions 0.8 and 0.9 of the stride (``analysis.gait.central_vx_spread``). x, v, sp, vx (M,): stride
+    coordinate, height, foot speed and horizontal velocity at M uniform inputs over one turn, every sample
+    assembled. The contact
     arc runs between the first samples of smallest and largest x, the one of the two arcs (both ends
     included) whose sample-mean height is lower (the first arc, smallest x → largest x, on a tie)."""
     M = x.shape[0]
@@ -197,6 +199,22 @@ def gait_reduce(x, v, sp, out, d, col):
     out[d, col + 3] = (width + 1) / M
     out[d, col + 4] = smean
     out[d, col + 5] = (smax - smin) / smean
+    centre = 0.5 * (x[ia] + x[ib])
+    for c, fraction in ((col + 6, 0.8), (col + 7, 0.9)):
+        half = 0.5 * fraction * (x[ib] - x[ia])
+        wmin = math.inf
+        wmax = -math.inf
+        wsum = 0.0
+        count = 0
+        for j in range(width + 1):
+            k = (start + j) % M
+            if abs(x[k] - centre) <= half:
+                a = abs(vx[k])
+                wmin = min(wmin, a)
+                wmax = max(wmax, a)
+                wsum += a
+                count += 1
+        out[d, c] = (wmax - wmin) / (wsum / count) if count > 0 else math.nan
 
 
 @njit(cache=True, error_model="numpy")

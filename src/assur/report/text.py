@@ -249,6 +249,8 @@ def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> li
         for stat in ("max", "min", "mean", "midrange"):
             v = g[key][stat]
             rows.append((f"{label} {stat}", n(None if v is None else v / Lf, 5, vscale and vscale / Lf), f"{Lu}/s"))
+    for fraction, v in (g.get("vx_spread") or {}).items():
+        rows.append((f"support |vx| spread, central {float(fraction):.0%} of the stride", n(v, 5), ""))
     for stat in ("min", "max"):
         v = g["support_ax"][stat]
         rows.append((f"support acceleration ax {stat}", n(None if v is None else v / Lf, 5, ascale and ascale / Lf),

@@ -85,7 +85,7 @@ class Evaluator:
         self._order = 2 if "acceleration" in quantities else 0
         # forces.* need the accelerations (d'Alembert loads), gait speeds the first derivatives
         self._cycle_order = (2 if any(q.startswith("forces.") for q in quantities)
-                             else 1 if any(q.startswith("gait.speed") for q in quantities) else 0)
+                             else 1 if any(_speed_term(q) for q in quantities) else 0)
         self._quantities = quantities
         from ..engine.planar.numba_backend import covers, cycle_covers
         t = p.targets
@@ -316,9 +316,9 @@ class Evaluator:
         if "path" in kw:
             Q["_path_distances"] = r[:, PATH_COLUMN:] * ls
         if gait:      # every gait term, as the general route gives them (the speeds where a speed is named)
-            speeds = any(k.startswith("gait.speed") for k in gait)
+            speeds = any(_speed_term(k) for k in gait)
             Q.update({k: r[:, i] for i, k in enumerate(CYCLE_COLUMNS)
-                      if k.startswith("gait.") and (speeds or not k.startswith("gait.speed"))})
+                      if k.startswith("gait.") and (speeds or not _speed_term(k))})
         if "transmission.min" in self._quantities:
             from ..io.units import ANGLE
             Q["transmission.min"] = np.where(finite, r[:, 2], np.nan) / ANGLE[prob.angle_unit]
@@ -362,6 +362,11 @@ class Evaluator:
 
 def _rebuild_evaluator(problem, chunk, backend):
     return Evaluator(problem, chunk=chunk, backend=backend)
+
+
+def _speed_term(quantity: str) -> bool:
+    """Whether a gait quantity needs the foot's velocity (the cycle solved with first derivatives)."""
+    return quantity.startswith("gait.speed") or quantity.startswith("gait.vx_")
 
 
 def _buildable_violation(share, shortfall):
