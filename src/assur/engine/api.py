@@ -27,7 +27,8 @@ def compile(m: Mechanism, *, tolerances=DEFAULT):  # noqa: A001 - the public ver
 
 
 def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: int = 2,
-          on_unbuildable: str = "nan", method: str = "closed", backend: str = "auto", tolerances=DEFAULT):
+          on_unbuildable: str = "nan", method: str = "closed", backend: str = "auto", tolerances=DEFAULT,
+          sweep: bool = False):
     """Solve positions (and, with ``order`` ≥ 1/2, velocities and accelerations) of every point.
 
     Parameters
@@ -52,6 +53,11 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
         for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed. Both
         give the same numbers.
+    sweep : bool
+        The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
+        (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
+        sketch one by one (:mod:`assur.engine.planar.sweep`; much faster, the same positions to the Newton
+        tolerance). Ignored where it does not apply.
 
     Returns
     -------
@@ -71,7 +77,8 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
                                 required=backend == "numba")
         if state is not None:
             return state
-    return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
+    return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
+                       sweep=sweep)
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):

@@ -11,12 +11,15 @@ from ...kernels.jet import Jet
 from ..options import input_rates, report_unbuildable
 from ..state import State, _Once
 from .steps import execute
+from .sweep import execute_cycle
 
 
-def solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, method) -> State:
+def solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, method,
+                sweep: bool = False) -> State:
     """Solve on whole arrays of jets, one pass per input direction (and one per pair of inputs for
     the mixed second derivatives). ``params (..., n_params)``, ``inputs (..., n_inputs)`` broadcast
-    to ``shape``."""
+    to ``shape``. ``sweep``: the inputs along the last batch axis are one turn of the crank, Newton-solved
+    groups swept through them in turn (:func:`~assur.engine.planar.sweep.execute_cycle`)."""
     n = plan.n_inputs
     names = plan.point_names
     n_bodies = len(plan.body_names)
@@ -27,7 +30,7 @@ def solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildab
             d = np.full(inputs.shape[:-1], float(direction[k])) if order >= 1 else None
             dd = np.zeros(inputs.shape[:-1]) if order >= 2 else None
             q.append(Jet(inputs[..., k], d, dd))
-        return execute(plan, plan.steps, params, q, order, tol, method)
+        return (execute_cycle if sweep else execute)(plan, plan.steps, params, q, order, tol, method)
 
     def stack(ctx, attr):
         """(..., n_points + n_bodies) complex: point positions, then body orientations e = exp(iθ)."""
