@@ -5,7 +5,8 @@ mechanisms, by link assortment; the chains themselves when there are few); ``--j
 ``-o DIR`` writes the whole list as ``DIR/atlas.json`` (format ``assur-atlas/1``, the same bytes on every run)
 and, for 1-DOF chains of at most :data:`MECHANISM_LINKS` links, each inversion as a mechanism file and an SVG
 drawing (docs/atlas.md, "Each entry as a mechanism"). ``assur atlas --assur-groups --links N`` counts the Assur
-groups of N links. ``--walking-legs`` is not available yet.
+groups of N links. ``assur atlas --walking-legs --links 6|8`` ranks the walking legs by their gait
+(:mod:`assur.cli.legs`).
 """
 from __future__ import annotations
 
@@ -36,11 +37,15 @@ def register(sub) -> None:
     sp.add_argument("--dof", type=_int, default=None, metavar="F", help="mobility of the chains (e.g. 1)")
     sp.add_argument("--assur-groups", action="store_true",
                     help="count the Assur groups of N links instead (by order and class)")
-    sp.add_argument("--walking-legs", action="store_true", help="walking-leg mechanisms: not yet")
+    sp.add_argument("--walking-legs", action="store_true",
+                    help="rank the 1-DOF walking legs of 6 or 8 links (a crank at the frame, a foot on each link) by "
+                         "a short gait synthesis of each; -o DIR writes the report page and the mechanism files")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("-o", "--output", type=path_arg, default=None, metavar="DIR",
                     help="write the atlas as DIR/atlas.json (format assur-atlas/1) and, for 1-DOF chains of at most "
                          "8 links, each mechanism's file DIR/<id>.toml and drawing DIR/<id>.svg (8 links: a few minutes, the engine assembles each one)")
+    from .legs import add_arguments
+    add_arguments(sp)
     sp.set_defaults(func=cmd_atlas)
 
 
@@ -52,7 +57,13 @@ def _bad(option: str, message: str):
 def cmd_atlas(args) -> int:
     """``assur atlas ...``."""
     if args.walking_legs:
-        raise _bad("--walking-legs", "the walking-leg atlas is not available yet")
+        if args.assur_groups:
+            raise _bad("--walking-legs", "give either --walking-legs or --assur-groups")
+        from .legs import cmd_walking_legs
+        return cmd_walking_legs(args)
+    for option in ("budget", "starts", "seed", "limit", "workers", "dask", "triads"):
+        if getattr(args, option) not in (None, False):
+            raise _bad(f"--{option}", "only with --walking-legs")
     if args.assur_groups:
         return _groups(args)
     if args.dof is None:

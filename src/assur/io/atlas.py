@@ -134,18 +134,29 @@ def _f(v: float) -> str:
     return "0.00" if text == "-0.00" else text
 
 
-def svg(sk: Sketch, title: str | None = None) -> str:
+def svg(sk: Sketch, title: str | None = None, *, foot=None, path=None) -> str:
     """The drawing of a sketch as SVG text: one element of class ``link`` per link (a ``line`` for a binary link,
     a ``polygon`` through its joints otherwise; the frame hatched, the crank marked), one ``circle`` of class
-    ``joint`` per joint, the frame's ground marks and the crank's turning arrow. Plain text, fixed formatting."""
+    ``joint`` per joint, the frame's ground marks and the crank's turning arrow. ``foot``: (link, (x, y)) a foot
+    point on that link, drawn as a bar from the link's joints to a dot of class ``foot``; ``path``: (M, 2) the
+    foot's closed path, a polyline of class ``path`` (both in the sketch's coordinates). Plain text, fixed
+    formatting."""
     inv = sk.inversion
-    P = np.array(sk.joints, dtype=float)
-    extent = float(np.max(np.ptp(P, axis=0))) or 1.0
-    P = P * (DRAWING / extent)                       # the drawing's size, whatever the sketch's
+    J = np.array(sk.joints, dtype=float)
+    extra = [np.asarray(foot[1], dtype=float)[None, :]] if foot is not None else []
+    if path is not None:
+        extra.append(np.asarray(path, dtype=float).reshape(-1, 2))
+    every = np.vstack([J, *extra])
+    extent = float(np.max(np.ptp(every, axis=0))) or 1.0
+    scale = DRAWING / extent                         # the drawing's size, whatever the sketch's
+    P = J * scale
     margin = 25.0
-    lo = P.min(axis=0) - margin
-    hi = P.max(axis=0) + margin
+    lo = every.min(axis=0) * scale - margin
+    hi = every.max(axis=0) * scale + margin
     w, h = hi - lo
+
+    def at(p) -> tuple[str, str]:
+        return _f(p[0] * scale - lo[0]), _f(hi[1] - p[1] * scale)
 
     def xy(k: int) -> tuple[str, str]:
         x, y = P[k]
@@ -186,6 +197,15 @@ def svg(sk: Sketch, title: str | None = None) -> str:
     r = 11.0
     out.append(f'<path class="drive" d="M{_f(px + r)} {_f(py)}A{_f(r)} {_f(r)} 0 1 0 {_f(px)} {_f(py + r)}'
                f'l-3 -3m3 3l-3 3" stroke="#c0392b" stroke-width="1.2" fill="none"/>')
+    if path is not None:
+        pts = " ".join(",".join(at(p)) for p in np.asarray(path, dtype=float).reshape(-1, 2))
+        out.append(f'<polygon class="path" points="{pts}" fill="none" stroke="#1a7f37" stroke-width="1.5"/>')
+    if foot is not None:
+        fx, fy = at(foot[1])
+        for j in sk.links[foot[0]]:
+            x, y = xy(j)
+            out.append(f'<line class="link foot-bar" x1="{x}" y1="{y}" x2="{fx}" y2="{fy}" stroke="#2c6fbb" '
+                       'stroke-width="2" stroke-opacity="0.6"/>')
     for k in range(len(sk.joints)):
         x, y = xy(k)
         out.append(f'<circle class="joint" data-name="{jn[k]}" cx="{x}" cy="{y}" r="3" fill="#fff" '
@@ -194,5 +214,8 @@ def svg(sk: Sketch, title: str | None = None) -> str:
         c = P[list(sk.links[v])].mean(axis=0)
         out.append(f'<text class="label" x="{_f(c[0] - lo[0] + 4)}" y="{_f(hi[1] - c[1] - 4)}" '
                    f'fill="#333">{ln[v]}</text>')
+    if foot is not None:
+        fx, fy = at(foot[1])
+        out.append(f'<circle class="foot" cx="{fx}" cy="{fy}" r="4" fill="#1a7f37"/>')
     out.append("</svg>")
     return "\n".join(out) + "\n"

@@ -128,12 +128,10 @@ def _remove_stale_temporaries(parent: Path, name: str) -> None:
             pass
 
 
-@contextlib.contextmanager
-def atomic_directory(out_dir):
-    """Yield a temporary directory next to ``out_dir``; on success it becomes ``out_dir`` (one run's files).
-
-    Missing parents are created, and removed again on failure. An existing ``out_dir`` must be empty or an
-    earlier output (holding ``.assur-output``)."""
+def check_output_directory(out_dir) -> Path:
+    """OutputError unless :func:`atomic_directory` may write ``out_dir`` (checked before a long computation too):
+    not empty as a path, not a file, empty or an earlier output of assur. Returns the directory (symlinks
+    resolved)."""
     if str(out_dir) == "":
         raise OutputError("the output directory path is empty")
     out_dir = Path(out_dir)
@@ -144,6 +142,16 @@ def atomic_directory(out_dir):
     if out_dir.is_dir() and any(out_dir.iterdir()) and not (out_dir / MARKER).exists():
         raise OutputError(f"cannot write into {out_dir}: it holds files that are not an earlier output of assur "
                           f"(no {MARKER}); choose a new directory or empty it")
+    return out_dir
+
+
+@contextlib.contextmanager
+def atomic_directory(out_dir):
+    """Yield a temporary directory next to ``out_dir``; on success it becomes ``out_dir`` (one run's files).
+
+    Missing parents are created, and removed again on failure. An existing ``out_dir`` must be empty or an
+    earlier output (holding ``.assur-output``)."""
+    out_dir = check_output_directory(out_dir)
     parent = out_dir.parent if str(out_dir.parent) else Path(".")
     created = [p for p in reversed([parent, *parent.parents]) if not p.exists()]
     for p in created:

@@ -249,11 +249,13 @@ class Evaluator:
         return Evaluation(objective, total, feasible, penalised, V, Q)
 
     def _cycle(self, params, finite, V, Q):
-        """Whole-cycle samples: buildability, gait quantities, transmission, path distances."""
+        """Whole-cycle samples: buildability, gait quantities, transmission, path distances. Newton-solved groups
+        are swept through the turn sample after sample (``solve(..., sweep=True)``): a continuous crank motion
+        from each design's own assembly at the sketch's angle, and far fewer solves."""
         from ..engine import solve
         prob, plan = self.problem, self.problem.plan
         M, q = prob.cycle_samples, self._cycle_q
-        st = solve(plan, params[:, None, :], q[:, None], order=self._cycle_order, backend=self.backend)
+        st = solve(plan, params[:, None, :], q[:, None], order=self._cycle_order, backend=self.backend, sweep=True)
         valid = st.valid & finite[:, None]
         share = np.count_nonzero(~valid, axis=1) / M
         Q["unbuildable"] = share

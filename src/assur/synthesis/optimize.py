@@ -330,7 +330,7 @@ def _polish(tracker, problem, x0, kind):
 
 def run_start(problem, method, seed, budget, time_limit, options, evaluator=None, executor=None, progress=None):
     """One independent start: a global search then a polish. Returns a StartResult (picklable)."""
-    evaluator = evaluator or Evaluator(problem)
+    evaluator = evaluator or Evaluator(problem, backend=options.get("backend"))
     deadline = None if time_limit is None else time.monotonic() + time_limit
     tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress,
                       target=options.get("target"))
@@ -382,7 +382,7 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
                time_limit: float | None = None, starts: int | None = None, polish: str | None = None,
                popsize: int | None = None, maxiter: int | None = None, tol: float = 1e-12, executor=None,
                progress: bool = False, x0=None, parallel_starts: bool | None = None, patience: int = 100,
-               strategy: str | None = None, target: float | None = None) -> SynthesisResult:
+               strategy: str | None = None, target: float | None = None, backend: str | None = None) -> SynthesisResult:
     """Minimise the problem's objective subject to its constraints.
 
     Every setting left None is taken from the problem file's ``[solver]`` table, else from the built-in
@@ -401,7 +401,8 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     best design that sit on a bound. ``progress``: True for a tqdm bar on stderr, or a callable
     ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
-    keeping the best design so far."""
+    keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
+    default :func:`~assur.synthesis.evaluate.default_backend`)."""
     cfg = resolve(getattr(problem, "solver", None),
                   {"method": method, "budget": budget, "time": time_limit, "target": target, "starts": starts,
                    "popsize": popsize, "strategy": strategy, "polish": polish, "maxiter": maxiter})
@@ -424,13 +425,13 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
-               "strategy": strategy, "target": target,
+               "strategy": strategy, "target": target, "backend": backend,
                "x0": None if x0 is None else problem.to_si(x0)}
     per_budget = None if budget is None else max(1, budget // starts)
     t0 = time.monotonic()
     results: list[StartResult] = []
     stopped = "converged"
-    evaluator = Evaluator(problem)
+    evaluator = Evaluator(problem, backend=backend)
     if parallel_starts is None:
         parallel_starts = starts > 1 and executor.workers > 1
     if callable(progress):   # a caller's hook: progress(evaluations, best F) after every evaluated population

@@ -1,0 +1,92 @@
+"""``assur atlas --walking-legs``: the 1-DOF mechanisms of 6 or 8 links with a crank at the frame, a foot point on
+each link, dimensioned by a short gait synthesis and ranked (docs/atlas.md, "Walking legs ranked by gait").
+
+Without ``-o`` it prints the ranking (``--json``: one JSON object, the mechanism files' texts left out); with
+``-o DIR`` it also writes the report page ``DIR/index.html``, ``DIR/ranking.json`` and each entry's mechanism file
+and drawing. ``--workers N`` runs the candidates on N local processes, ``--dask ADDR`` on a Dask cluster: the same
+numbers as in-process for the same ``--seed``.
+"""
+from __future__ import annotations
+
+import sys
+
+
+def add_arguments(sp) -> None:
+    """The walking-leg options of ``assur atlas``."""
+    from .args import positive
+    g = sp.add_argument_group("walking legs (with --walking-legs)")
+    g.add_argument("--budget", type=positive(1), default=None, metavar="N",
+                   help="objective evaluations per candidate, over its starts (default 8000)")
+    g.add_argument("--starts", type=positive(1), default=None, metavar="K", help="starts per candidate (default 4)")
+    g.add_argument("--seed", type=int, default=None, metavar="S", help="random seed of the ranking (default 0)")
+    g.add_argument("--triads", action="store_true",
+                   help="also dimension the candidates with a class III group (Newton-solved: about 0.1 s per design)")
+    g.add_argument("--limit", type=positive(1), default=None, metavar="M",
+                   help="rank only the first M candidates (a quick look)")
+    ex = g.add_mutually_exclusive_group()
+    ex.add_argument("--workers", type=positive(1), default=None, metavar="N", help="local worker processes")
+    ex.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
+
+
+def _bad(option: str, message: str):
+    from ..errors import SpecError
+    return SpecError([(option, message)])
+
+
+def cmd_walking_legs(args) -> int:
+    """``assur atlas --walking-legs --links 6|8 ...``."""
+    from ..errors import require
+    from ..synthesis.executors import DASK_INSTALL, make_executor
+    from ..synthesis.legs import leg_candidates, rank_legs
+    if args.links not in (6, 8):
+        raise _bad("--links", f"walking legs are ranked for 6 or 8 links: {args.links}")
+    if args.dof not in (None, 1):
+        raise _bad("--dof", f"walking legs are 1-DOF mechanisms: leave out --dof or give 1, not {args.dof}")
+    if args.dask:
+        require("distributed", "--dask", DASK_INSTALL)
+    if args.output is not None:
+        from ..io.output import check_output_directory
+        check_output_directory(args.output)
+    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed") if getattr(args, k) is not None}
+    settings["triads"] = bool(args.triads)
+    candidates = leg_candidates(args.links)
+    if args.limit is not None:
+        candidates = candidates[:args.limit]
+    print(f"{len(candidates)} walking-leg candidates of {args.links} links", file=sys.stderr)
+
+    def progress(done, total):
+        print(f"\r  {done}/{total} candidates dimensioned", end="" if done < total else "\n", file=sys.stderr,
+              flush=True)
+
+    executor = make_executor(args.workers, args.dask)
+    try:
+        ranking = rank_legs(args.links, settings=settings, executor=executor, candidates=candidates,
+                            progress=progress)
+    finally:
+        executor.close()
+    if args.output is not None:
+        from ..report.legs import write_leg_ranking
+        write_leg_ranking(ranking, args.output, candidates)
+    if args.json:
+        from ..io.output import json_text
+        data = ranking.as_dict()
+        for e in data["entries"]:
+            e.pop("mechanism", None)
+        print(json_text(data))
+        return 0
+    _print(ranking)
+    if args.output is not None:
+        print(f"wrote {args.output}/index.html, ranking.json and {len(ranking.entries)} mechanism files")
+    return 0
+
+
+def _print(ranking) -> None:
+    from ..report.legs import HEAD, leg_rows
+    rows = leg_rows(ranking.entries)
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(HEAD)]
+    s = ranking.settings
+    print(f"walking legs of {ranking.links} links ranked by gait ({s['budget']} evaluations, {s['starts']} starts "
+          f"per candidate, seed {s['seed']}, {ranking.executor}, {ranking.seconds:.0f} s)")
+    print("  " + "  ".join(h.ljust(w) for h, w in zip(HEAD, widths)))
+    for r in rows:
+        print("  " + "  ".join(c.ljust(w) if i in (1, 2) else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))))

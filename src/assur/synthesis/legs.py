@@ -1,0 +1,309 @@
+"""Walking legs ranked by their gait: type synthesis followed by a short dimensional synthesis of every candidate
+(docs/atlas.md, "Walking legs ranked by gait").
+
+A *candidate* is an atlas mechanism of ``links`` links and mobility 1 (:mod:`assur.structure.atlas`), one of its
+crank placements (a link hinged to the frame drives it) and a *foot link*: a moving link other than the crank,
+one per orbit of the automorphisms that fix the frame and the crank (two links the chain's symmetry exchanges give
+the same leg). The foot is a point ``F`` rigidly attached to the foot link, placed by a distance and an angle from
+the link's first two joints (both design variables).
+
+Every candidate is dimensioned by the same problem (:func:`leg_problem`), in units of the crank's length
+``r`` = :data:`CRANK` mm:
+
+* variables: every frame pivot but the crank's (within ``reach·r`` of the crank's pivot on each axis), every link
+  length and point distance (``r/2 … reach·r``; the foot's ``0 … reach·r``), every point angle (a full turn);
+* constraints: the crank turns fully (``buildable``), a step of at least ``step·r``, a lift of at least
+  ``lift·r``, a transmission angle of at least ``transmission`` degrees wherever a dyad has one;
+* objective: ``sag / (step·r / 10) + vx_spread``: the support phase's height variation (1 % of the smallest
+  step counts as 0.1) plus the spread of the foot's horizontal speed over the central 80 % of the stride
+  (``gait.vx_spread``, the body's surge).
+
+A candidate whose decomposition has a group without a closed form (a class III triad: some Stephenson inversions)
+is evaluated by Newton iterations swept through the cycle (``solve(..., sweep=True)``), some fifty times slower than
+the compiled closed forms, and skips the local polish (one design at a time); the search itself is the same.
+
+The ground is the x axis and up is +y; the frame pivots are free, so the optimiser also chooses the leg's
+orientation. Each candidate runs :func:`assur.synthesis.synthesize` from ``starts`` independent starts with a seed
+drawn from the run's seed and the candidate's key alone, so a candidate's result does not depend on which
+candidates run beside it, nor where: :func:`rank_legs` maps the candidates over an executor
+(:mod:`assur.synthesis.executors`: in-process, local processes or a Dask cluster) and gets the same numbers from
+each. The ranking puts the feasible designs first, by objective, then the others by their constraint violation;
+each entry carries the exact gait metrics of its best design (:func:`assur.gait_metrics`) and its mechanism file.
+"""
+from __future__ import annotations
+
+import copy
+import time
+import zlib
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SpecError
+
+__all__ = ["CRANK", "DEFAULTS", "LegCandidate", "LegRanking", "leg_candidates", "leg_problem", "rank_legs",
+           "run_candidate"]
+
+#: the crank length every candidate is normalised to (mm)
+CRANK = 100.0
+#: the default settings of a ranking (lengths in crank lengths r, angles in degrees)
+DEFAULTS = {
+    "budget": 8000,          # evaluations per candidate, over all its starts
+    "starts": 4,             # independent starts per candidate
+    "seed": 0,
+    "method": "de",
+    "cycle_samples": 90,     # crank angles per evaluated design
+    "step": 3.0,             # smallest step, in r
+    "lift": 0.5,             # smallest lift, in r
+    "transmission": 30.0,    # smallest transmission angle, degrees
+    "reach": 8.0,            # longest link / farthest frame pivot, in r
+    "backend": None,         # the engine backend of the evaluations: None (numba when installed), "numpy"
+    "triads": False,         # also dimension the candidates with a group solved by Newton iterations (slow)
+}
+#: the name of the foot point added to the foot link
+FOOT = "F"
+
+
+@dataclass(frozen=True)
+class LegCandidate:
+    """One leg topology: ``key`` (stable: ``<inversion id>/c<crank link>/foot<foot link>``), a readable ``name``,
+    the inversion's ID and textbook name, the crank and foot links (canonical positions and file names) and the
+    ``document`` of its template mechanism file (mm, degrees; the foot ``F`` on the foot link, a ``[gait]``
+    table) and the atlas ``sketch`` it was drawn from."""
+    key: str
+    name: str
+    inversion: str
+    inversion_name: str | None
+    crank: int
+    foot_link: int
+    crank_name: str
+    foot_name: str
+    document: dict = field(repr=False, compare=False)
+    sketch: object = field(default=None, repr=False, compare=False)
+    newton: bool = False      # a group without a closed form (a class III triad): solved by Newton iterations
+
+
+def leg_candidates(links: int) -> list[LegCandidate]:
+    """The leg candidates of the 1-DOF atlas of ``links`` links (6 or 8), in the atlas's order: chains,
+    inversions, crank placements, foot links."""
+    from ..engine import compile as compile_plan
+    from ..io.atlas import mechanism_entry
+    from ..io.mechanism_file import from_dict
+    from ..structure.atlas.chains import chains
+    from ..structure.atlas.graphs import automorphism_orbits
+    from ..structure.atlas.layout import link_names
+    from ..structure.atlas.mechanisms import driver_placements, inversions
+    if links not in (4, 6, 8):
+        raise SpecError([("links", f"walking legs are ranked for 1-DOF mechanisms of 6 or 8 links: {links}")])
+    out = []
+    for chain in chains(links, 1):
+        for inv in inversions(chain.graph):
+            g, names = inv.chain, link_names(inv)
+            for place in driver_placements(inv):
+                crank = place.link
+                others = [v for v in range(g.n) if v not in (inv.frame, crank)]
+                orbits = automorphism_orbits(g.n, g.edges, colours=[[inv.frame], [crank], others])
+                entry = None
+                for foot in sorted({orbits[v] for v in others}):
+                    entry = entry or mechanism_entry(inv, crank)
+                    doc = _template(entry.document, names[crank], names[foot])
+                    newton = any(st.kind == "newton" for st in compile_plan(from_dict(doc, "leg")).steps)
+                    title = inv.name or inv.id
+                    out.append(LegCandidate(f"{inv.id}/c{crank}/foot{foot}",
+                                            f"{title}, crank {names[crank]}, foot on {names[foot]}",
+                                            inv.id, inv.name, crank, foot, names[crank], names[foot], doc,
+                                            entry.sketch, newton))
+    return out
+
+
+def _template(document: dict, crank_name: str, foot_name: str) -> dict:
+    """The atlas mechanism's document with the foot point on ``foot_name`` and a ``[gait]`` table."""
+    doc = copy.deepcopy(document)
+    pts = doc["links"][foot_name]
+    xy = np.array([doc["points"][p] for p in pts], dtype=float)
+    centre = xy.mean(axis=0)
+    doc["points"][FOOT] = [round(float(centre[0]), 2), round(float(centre[1]) - 100.0, 2)]
+    doc["links"][foot_name] = [*pts, FOOT]
+    doc["gait"] = {"foot": FOOT, "ground": [1, 0], "up": [0, 1]}
+    doc["name"] = f"{doc['name']}: walking leg, crank {crank_name}, foot on {foot_name}"
+    return doc
+
+
+def settings_of(settings: dict | None) -> dict:
+    """DEFAULTS overridden by ``settings``; SpecError naming an unknown or bad setting."""
+    s = dict(DEFAULTS)
+    for k, v in (settings or {}).items():
+        if k not in DEFAULTS:
+            raise SpecError([(k, f"unknown walking-leg setting; known: {', '.join(DEFAULTS)}")])
+        s[k] = v
+    for k in ("budget", "starts", "cycle_samples"):
+        if not (isinstance(s[k], (int, np.integer)) and s[k] >= 1):
+            raise SpecError([(k, f"must be a positive integer: {s[k]!r}")])
+    if not isinstance(s["triads"], bool):
+        raise SpecError([("triads", f"must be true or false: {s['triads']!r}")])
+    if s["backend"] not in (None, "numba", "numpy"):
+        raise SpecError([("backend", f"must be 'numba' or 'numpy': {s['backend']!r}")])
+    for k in ("step", "lift", "reach"):
+        if not (isinstance(s[k], (int, float)) and s[k] > 0):
+            raise SpecError([(k, f"must be positive: {s[k]!r}")])
+    return s
+
+
+def leg_problem(candidate: LegCandidate, settings: dict | None = None):
+    """The dimensional-synthesis :class:`~assur.synthesis.problem.Problem` of a candidate (module docstring)."""
+    from ..engine import compile as compile_plan
+    from ..io.mechanism_file import from_dict
+    from .problem import problem_from_dict
+    s = settings_of(settings)
+    mech = from_dict(candidate.document, candidate.key)
+    plan = compile_plan(mech)
+    driver = candidate.document["drivers"][0]
+    pivot = driver["pivot"]
+    px, py = candidate.document["points"][pivot]
+    reach = s["reach"] * CRANK
+    variables = {}
+    for name in plan.param_names:
+        owner, _, what = name.rpartition(".")
+        if name == f"{driver['name']}.zero" or owner == pivot or name == f"{candidate.crank_name}.length":
+            continue
+        if what in ("x", "y"):
+            c = px if what == "x" else py
+            variables[name] = [c - reach, c + reach]
+        elif what == "angle":
+            variables[name] = {"bounds": [-180, 180], "kind": "angle", "periodic": True}
+        elif what == "distance" and owner.endswith(f".{FOOT}"):
+            variables[name] = [0.0, reach]
+        else:
+            variables[name] = [0.5 * CRANK, reach]
+    step = s["step"] * CRANK
+    data = {
+        "format": "assur-synth/1",
+        "name": f"walking leg {candidate.key}",
+        "description": f"{candidate.name}: gait synthesis of the atlas ranking (docs/atlas.md)",
+        "variables": variables,
+        "parameters": {f"{candidate.crank_name}.length": repr(CRANK / 1000.0)},   # SI (m)
+        "objective": {"deviation": "none",
+                      "terms": [{"quantity": "gait.sag", "weight": 10.0 / step},
+                                {"quantity": "gait.vx_spread", "weight": 1.0}]},
+        "constraints": {"use": ["buildable"],
+                        "limits": [{"quantity": "gait.step", "min": step},
+                                   {"quantity": "gait.lift", "min": s["lift"] * CRANK},
+                                   {"quantity": "transmission.min", "min": s["transmission"]}]},
+        "options": {"cycle_samples": int(s["cycle_samples"])},
+    }
+    return problem_from_dict(data, mechanism=plan)
+
+
+def candidate_seed(seed: int, key: str) -> int:
+    """The seed of a candidate: from the run's seed and the candidate's key only."""
+    return int(np.random.SeedSequence([int(seed), zlib.crc32(key.encode())]).generate_state(1)[0])
+
+
+def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict:
+    """Dimension one candidate (a task of :func:`rank_legs`; picklable arguments, a plain dict back):
+    ``key``, ``objective`` (None when no design was feasible), ``feasible``, ``violation``, ``variables`` (file units), ``starts`` (each start's
+    penalised best), ``evaluations``, ``seconds``, ``metrics`` (the exact gait of the best design, None when it
+    cannot walk) and ``mechanism`` (its file text)."""
+    from ..analysis.gait import gait_metrics
+    from ..errors import AssurError
+    from ..io.mechanism_writer import dumps
+    from .optimize import synthesize
+    s = settings_of(settings)
+    t0 = time.monotonic()
+    problem = leg_problem(candidate, s)
+    # a group without a closed form (a triad) is solved by Newton iterations on whole populations: a local polish,
+    # one design at a time, would cost as much as the whole search, so those candidates keep the search's best
+    newton = any(st.kind == "newton" for st in problem.plan.steps)
+    res = synthesize(problem, s["method"], seed=candidate_seed(s["seed"], candidate.key), budget=s["budget"],
+                     starts=s["starts"], parallel_starts=False, backend=s["backend"],
+                     polish="none" if newton else None)
+    metrics = None
+    params = res.params()
+    try:
+        g = gait_metrics(problem.plan, params)
+        metrics = {"step": g.step_length * 1000, "lift": g.lift * 1000, "sag": g.sag * 1000, "duty": g.duty_factor,
+                   "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
+                   "speed_spread": (g.support_speed.max - g.support_speed.min) / g.support_speed.mean}
+    except AssurError:
+        pass
+    q = res.details.get("quantities", {})
+    if metrics is not None and q.get("transmission.min") is not None:
+        metrics["transmission_min"] = float(q["transmission.min"])
+    mech = res.mechanism()
+    objective = None if res.objective is None or not np.isfinite(res.objective) else float(res.objective)
+    return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible),
+            "violation": float(res.violation), "variables": res.variables,
+            "starts": [float(st["best_F"]) for st in res.starts], "evaluations": int(res.evaluations),
+            "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech)}
+
+
+@dataclass
+class LegRanking:
+    """A ranking: ``links``, the ``settings`` used, ``entries`` (one dict per candidate, best first: the
+    candidate's key, name, inversion, crank and foot names and :func:`run_candidate`'s result, with ``rank``),
+    the ``executor``'s name and the wall-clock ``seconds``."""
+    links: int
+    settings: dict
+    entries: list
+    executor: str
+    seconds: float
+
+    def as_dict(self, timings: bool = True) -> dict:
+        """The ranking as plain data (``timings`` False: without the seconds, for comparisons)."""
+        drop = set() if timings else {"seconds"}
+        return {"format": "assur-legs/1", "links": self.links, "settings": self.settings,
+                **({"executor": self.executor, "seconds": self.seconds} if timings else {}),
+                "entries": [{k: v for k, v in e.items() if k not in drop} for e in self.entries]}
+
+
+#: why a candidate with a Newton-solved group is not dimensioned unless asked
+SKIPPED = ("not dimensioned: a group without a closed form (class III) is solved by Newton iterations, about 0.1 s "
+           "per design over a cycle, beyond a short synthesis; run with triads = true (--triads) to include it")
+
+
+def _skipped(c: LegCandidate) -> dict:
+    """The entry of a candidate left undimensioned: its template (the atlas sketch with the foot) as its file."""
+    from ..io.mechanism_file import from_dict
+    from ..io.mechanism_writer import dumps
+    return {"key": c.key, "objective": None, "feasible": False, "violation": None, "variables": {}, "starts": [],
+            "evaluations": 0, "seconds": 0.0, "metrics": None, "skipped": SKIPPED,
+            "mechanism": dumps(from_dict(c.document, c.key))}
+
+
+def _order(entry: dict):
+    if entry.get("skipped"):
+        return (2, 0.0, entry["key"])
+    bad = not entry["feasible"] or entry["metrics"] is None
+    return (int(bad), entry["violation"] if bad else entry["objective"], entry["key"])
+
+
+def rank_legs(links: int, *, settings: dict | None = None, executor=None, candidates=None,
+              progress=None) -> LegRanking:
+    """Rank the walking legs of ``links`` links (module docstring). ``candidates``: a subset of
+    :func:`leg_candidates` (default all of them); ``executor``: where the candidates run (default in-process);
+    ``progress(done, total)`` after each candidate when run in-process."""
+    from .executors import InProcess
+    s = settings_of(settings)
+    cands = leg_candidates(links) if candidates is None else list(candidates)
+    executor = executor or InProcess()
+    t0 = time.monotonic()
+    todo = [c for c in cands if s["triads"] or not c.newton]
+    if isinstance(executor, InProcess) and type(executor) is InProcess:
+        results = []
+        for i, c in enumerate(todo):
+            results.append(run_candidate(c, s))
+            if progress is not None:
+                progress(i + 1, len(todo))
+    else:
+        results = list(executor.map_starts(run_candidate, [(c, s) for c in todo])) if todo else []
+    results += [_skipped(c) for c in cands if c not in todo]
+    by_key = {c.key: c for c in cands}
+    entries = []
+    for r in results:
+        c = by_key[r["key"]]
+        entries.append({"key": c.key, "name": c.name, "inversion": c.inversion, "inversion_name": c.inversion_name,
+                        "crank": c.crank_name, "foot_link": c.foot_name, **r})
+    entries.sort(key=_order)
+    for i, e in enumerate(entries):
+        e["rank"] = i + 1
+    return LegRanking(links, s, entries, executor.name, time.monotonic() - t0)
