@@ -16,7 +16,7 @@ from assur.synthesis import Evaluator, load_problem, problem_from_dict
 SYN = Path(__file__).resolve().parent.parent / "examples" / "synthesis"
 WALKER = SYN / "walker_fourbar_gait.toml"
 GAIT = ("gait.step", "gait.lift", "gait.sag", "gait.duty", "gait.speed_mean", "gait.speed_spread", "gait.vx_spread",
-        "gait.vx_spread_90")
+        "gait.vx_spread_90", "gait.top")
 needs_numba = pytest.mark.skipif(not available(), reason="numba not installed: no compiled route")
 
 
@@ -31,7 +31,8 @@ def _gait_problem():
     data["constraints"]["limits"] += [{"quantity": "gait.duty", "min": 0.0},
                                       {"quantity": "gait.speed_mean", "min": 0.0},
                                       {"quantity": "gait.vx_spread", "min": 0.0},
-                                      {"quantity": "gait.vx_spread_90", "min": 0.0}]
+                                      {"quantity": "gait.vx_spread_90", "min": 0.0},
+                                      {"quantity": "gait.top", "max": 1e9}]
     return problem_from_dict(data, base_dir=SYN)
 
 

@@ -344,7 +344,7 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     pos: (n, M, 2) foot positions at M uniform inputs over one turn; valid: (n, M) bool; dpos_dq: (n, M, 2) their
     derivatives by the input, or None; ground, up: (2,) directions; omega: the input speed magnitude (rad/s);
     scale: a factor on every length (e.g. SI → the file's unit).
-    Returns ``{"step", "lift", "sag", "duty"}`` and, with ``dpos_dq``, ``{"speed_mean", "speed_spread",
+    Returns ``{"step", "lift", "sag", "duty", "top"}`` (top: the path's largest height ``P·up``, a coordinate) and, with ``dpos_dq``, ``{"speed_mean", "speed_spread",
     "vx_spread", "vx_spread_90"}`` (the last two: :func:`central_vx_spread` at the fractions 0.8 and 0.9 of the
     sampled stride), each (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an
     invalid sample."""
@@ -356,7 +356,8 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     out = {"step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
            "lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed
            "sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
-           "duty": np.count_nonzero(contact, axis=1) / M}
+           "duty": np.count_nonzero(contact, axis=1) / M,
+           "top": np.max(v, axis=1)}
     if dpos_dq is not None:
         speed = np.linalg.norm(dpos_dq, axis=-1) * omega * scale
         smax = np.where(contact, speed, -np.inf).max(axis=1)

@@ -162,13 +162,30 @@ def generate_source(ops, point_out, body_out, order: int = 2) -> str:
     return "\n".join(lines)
 
 
+def _helpers_stamp() -> str:
+    """A comment line naming the digest of :mod:`assur.kernels.compiled`, the helpers every generated kernel calls:
+    numba's disk cache does not follow a callee's changes, so a changed helper must change the kernel's source."""
+    global _STAMP
+    if _STAMP is None:
+        import hashlib
+        from pathlib import Path
+        text = (Path(__file__).with_name("compiled.py")).read_bytes()
+        _STAMP = f"# helpers: assur.kernels.compiled sha1 {hashlib.sha1(text).hexdigest()[:16]}\n"
+    return _STAMP
+
+
+_STAMP = None
+
+
 def load_kernel(source: str, cache_dir):
     """Import a generated kernel module from ``cache_dir`` (written once per distinct source, so
-    numba's on-disk cache is reused across processes)."""
+    numba's on-disk cache is reused across processes; the source carries the helpers' digest,
+    :func:`_helpers_stamp`)."""
     import hashlib
     import importlib.util
     import os
     from pathlib import Path
+    source = _helpers_stamp() + source
     digest = hashlib.sha1(source.encode()).hexdigest()[:16]
     name = f"assur_kernel_{digest}"
     path = Path(cache_dir) / f"{name}.py"
@@ -258,7 +275,7 @@ def generate_objective_source(ops, point: int) -> str:
 
 #: columns of the cycle kernel's output (``generate_cycle_source``); the path distances follow from PATH_COLUMN
 CYCLE_COLUMNS = ("unassembled", "shortfall", "transmission", "gait.step", "gait.lift", "gait.sag", "gait.duty",
-                 "gait.speed_mean", "gait.speed_spread", "gait.vx_spread", "gait.vx_spread_90")
+                 "gait.speed_mean", "gait.speed_spread", "gait.vx_spread", "gait.vx_spread_90", "gait.top")
 PATH_COLUMN = len(CYCLE_COLUMNS)
 
 

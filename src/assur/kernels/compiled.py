@@ -150,8 +150,8 @@ def crank(c, s, sense, k):
 @njit(cache=True, error_model="numpy")
 def gait_reduce(x, v, sp, vx, out, d, col):
     """The sampled gait terms of one design (the definitions of ``analysis.gait.population_gait``) into
-    ``out[d, col:col + 8]``: step, lift, sag, duty, speed mean, speed spread and the spreads of |vx| over the
-    central fractions 0.8 and 0.9 of the stride (``analysis.gait.central_vx_spread``). x, v, sp, vx (M,): stride
+    ``out[d, col:col + 9]``: step, lift, sag, duty, speed mean, speed spread, the spreads of |vx| over the
+    central fractions 0.8 and 0.9 of the stride (``analysis.gait.central_vx_spread``) and the path's top height. x, v, sp, vx (M,): stride
     coordinate, height, foot speed and horizontal velocity at M uniform inputs over one turn, every sample
     assembled. The contact
     arc runs between the first samples of smallest and largest x, the one of the two arcs (both ends
@@ -215,6 +215,7 @@ def gait_reduce(x, v, sp, vx, out, d, col):
                 wsum += a
                 count += 1
         out[d, c] = (wmax - wmin) / (wsum / count) if count > 0 else math.nan
+    out[d, col + 8] = vmax
 
 
 @njit(cache=True, error_model="numpy")

@@ -13,7 +13,8 @@ Every candidate is dimensioned by the same problem (:func:`leg_problem`), in uni
 * variables: every frame pivot but the crank's (within ``reach·r`` of the crank's pivot on each axis), every link
   length and point distance (``r/2 … reach·r``; the foot's ``0 … reach·r``), every point angle (a full turn);
 * constraints: the crank turns fully (``buildable``), a step of at least ``step·r``, a lift of at least
-  ``lift·r``, a transmission angle of at least ``transmission`` degrees wherever a dyad has one;
+  ``lift·r``, the whole foot path at least ``below·r`` under the crank's axis (the foot under the body:
+  ``gait.top``), a transmission angle of at least ``transmission`` degrees wherever a dyad has one;
 * objective: ``sag / (step·r / 10) + vx_spread``: the support phase's height variation (1 % of the smallest
   step counts as 0.1) plus the spread of the foot's horizontal speed over the central 80 % of the stride
   (``gait.vx_spread``, the body's surge).
@@ -57,6 +58,7 @@ DEFAULTS = {
     "lift": 0.5,             # smallest lift, in r
     "transmission": 30.0,    # smallest transmission angle, degrees
     "reach": 8.0,            # longest link / farthest frame pivot, in r
+    "below": 1.0,            # the whole foot path at least this far below the crank's axis, in r
     "backend": None,         # the engine backend of the evaluations: None (numba when installed), "numpy"
     "triads": False,         # also dimension the candidates with a group solved by Newton iterations (slow)
 }
@@ -143,7 +145,7 @@ def settings_of(settings: dict | None) -> dict:
         raise SpecError([("triads", f"must be true or false: {s['triads']!r}")])
     if s["backend"] not in (None, "numba", "numpy"):
         raise SpecError([("backend", f"must be 'numba' or 'numpy': {s['backend']!r}")])
-    for k in ("step", "lift", "reach"):
+    for k in ("step", "lift", "reach", "below"):
         if not (isinstance(s[k], (int, float)) and s[k] > 0):
             raise SpecError([(k, f"must be positive: {s[k]!r}")])
     return s
@@ -188,6 +190,7 @@ def leg_problem(candidate: LegCandidate, settings: dict | None = None):
         "constraints": {"use": ["buildable"],
                         "limits": [{"quantity": "gait.step", "min": step},
                                    {"quantity": "gait.lift", "min": s["lift"] * CRANK},
+                                   {"quantity": "gait.top", "max": py - s["below"] * CRANK},
                                    {"quantity": "transmission.min", "min": s["transmission"]}]},
         "options": {"cycle_samples": int(s["cycle_samples"])},
     }

@@ -64,6 +64,7 @@ QUANTITIES = {
     "gait.duty": "contact share of the cycle",
     "gait.speed_spread": "(max − min)/mean of the foot speed over the contact arc",
     "gait.speed_mean": "mean foot speed over the contact arc (length unit per second)",
+    "gait.top": "the foot path's highest point along up (a coordinate: P·up in the file's length unit)",
     "gait.vx_spread": "(max − min)/mean of |v_x| over the contact samples in the central 80 % of the stride",
     "gait.vx_spread_90": "(max − min)/mean of |v_x| over the contact samples in the central 90 % of the stride",
     "transmission.min": "smallest transmission angle over the cycle, folded to [0°, 90°] (angle unit)",

@@ -139,7 +139,7 @@ def cycle_objective(plan, params: np.ndarray, cycle_inputs: np.ndarray, tol: flo
                     path: str | None = None, target_xy=None, transmission: bool = False):
     """Fused reduction of the whole-cycle quantities of a population; None if the plan is not covered.
 
-    params (D, n_params); cycle_inputs (M,) one uniform turn. Returns (D, 11 + N), the columns of
+    params (D, n_params); cycle_inputs (M,) one uniform turn. Returns (D, 12 + N), the columns of
     :data:`assur.kernels.codegen.CYCLE_COLUMNS`: the unassembled samples and the groups' summed shortfall
     past their toggles; with ``transmission`` the smallest RRR transmission angle (rad, folded to [0, π/2]);
     with ``foot`` the sampled gait terms of :func:`assur.analysis.gait.population_gait` (``ground``, ``up``,
