@@ -53,7 +53,7 @@ def contact_scan(model, law, m, jn, L, linking, steps=360):
     smallest clearance there, mm)."""
     from assur.gears.mesh import mesh_check
     o = S.sector_outline(model, m, jn, linking=linking)
-    rep = mesh_check(o.driving, o.driven, pitch_pair(law, L), steps=steps, pitch=o.pitch, window=3.0, offsets=33)
+    rep = mesh_check(o.driving, o.driven, pitch_pair(law, L), steps=steps, pitch=o.pitch, window=3.0)
     deg = np.degrees(rep.phi)
     sel = deg <= 90.0 + 1e-9
     bad = rep.interferes & sel
@@ -188,11 +188,13 @@ def rows():
          f" mm (driver, convex), {rc2.min_concave_radius * mm:.1f} mm (driven, concave) vs m/sin²20° = "
          f"{rc1.undercut_limit * mm:.1f} mm", "smooth curves cost speed uniformity near the step ends"),
         ("the printed tooth scheme runs through a full turn", "implied (prototypes printed)",
-         f"rigid outlines (sector_outline), driver angle scanned in 2° steps, driven offsets ±½ pitch (33 values, "
-         f"bisection), vertices within ±3 pitches, contact tolerance 0.2 % of m: relieved linking lines at L_p: "
-         f"interference at |θ| = {scan_lp[0]} (depth up to {scan_lp[1]:.2f} mm); at L_ust: {scan_ust[0]} "
-         f"(tightest position: clearance {scan_ust[1]:.3f} mm; contact tolerance "
-         f"{2e-3 * model.arc / math.pi * mm:.3f} mm); straight linking lines at L_p: {scan_chord[0]}",
+         f"rigid outlines (sector_outline), driver angle scanned in 2° steps, the driven gear's admissible offsets "
+         f"from the exact vertex–edge contact events (assur.gears.mesh), vertices within ±3 pitches, contact "
+         f"tolerance 0.2 % of m ({2e-3 * model.arc / math.pi * mm:.3f} mm): relieved linking lines at L_p: "
+         f"interference at |θ| = {scan_lp[0]} (depth up to {scan_lp[1]:.2f} mm of arc); at L_ust: "
+         + (f"interference at |θ| = {scan_ust[0]} (depth up to {scan_ust[1]:.3f} mm of arc)" if scan_ust[0] != "none"
+            else f"none (tightest position: clearance {scan_ust[1]:.3f} mm)")
+         + f"; straight linking lines at L_p: {scan_chord[0]}",
          "interferes near the step ends without tip relief (docs/papers/001.md B6.9; qualitative: the linking lines are "
          "undefined in the paper)"),
         ("constant mover speed", "\"provide constant speed\"",

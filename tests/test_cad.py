@@ -75,3 +75,21 @@ def test_bad_outline_writes_nothing(tmp_path):
     with pytest.raises(ValueError, match="outline 'x' must be a finite"):
         write_dxf(tmp_path / "bad.dxf", [Shape("x", np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]]))])
     assert list(tmp_path.iterdir()) == []
+
+
+def test_bore_circle_on_its_own_layer_and_the_headers(tmp_path):
+    from assur.io.cad import write_outline_csv
+    a = star()
+    path = write_dxf(tmp_path / "g.dxf", [Shape("driving", a, bore=8e-3)], metadata={"face_width_mm": 10.0})
+    doc = ezdxf.readfile(path)
+    (c,) = doc.modelspace().query('CIRCLE[layer=="BORE"]')
+    assert c.dxf.radius == pytest.approx(4.0) and tuple(c.dxf.center)[:2] == (0.0, 0.0)     # 8 mm bore, mm
+    assert dict(doc.header.custom_vars)["face_width_mm"] == "10.0"
+    root = ET.parse(write_svg(tmp_path / "g.svg", [Shape("driving", a, bore=8e-3)])).getroot()
+    (circle,) = [e for e in root.iter("{http://www.w3.org/2000/svg}circle") if e.get("class") == "bore"]
+    assert float(circle.get("r")) == pytest.approx(4.0)
+    csv_path = write_outline_csv(tmp_path / "g.csv", a, comments={"face width [mm]": 10.0, "bore [mm]": 8.0})
+    lines = csv_path.read_text(encoding="utf-8").splitlines()
+    assert lines[:3] == ["# face width [mm]: 10.0", "# bore [mm]: 8.0", "x [mm],y [mm]"]
+    xy = np.array([[float(v) for v in ln.split(",")] for ln in lines[3:]])
+    assert np.max(np.abs(xy - a * 1e3)) < 1e-9

@@ -50,7 +50,7 @@ def paper_gears(tmp_path_factory):
 
 def read_csv(path):
     with open(path, encoding="utf-8") as fh:
-        rows = list(csv.reader(fh))
+        rows = [r for r in csv.reader(fh) if r and not r[0].startswith("#")]
     return rows[0], np.array(rows[1:], dtype=float)
 
 

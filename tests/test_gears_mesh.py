@@ -6,6 +6,7 @@ gears pulled closer than the working depth allows must overlap; the elliptic pai
 """
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -102,3 +103,68 @@ def test_circular_pairs_have_the_designed_play(z1, factor, backlash, alpha_deg):
     assert not s["interference"]
     assert s["backlash_min"] == pytest.approx(backlash * M / math.cos(alpha), rel=0.03)
     assert s["max_ratio_deviation"] < 5e-3
+
+
+def _overlap_area(gt, pair, phi, delta):
+    """Area (m²) common to the two written outlines placed at driving angle φ and driven angle θ(φ) + δ, by GEOS
+    (shapely): an independent computation of what the mesh check decides."""
+    import shapely
+    L = pair.centre_distance
+    th = float(pair.law(phi)) + delta
+    c, s = math.cos(phi), math.sin(phi)
+    a = gt.driving.xy @ np.array([[c, s], [-s, c]])
+    c, s = math.cos(-th), math.sin(-th)
+    b = gt.driven.xy @ np.array([[c, s], [-s, c]]) + np.array([L, 0.0])
+    return shapely.Polygon(a).intersection(shapely.Polygon(b)).area
+
+
+def test_admissible_interval_is_that_of_the_true_polygons():
+    # an oval pair: at the ends of the admissible offset interval the written outlines touch; a little beyond they
+    # overlap (GEOS intersection area > 0), a little inside they do not
+    pytest.importorskip("shapely")
+    pair = pitch_pair(lambda p: p + 0.15 * np.sin(p), 0.05)
+    z = 24
+    gt = cut_pair(pair, teeth=z, backlash=0.1e-3)
+    phi = np.radians([0.0, 37.0, 123.0, 250.0])
+    rep = mesh_check(gt.driving, gt.driven, pair, phi=phi, simplify=0.0)    # the polygons exactly as written
+    assert not rep.any_interference and not rep.outline_defects
+    eps = 2e-3 * gt.tooth.pitch / 0.025                # 0.2 % of a pitch angle at the driven pitch radius (rad)
+    for p, lo, hi in zip(phi, rep.lower, rep.upper):
+        assert _overlap_area(gt, pair, p, 0.5 * (lo + hi)) == 0.0
+        assert _overlap_area(gt, pair, p, lo + 1e-3 * eps) == 0.0 and _overlap_area(gt, pair, p, hi - 1e-3 * eps) == 0.0
+        assert _overlap_area(gt, pair, p, lo - eps) > 0.0 and _overlap_area(gt, pair, p, hi + eps) > 0.0
+
+
+def test_a_broken_outline_is_reported_by_the_mesh_check(circular_pair):
+    # a self-intersecting driven outline (two vertices swapped): the check names it instead of passing it
+    pair, gt, _ = circular_pair
+    xy = gt.driven.xy.copy()
+    i = int(np.argmax(gt.driven.radius))
+    xy[[i, i + 3]] = xy[[i + 3, i]]
+    rep = mesh_check(gt.driving, xy, pair, steps=8, pitch=gt.tooth.pitch)
+    s = rep.summary()
+    assert not s["outline_valid"] and any("not a simple polygon" in d for d in s["outline_defects"])
+
+
+@pytest.mark.slow
+def test_sector_ratio_deviation_converges_with_the_scan():
+    """The largest deviation of the transmitted ratio (mean over one tooth pitch, from exact offsets) on the paper's
+    sector scheme at the installation distance 144 mm: refining the scan 90 → 180 → 360 → 720 positions, the
+    changes shrink after the first refinement and the finest two agree within 0.2 percentage points (the old
+    difference quotient of neighbouring positions gave 2.9 % at 90 and 17.6 % at 360 positions: it grew as
+    jump/step). The reported sampling error is the change when every other position is left out."""
+    import dataclasses
+    from assur.gears.design import load_design
+    d = load_design(Path(__file__).parents[1] / "examples" / "gears_001.toml")
+    so = d.sector_outline()
+    p1 = polar_outline(so.driving, rays=512 * so.teeth[0])
+    p2 = polar_outline(so.driven, rays=512 * so.teeth[1])
+    at = dataclasses.replace(d.pair(), centre_distance=d.installation_distance)
+    s = {n: mesh_check(p1, p2, at, steps=n, pitch=math.pi * d.module).summary() for n in (90, 180, 360, 720)}
+    dev = [s[n]["max_ratio_deviation"] for n in (90, 180, 360, 720)]
+    steps = np.abs(np.diff(dev))
+    assert steps[2] <= steps[1] + 1e-12
+    assert abs(dev[3] - dev[2]) < 2e-3
+    # nested scans: the maximum over more positions never drops; the sampling error estimate is that difference
+    assert all(b >= a - 1e-12 for a, b in zip(dev, dev[1:]))
+    assert s[720]["max_ratio_deviation_sampling_error"] == pytest.approx(dev[3] - dev[2], abs=1e-12)

@@ -244,7 +244,7 @@ def test_printed_scheme_interferes_near_the_step_ends(model, outline):
     from assur.gears import pitch_pair
     from assur.gears.mesh import mesh_check
     rep = mesh_check(outline.driving, outline.driven, pitch_pair(LAW, L_P), steps=144, pitch=outline.pitch,
-                     window=3.0, offsets=33)
+                     window=3.0, ratio_window=0)
     deg = np.round(np.degrees(rep.phi), 6)
     bad = set(deg[rep.interferes])
     assert {75.0, 105.0, 255.0, 285.0} <= bad

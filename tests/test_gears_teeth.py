@@ -6,6 +6,7 @@ rack-generated spur gear z_min = 2·h_a*/sin²α (= 17.1 for α = 20°); the ell
 tan(θ/2) = ((1+e)/(1−e))·tan(φ/2) follows from r1 dφ = r2 dθ with r = p/(1 − e cos) (integrated in the test).
 """
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -73,13 +74,15 @@ def test_circular_tooth_thickness_and_symmetry(z, alpha_deg, backlash):
     g = cut_gear(circular(r), tooth, z)
     expected = (0.5 * tooth.pitch - 0.5 * tooth.backlash / math.cos(tooth.pressure_angle)) / r
     assert tooth_thickness_at(g, r, z) == pytest.approx(expected, abs=2 * math.pi / 4000 / z + 1e-4)
-    # z-fold symmetry and mirror symmetry about the tooth centre (geometry, not samples: each tooth sector has
-    # its own pole, so flank samples differ; radii along a steep flank within 1 µm)
+    # z-fold symmetry and mirror symmetry about the tooth centre (geometry, not samples: the rack states fall
+    # differently on each tooth, so the vertices differ). Radii along rays: within 0.02 µm on half the rays and
+    # 2 µm on all — a ray that grazes a tip corner turns the corner's discretisation (≲ 0.3 µm: the intersection of
+    # the last flank line with the blank polyline) into up to 1/sin(20°) times more along the ray
     a = np.linspace(0, 2 * math.pi / z, 101)
     per = g.radius_at(a[None, :] + (2 * math.pi / z) * np.arange(z)[:, None])
-    assert np.max(np.abs(per - per[0])) < 1e-6
     mirrored = g.radius_at(2 * math.pi / z - a)                   # mirror about ψ = π/z
-    assert np.max(np.abs(mirrored - per[0])) < 1e-6
+    for diff in (np.abs(per - per[0]), np.abs(mirrored - per[0])):
+        assert np.median(diff) < 2e-8 and diff.max() < 2e-6          # (the outline is simplified within 40 nm)
 
 
 @pytest.mark.parametrize("z, undercut", [(14, True), (16, True), (18, False), (24, False)])
@@ -149,11 +152,13 @@ def test_elliptic_pair_teeth():
         dr = g.radius - curve.radius_at(g.angle)
         above = dr > 0
         assert int(np.sum(above & ~np.roll(above, 1))) == z    # z teeth: z upward crossings of the pitch curve
-    # each outline is symmetric about the major axis (the x axis): the mirrored polygon lies on the polygon
+    # each outline is symmetric about the major axis (the x axis): the mirrored polygon lies on the polygon, up to
+    # the scallop a sharp cutter corner leaves between two of its positions where the root meets the fillet
+    # (≈ 0.4 × the corner's step; the step is ≲ 10 µm at 128 cutter positions per pitch: below 5 µm)
     for g in (gt.driving, gt.driven):
         dense = densify(g.xy, 20)
         dist, _ = cKDTree(dense).query(g.xy * np.array([1.0, -1.0]))
-        assert dist.max() < 1e-6
+        assert np.median(dist) < 1e-9 and dist.max() < 5e-6
 
 
 def densify(xy, n):
@@ -178,3 +183,27 @@ def test_bad_tooth_parameters():
         ToothParameters(module=-1.0).check()
     with pytest.raises(GearError, match="rack cutter comes to a point"):
         ToothParameters(module=M, pressure_angle=math.radians(40), clearance=1.0).check()
+
+
+@pytest.mark.slow
+def test_paper_pair_envelope_outlines_are_simple_and_located():
+    # paper 001's pair (docs/papers/001.md), corners rounded: both outlines are simple polygons (GEOS validity,
+    # computed by shapely independently of the cut), no two consecutive points farther apart than m/8; where the
+    # straight rack cannot follow the driven gear's concave stretches (around its four re-entrant corners at body
+    # angles 45°, 135°, 225°, 315°) the thinned teeth are reported with their body angles
+    shapely = pytest.importorskip("shapely")
+    from assur.gears.design import load_design
+    from assur.gears.teeth import rounded_pair
+    d = load_design(Path(__file__).resolve().parents[1] / "examples" / "gears_001.toml")
+    pair = d.pair()
+    cut_on, _ = rounded_pair(pair, pair.driving.perimeter / (math.pi * 48), d.pressure_angle)
+    gt = cut_pair(cut_on, teeth=48, backlash=d.backlash)
+    m = gt.tooth.module
+    for g in (gt.driving, gt.driven):
+        assert shapely.Polygon(g.xy).is_valid
+        assert np.max(np.hypot(*(np.roll(g.xy, -1, axis=0) - g.xy).T)) <= m / 8 * (1 + 1e-9)
+    assert not gt.driving.defects
+    (found,) = gt.driven.defects
+    angles = [float(a) for a in __import__("re").findall(r"(\d+\.\d+)° \(", found)]
+    assert angles and all(min(abs((a - c + 180) % 360 - 180) for c in (45, 135, 225, 315)) < 15 for a in angles)
+    assert any("thinner" in n for n in gt.notes)

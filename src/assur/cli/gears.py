@@ -38,12 +38,28 @@ def _run(args, expected: str) -> int:
     runner = run_gears if expected == "GearDesign" else run_wheelstep
     log = (lambda _: None) if args.json else print
     with atomic_directory(args.output) as tmp:
-        summary = runner(design, Path(tmp), mesh_steps=args.mesh_steps, log=log, frames=args.frames)
+        summary = runner(design, Path(tmp), mesh_steps=args.mesh_steps, log=log, frames=args.frames,
+                         progress=_progress())
     if args.json:
         print(json_text(public_summary(summary)))
     else:
         print(f"wrote {args.output}/")
     return 0
+
+
+def _progress():
+    """``progress(text)`` for the slow steps: one line on stderr per step ("… cutting the envelope teeth"), on a
+    terminal only (a pipe, a file or a test's captured output gets nothing extra), like the other commands'
+    progress feedback (:mod:`assur.cli.progress`)."""
+    import sys
+    import time
+    if not sys.stderr.isatty():
+        return None
+    start = time.perf_counter()
+
+    def show(text):
+        print(f"  [{time.perf_counter() - start:5.1f} s] {text} …", file=sys.stderr, flush=True)
+    return show
 
 
 def cmd_gears(args) -> int:

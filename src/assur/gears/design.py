@@ -114,6 +114,9 @@ class GearDesign:
     clearance: float
     face_width: float | None = None
     bore: float | None = None
+    tip_radius: float = 0.0
+    profile_shift: float = 0.0
+    print_clearance: float = 0.0
     units: tuple = ("mm", "deg")
     description: str = ""
     source: str | None = None
@@ -333,6 +336,9 @@ def _gear_design(data, source, P) -> GearDesign | None:
     cl = tr.number("clearance", kind="ratio", required=False, default=None, positive=False, minimum=0)
     face = tr.number("face_width", required=False)
     bore = tr.number("bore", required=False)
+    tip_r = tr.number("tip_radius", kind="ratio", required=False, default=0.0, positive=False, minimum=0)
+    shift = tr.number("profile_shift", kind="ratio", required=False, default=0.0, positive=False)
+    print_cl = tr.number("print_clearance", required=False, default=0.0, positive=False, minimum=0)
     tr.unknown()
     if alpha is not None and not (0 < alpha < math.radians(45)):
         P.add("teeth.pressure_angle", f"must lie in (0°, 45°): {math.degrees(alpha):.4g}°")
@@ -393,6 +399,7 @@ def _gear_design(data, source, P) -> GearDesign | None:
         backlash=0.25 * m if backlash is None else backlash, driving_teeth=z1, driven_teeth=z2,
         sectors=sectors if method == "sectors" else None, addendum=1.0 if ha is None else ha,
         dedendum=1.25 if hf is None else hf, clearance=0.25 if cl is None else cl, face_width=face, bore=bore,
+        tip_radius=tip_r or 0.0, profile_shift=shift or 0.0, print_clearance=print_cl or 0.0,
         units=(length, angle), description=str(data.get("description", "")), source=source)
     if model is not None:
         design._cache["sectors"] = model

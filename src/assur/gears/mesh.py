@@ -5,22 +5,29 @@ by φ, the driven outline about O2 = (L, 0) clockwise by θ(φ) + δ. For each d
 finds the **admissible interval** [δ_lo, δ_hi] of driven offsets δ around the law θ(φ) for which the two outlines
 do not overlap:
 
-- overlap criterion: the largest *penetration* of any outline vertex of one gear (within ±``window`` pitches
-  of the pitch point) into the other gear, measured along the other outline's ray through the vertex (a
-  :class:`~assur.gears.teeth.GearOutline` is star-shaped about each tooth's pole, a :class:`PolarOutline` about
-  the centre; "inside" means "closer to the pole than the outline on that ray"). Penetration ≤ ``tolerance``
-  (default 0.2 % of the module) counts as touching, not overlapping; every ``vertex_stride``-th outline vertex
-  is tested (default 2: about 80 per tooth of the envelope outlines);
-- scan grid: ``offsets`` values of δ uniformly over ± half a pitch at the driven pitch point; the admissible run
-  nearest δ = 0 is refined at both ends by bisection (16 halvings of a grid step by default). Where no grid value is admissible the
-  smallest penetration over δ is found by golden-section search around the best grid value; if it is still above
-  the tolerance, the position **interferes** (no placement of the driven gear avoids overlap) and that minimal
-  penetration is its depth.
+- the polygons are the outlines as written (each checked first by :func:`assur.gears.outline.outline_defects`;
+  the findings are in ``MeshReport.outline_defects`` and the summary's ``outline_valid``/``outline_defects``);
+- exact events: rotating the driven gear by δ moves every driving vertex, seen from the driven gear, on a circle
+  about O2, and every driven vertex, seen from the driving gear placed at δ = 0, on a circle about O2 the other
+  way. Each circle's crossings with the other polygon's edges (solved exactly, segment by segment, for the pairs
+  whose radial ranges overlap) are the offsets at which that vertex enters or leaves the other gear's material.
+  The first contact of two polygons moving apart or together is always a vertex on an edge, so from a free offset
+  the admissible interval ends exactly at the nearest events on either side (no grid, no bisection);
+- the law position δ = 0 is free when no vertex is inside the other polygon (read from its next event: a vertex
+  that leaves next is inside). Otherwise the free offset nearest 0 is sought on a grid of ``grid`` offsets over
+  ± half a pitch at the driven pitch point, and its interval again ends at the exact events; where no offset is
+  free the position **interferes**, and its depth is the smallest, over the grid, of the largest arc by which a
+  vertex would have to turn about the driven centre to leave the other gear (≤ ``tolerance``, default 0.2 % of
+  the module, counts as touching).
 
 The transmitted motion with the driving gear pushing (its leading flanks in contact) is θ(φ) + δ_lo(φ): the
-driven gear lags as far as the outlines allow. Its ratio dθ/dφ (central differences) is compared with the law's;
-the spread of δ_lo is the transmission error; (δ_hi − δ_lo)·r2 is the circumferential backlash at the driven
-pitch point.
+driven gear lags as far as the outlines allow. Its ratio is taken over a fixed window of driving rotation (one
+tooth pitch rolled along the pitch curves, by default), from the exact offsets at the window's ends: the mean
+ratio ((θ + δ_lo)(φ + w) − (θ + δ_lo)(φ))/w, compared with the law's mean over the same window. It is a
+function of φ alone (not of the scan's step), so its largest deviation converges as the scan is refined; a
+difference quotient of neighbouring positions would not (a contact that moves to the next tooth makes δ_lo jump,
+and the quotient of that jump grows as the step shrinks). The spread of δ_lo is the transmission error;
+(δ_hi − δ_lo)·r2 is the circumferential backlash at the driven pitch point.
 """
 from __future__ import annotations
 
@@ -88,10 +95,24 @@ class MeshReport:
     penetration: np.ndarray      #: smallest achievable radial penetration, m (≤ tolerance where admissible)
     interferes: np.ndarray       #: bool
     law_ratio: np.ndarray        #: k(φ) of the law
-    actual_ratio: np.ndarray     #: d(θ + δ_lo)/dφ = k + dδ_lo/dφ (NaN next to interfering positions)
+    actual_ratio: np.ndarray     #: mean d(θ + δ_lo)/dφ over the ratio window [φ, φ + w] (NaN where an end interferes)
     backlash: np.ndarray         #: (δ_hi − δ_lo)·r2, circumferential at the driven pitch point, m
     tolerance: float
     centre_distance: float
+    outline_defects: tuple = ()  #: located findings of both outlines (:mod:`assur.gears.outline`); () if clean
+    law_ratio_window: np.ndarray | None = None   #: the law's mean ratio over the same windows as actual_ratio
+    ratio_window: float = 1.0    #: the window of the transmitted ratio, in pitches rolled (see mesh_check)
+    uniform: bool = False        #: the scan is the uniform cycle (steps positions), not given angles
+
+    def _sampling_error(self, rel):
+        """The change of the largest ratio deviation when every other scan position is left out: an estimate of
+        its sampling error (None for a scan that is not a uniform cycle of an even number of positions)."""
+        if not self.uniform or rel.size < 4 or rel.size % 2 or not np.isfinite(rel).any():
+            return None
+        half = rel[::2]
+        if not np.isfinite(half).any():
+            return None
+        return float(np.nanmax(np.abs(rel)) - np.nanmax(np.abs(half)))
 
     @property
     def any_interference(self) -> bool:
@@ -109,7 +130,8 @@ class MeshReport:
     def summary(self) -> dict:
         """Scalars of the check (SI units, angles in rad)."""
         ok = ~self.interferes
-        rel = self.actual_ratio / self.law_ratio - 1.0
+        law = self.law_ratio if self.law_ratio_window is None else self.law_ratio_window
+        rel = self.actual_ratio / law - 1.0
         te = self.lower[ok] - np.nanmean(self.lower[ok]) if ok.any() else np.array([np.nan])
         worst = int(np.argmax(self.penetration))
         return {
@@ -127,85 +149,265 @@ class MeshReport:
             "actual_ratio_min": float(np.nanmin(self.actual_ratio)) if np.isfinite(self.actual_ratio).any() else None,
             "actual_ratio_max": float(np.nanmax(self.actual_ratio)) if np.isfinite(self.actual_ratio).any() else None,
             "max_ratio_deviation": float(np.nanmax(np.abs(rel))) if np.isfinite(rel).any() else None,
+            "ratio_window_pitches": self.ratio_window,
+            "max_ratio_deviation_sampling_error": self._sampling_error(rel),
             "transmission_error": float(np.nanmax(np.abs(te))) if ok.any() else None,
             "tolerance": self.tolerance,
+            "outline_valid": not self.outline_defects,
+            "outline_defects": list(self.outline_defects),
         }
 
 
-class _Scene:
-    """Vectorised penetration of the two outlines for driving angles φ (S,) and driven angles θ (S, G)."""
+def _polygon(outline, module):
+    """The outline as a counter-clockwise polygon (M, 2) and its findings (:mod:`assur.gears.outline`)."""
+    from .outline import outline_defects
+    xy = np.asarray(outline.xy if hasattr(outline, "xy") else outline, dtype=float)
+    name = f"{getattr(outline, 'name', 'outline')} outline" if hasattr(outline, "name") else "outline"
+    if xy.ndim == 2 and xy.shape[0] >= 3:
+        x, y = xy[:, 0], xy[:, 1]
+        if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) < 0:
+            xy = xy[::-1]
+    found = list(getattr(outline, "defects", ()))
+    if not found:
+        found = [d for d in outline_defects(xy, module, name=name, max_step=np.inf)]
+    return xy, found
 
-    def __init__(self, g1, g2, L, pitch, window, stride=1):
-        self.g1, self.g2, self.L = g1, g2, float(L)
-        xy1, xy2 = g1.xy[::stride], g2.xy[::stride]
-        r1 = np.hypot(xy1[:, 0], xy1[:, 1])
-        r2 = np.hypot(xy2[:, 0], xy2[:, 1])
-        # a vertex can reach the other gear only if it is farther than L − (the other's largest radius) from its
-        # own centre
-        self.v1 = self._by_angle(xy1[r1 >= self.L - r2.max() - pitch])
-        self.v2 = self._by_angle(xy2[r2 >= self.L - r1.max() - pitch])
-        if not (self.v1[0].size and self.v2[0].size):
-            raise GearError(f"the gears do not reach each other at the centre distance {self.L * 1e3:.6g} mm: the "
-                            f"largest radii are {r1.max() * 1e3:.6g} mm and {r2.max() * 1e3:.6g} mm")
-        self.k1 = self._half_count(self.v1, pitch, window)
-        self.k2 = self._half_count(self.v2, pitch, window)
+
+def _simplified(xy, tol):
+    import shapely
+    g = shapely.Polygon(xy).simplify(tol, preserve_topology=True)
+    out = np.asarray(g.exterior.coords)[:-1]
+    x, y = out[:, 0], out[:, 1]
+    return out if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0 else out[::-1]
+
+
+class _Side:
+    """One gear's polygon for the scan: vertices and edges (start, end) sorted by body angle, and the fixed
+    number of them that a window of ± ``half`` rad around any angle holds."""
+
+    def __init__(self, xy, keep, half):
+        nxt = np.roll(xy, -1, axis=0)
+        r = np.hypot(xy[:, 0], xy[:, 1])
+        self.rmin = float(r.min())
+        self.rmax = float(r.max())
+        vk = keep(r)
+        ek = vk | keep(np.hypot(nxt[:, 0], nxt[:, 1]))
+        self.v = self._sorted(xy[vk], xy[vk])
+        self.e = self._sorted(xy[ek], np.concatenate([xy[ek], nxt[ek]], axis=1))
+        self.kv = self._count(self.v[0], half)
+        self.ke = self._count(self.e[0], 2.0 * half)   # the edges a point's circle may cross lie farther out
 
     @staticmethod
-    def _by_angle(xy):
-        a = np.mod(np.arctan2(xy[:, 1], xy[:, 0]), TWO_PI)
+    def _sorted(at, data):
+        a = np.mod(np.arctan2(at[:, 1], at[:, 0]), TWO_PI)
         o = np.argsort(a)
-        return a[o], xy[o]
+        return a[o], data[o]
 
     @staticmethod
-    def _half_count(v, pitch, window):
-        """Vertices within ±window pitches (arc at the smallest radius) of any angle: a fixed half count."""
-        a, xy = v
-        rmin = float(np.min(np.hypot(xy[:, 0], xy[:, 1])))
-        half = min(math.pi, window * pitch / rmin)
+    def _count(a, half):
+        if a.size == 0:
+            return 0
         a2 = np.concatenate([a, a + TWO_PI])
         counts = np.searchsorted(a2, a + 2 * half) - np.arange(a.size)
         return int(min(a.size // 2, math.ceil(counts.max() / 2) + 1))
 
     @staticmethod
-    def _near(v, k, centre_angle):
-        a, xy = v
+    def near(sorted_, k, centre_angle):
+        a, data = sorted_
         c = np.searchsorted(a, np.mod(centre_angle, TWO_PI))
         idx = np.mod(c[..., None] + np.arange(-k, k + 1), a.size)
-        return xy[idx]
-
-    def penetration(self, phi, theta):
-        """Largest penetration (m; < 0: clear by that much), shape of theta (S, G)."""
-        phi = np.asarray(phi, dtype=float)[:, None]
-        th = np.asarray(theta, dtype=float)
-        phi_b = np.broadcast_to(phi, th.shape)
-        # driven vertices near its pitch point (body angle π + θ) → world → driving body frame
-        q = self._near(self.v2, self.k2, math.pi + th)                    # (S, G, V, 2)
-        c, s_ = np.cos(-th)[..., None], np.sin(-th)[..., None]            # driven body → world: rotate by −θ
-        x = self.L + c * q[..., 0] - s_ * q[..., 1]
-        y = s_ * q[..., 0] + c * q[..., 1]
-        c1, s1 = np.cos(-phi_b)[..., None], np.sin(-phi_b)[..., None]     # world → driving body: rotate by −φ
-        pen_a = self.g1.penetration(np.stack([c1 * x - s1 * y, s1 * x + c1 * y], axis=-1)).max(axis=-1)
-        # driving vertices near its pitch point (body angle −φ) → world → driven body frame
-        q = self._near(self.v1, self.k1, -phi_b)
-        c1, s1 = np.cos(phi_b)[..., None], np.sin(phi_b)[..., None]
-        x = c1 * q[..., 0] - s1 * q[..., 1] - self.L
-        y = s1 * q[..., 0] + c1 * q[..., 1]
-        c, s_ = np.cos(th)[..., None], np.sin(th)[..., None]              # world → driven body: rotate by +θ
-        pen_b = self.g2.penetration(np.stack([c * x - s_ * y, s_ * x + c * y], axis=-1)).max(axis=-1)
-        return np.maximum(pen_a, pen_b)
+        return data[idx]
 
 
-def mesh_check(driving, driven, pair, *, steps: int = 720, offsets: int = 33, window: float = 1.0,
-               tolerance: float | None = None, pitch: float | None = None, chunk: int = 48,
-               bisections: int = 16, vertex_stride: int = 2, phi=None) -> MeshReport:
-    """Roll ``driving`` and ``driven`` outlines (GearOutline, PolarOutline or (M, 2) polygons star-shaped about
-    the centre, body frames) at the
-    pair's centre distance through the full cycle (driving φ over 0 … 2π·driving_turns, ``steps`` positions),
-    or over the driving angles ``phi`` (rad) when given.
+def _rot(xy, ang):
+    c, s = np.cos(ang), np.sin(ang)
+    return np.stack([c * xy[..., 0] - s * xy[..., 1], s * xy[..., 0] + c * xy[..., 1]], axis=-1)
 
-    pitch: the circular pitch (m) that sets the search range and window (default: the outlines' ``tooth.pitch``);
-    tolerance: penetration counted as contact, m (default 0.2 % of the module). See the module docstring."""
-    g1, g2 = _as_outline(driving), _as_outline(driven)
+
+def _events(p, a, b, sign, W):
+    """Driven offsets δ at which points p (S, V, 2), moving on circles about the origin by the angle sign·δ, cross
+    the segments a→b (S, E, 2) of a counter-clockwise polygon within ±W (S,): δ (S, V, C) sorted per point (NaN
+    padded) and whether the point enters the polygon's material there (S, V, C). Only the (point, segment) pairs
+    whose radial ranges overlap are solved."""
+    S, V = p.shape[:2]
+    rho = np.hypot(p[..., 0], p[..., 1])                                    # (S, V)
+    d = b - a                                                               # (S, E, 2)
+    dd = np.einsum("sei,sei->se", d, d)
+    ad = np.einsum("sei,sei->se", a, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        foot = np.clip(-ad / dd, 0.0, 1.0)
+    foot = np.where(dd > 0, foot, 0.0)
+    rmin = np.hypot(a[..., 0] + foot * d[..., 0], a[..., 1] + foot * d[..., 1])
+    rmax = np.maximum(np.hypot(a[..., 0], a[..., 1]), np.hypot(b[..., 0], b[..., 1]))
+    si, vi, ei = np.nonzero((rho[:, :, None] >= rmin[:, None, :]) & (rho[:, :, None] <= rmax[:, None, :]))
+    A, B = dd[si, ei], ad[si, ei]
+    aa = a[si, ei]
+    dv = d[si, ei]
+    C = aa[:, 0] ** 2 + aa[:, 1] ** 2 - rho[si, vi] ** 2
+    disc = B * B - A * C
+    ok = (disc >= 0) & (A > 0)
+    sq = np.sqrt(np.where(ok, disc, 0.0))
+    beta0 = np.arctan2(p[si, vi, 1], p[si, vi, 0])
+    ds, en, key = [], [], []
+    for root in (-sq, sq):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tt = (-B + root) / A
+        hit = ok & (tt >= 0) & (tt < 1)
+        x = aa[:, 0] + tt * dv[:, 0]
+        y = aa[:, 1] + tt * dv[:, 1]
+        beta = np.arctan2(y, x)
+        delta = sign * (np.mod(beta - beta0 + math.pi, TWO_PI) - math.pi)
+        hit &= np.abs(delta) <= W[si]
+        # the point's motion as δ grows: ccw (sign +1) or cw (sign −1) about the origin
+        tx, ty = -sign * np.sin(beta), sign * np.cos(beta)
+        ds.append(delta[hit])
+        en.append(((dv[:, 0] * ty - dv[:, 1] * tx) > 0)[hit])
+        key.append((si * V + vi)[hit])
+    ds, en, key = np.concatenate(ds), np.concatenate(en), np.concatenate(key)
+    order = np.lexsort((ds, key))
+    ds, en, key = ds[order], en[order], key[order]
+    start = np.searchsorted(key, key, side="left")
+    rank = np.arange(key.size) - start
+    Cn = int(rank.max()) + 1 if rank.size else 1
+    ev = np.full((S * V, Cn), np.nan)
+    ent = np.zeros((S * V, Cn), dtype=bool)
+    ev[key, rank] = ds
+    ent[key, rank] = en
+    return ev.reshape(S, V, Cn), ent.reshape(S, V, Cn)
+
+
+def _status(ev, en, base, delta):
+    """Inside (bool) and circumferential depth factor (rad) of each point at offsets delta (S, G): (S, V, G)."""
+    dg = delta[:, None, :, None]                                            # (S, 1, G, 1)
+    e = ev[:, :, None, :]                                                   # (S, V, 1, C)
+    k = np.sum(e <= dg, axis=-1)                                            # (S, V, G) events passed
+    nvalid = np.sum(np.isfinite(ev), axis=-1)[..., None]                    # (S, V, 1)
+    C = ev.shape[-1]
+    nxt_i = np.minimum(k, C - 1)
+    prv_i = np.maximum(k - 1, 0)
+    nxt = np.take_along_axis(ev, nxt_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
+    prv = np.take_along_axis(ev, prv_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
+    en_n = np.take_along_axis(en, nxt_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
+    en_p = np.take_along_axis(en, prv_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
+    has_n = k < nvalid
+    has_p = k > 0
+    inside = np.where(has_n, ~en_n, np.where(has_p, en_p, base[..., None]))
+    dd = delta[:, None, :]
+    far = 2.0 * np.max(np.abs(delta), axis=-1)[:, None, None] + 1e-300     # no exit within the window
+    depth = np.minimum(np.where(has_n, nxt - dd, far), np.where(has_p, dd - prv, far))
+    return inside, depth
+
+
+class _Scanner:
+    """The admissible offset interval [δ_lo, δ_hi] (and the least penetration) at any driving angles, for two
+    polygons at a centre distance (the body of :func:`mesh_check`)."""
+
+    def __init__(self, s1, s2, pair, L, pitch, window, tol, chunk, grid):
+        self.pair, self.L, self.pitch, self.tol, self.chunk, self.grid = pair, L, pitch, tol, chunk, grid
+        R1 = float(np.hypot(*s1.T).max())
+        R2 = float(np.hypot(*s2.T).max())
+        # a driving point can touch the driven gear only within R2 of O2, so farther than L − R2 from O1 (and the
+        # driven points likewise); the windows: ± (window + ½) pitch around the pitch points (the δ range is ± ½
+        # pitch)
+        reach = (window + 0.5) * pitch
+        self.g1 = _Side(s1, lambda r: r >= L - R2, reach / max(L - R2, 0.2 * R1))
+        self.g2 = _Side(s2, lambda r: r >= L - R1, reach / max(L - R1, 0.2 * R2))
+        if not (self.g1.v[0].size and self.g2.v[0].size):
+            raise GearError(f"the gears do not reach each other at the centre distance {L * 1e3:.6g} mm: the "
+                            f"largest radii are {R1 * 1e3:.6g} mm and {R2 * 1e3:.6g} mm")
+
+    def search_range(self, phi):
+        """(θ(φ), k(φ), driven pitch radius at the contact, ± half a pitch there in rad) at driving angles phi."""
+        theta = np.asarray(self.pair.law(phi), dtype=float)
+        k = np.asarray(self.pair.ratio(phi), dtype=float)
+        r2c = self.L / (1.0 + k)
+        return theta, k, r2c, 0.5 * self.pitch / r2c
+
+    def __call__(self, phi):
+        """(δ_lo, δ_hi, least penetration) at driving angles phi (S,): NaN offsets where the position interferes."""
+        phi = np.asarray(phi, dtype=float)
+        steps = phi.size
+        theta, _, _, W = self.search_range(phi)
+        g1, g2, chunk, grid, tol = self.g1, self.g2, self.chunk, self.grid, self.tol
+        lower = np.full(steps, np.nan)
+        upper = np.full(steps, np.nan)
+        pen_min = np.zeros(steps)
+        Lv = np.array([self.L, 0.0])
+        for c0 in range(0, steps, chunk):
+            sl = slice(c0, min(steps, c0 + chunk))
+            ph, th, w = phi[sl], theta[sl], W[sl]
+            # driving vertices and edges near its pitch point (body angle −φ), into the driven frame at δ = 0
+            q = _Side.near(g1.v, g1.kv, -ph)                                  # (S, V1, 2)
+            q = _rot(_rot(q, ph[:, None]) - Lv, th[:, None])
+            e1 = _Side.near(g1.e, g1.ke, -ph)                                 # (S, E1, 4)
+            a1 = _rot(_rot(e1[..., :2], ph[:, None]) - Lv, th[:, None])
+            b1 = _rot(_rot(e1[..., 2:], ph[:, None]) - Lv, th[:, None])
+            v = _Side.near(g2.v, g2.kv, math.pi + th)                         # (S, V2, 2) driven body frame
+            e2 = _Side.near(g2.e, g2.ke, math.pi + th)
+            evA, enA = _events(q, e2[..., :2], e2[..., 2:], 1.0, w)           # driving points vs driven edges
+            evB, enB = _events(v, a1, b1, -1.0, w)                            # driven points vs driving edges
+            baseA = np.hypot(q[..., 0], q[..., 1]) < g2.rmin                  # below the other's root: inside
+            vw = _rot(v, -th[:, None]) + Lv                                    # driven points in the world
+            baseB = np.hypot(vw[..., 0], vw[..., 1]) < g1.rmin
+            rhoA, rhoB = np.hypot(q[..., 0], q[..., 1]), np.hypot(v[..., 0], v[..., 1])
+            S = ph.size
+            zero = np.zeros((S, 1))
+            inA, _ = _status(evA, enA, baseA, zero)
+            inB, _ = _status(evB, enB, baseB, zero)
+            free0 = ~(inA.any(axis=(1, 2)) | inB.any(axis=(1, 2)))
+            lo = np.full(S, np.nan)
+            hi = np.full(S, np.nan)
+            pen = np.zeros(S)
+            centre = np.zeros(S)
+            # the law position overlaps: the free offset nearest it, else the least overlap. The overlap changes
+            # only at events, so the candidates are the midpoints between consecutive events (exact) and a grid
+            for row in np.flatnonzero(~free0):
+                evs = np.concatenate([evA[row].ravel(), evB[row].ravel()])
+                evs = np.unique(evs[np.isfinite(evs)])
+                cand = np.concatenate([0.5 * (evs[:-1] + evs[1:]), w[row] * np.linspace(-1.0, 1.0, grid)])
+                dg = cand[None, :]
+                iA, dA = _status(evA[row:row + 1], enA[row:row + 1], baseA[row:row + 1], dg)
+                iB, dB = _status(evB[row:row + 1], enB[row:row + 1], baseB[row:row + 1], dg)
+                depth = np.maximum(np.where(iA, dA * rhoA[row:row + 1, :, None], 0.0).max(axis=1),
+                                   np.where(iB, dB * rhoB[row:row + 1, :, None], 0.0).max(axis=1))[0]   # (G,), m
+                fr = np.flatnonzero(depth <= 0.0)
+                if fr.size:
+                    centre[row] = cand[fr[np.argmin(np.abs(cand[fr]))]]
+                else:
+                    g = int(np.argmin(depth))
+                    pen[row] = depth[g]
+                    centre[row] = cand[g] if pen[row] <= tol else np.nan
+            ok = np.isfinite(centre)
+            rel = np.concatenate([evA.reshape(S, -1), evB.reshape(S, -1)], axis=1) - centre[:, None]
+            for out, side in ((lo, -1.0), (hi, 1.0)):
+                with np.errstate(invalid="ignore"):
+                    cand = np.where(side * rel > 0, side * rel, np.inf).min(axis=1)
+                out[:] = np.where(ok, centre + side * np.minimum(cand, w), np.nan)
+            touching = ok & (pen > 0)
+            lo[touching] = hi[touching] = centre[touching]
+            lower[sl], upper[sl], pen_min[sl] = lo, hi, pen
+        return lower, upper, pen_min
+
+
+def mesh_check(driving, driven, pair, *, steps: int = 720, window: float = 1.0, tolerance: float | None = None,
+               pitch: float | None = None, chunk: int = 24, grid: int = 65, phi=None, simplify: float = 5e-4,
+               ratio_window: float | None = None) -> MeshReport:
+    """Roll the ``driving`` and ``driven`` outlines (GearOutline, PolarOutline or (M, 2) simple polygons, body
+    frames, as written) at the pair's centre distance through the full cycle (driving φ over 0 … 2π·driving_turns,
+    ``steps`` positions), or over the driving angles ``phi`` (rad) when given.
+
+    The polygons themselves are checked: each outline's findings (:func:`assur.gears.outline.outline_defects`) are
+    reported in ``outline_defects``; for the scan each polygon is simplified within ``simplify``·m (1 µm for
+    m = 2 mm). pitch: the circular pitch (m) that sets the search range (default: the outlines' ``tooth.pitch``);
+    window: the features looked at, in pitches either side of the pitch points beyond the half-pitch search range;
+    tolerance: circumferential penetration counted as contact, m (default 0.2 % of the module).
+
+    The transmitted ratio at φ is the mean over a fixed window of driving rotation, not a difference quotient of
+    neighbouring scan positions: ``ratio_window`` = the driving rotation (rad) that rolls ``ratio_window`` pitches
+    along the pitch curves (default 1: one tooth pitch, w = p/r1(φ)); the ratio at φ is the mean over [φ, φ + w]
+    from the exact offsets at both ends (one more scan), so it does not depend on the sampling and its largest deviation
+    converges as the scan is refined; ``ratio_window=0``: no ratio (NaN; an interference scan). See the module
+    docstring."""
     if pitch is None:
         tooth = getattr(driving, "tooth", None)
         if tooth is None:
@@ -213,92 +415,39 @@ def mesh_check(driving, driven, pair, *, steps: int = 720, offsets: int = 33, wi
         pitch = tooth.pitch
     module = pitch / math.pi
     tol = 2e-3 * module if tolerance is None else float(tolerance)
+    ratio_window = 1.0 if ratio_window is None else float(ratio_window)
+    if not ratio_window >= 0:
+        raise GearError(f"the ratio window must be ≥ 0 pitches (0: no transmitted ratio): {ratio_window!r}")
+    xy1, f1 = _polygon(driving, module)
+    xy2, f2 = _polygon(driven, module)
     L = float(pair.centre_distance)
     n = int(pair.driving_turns)
+    uniform = phi is None
     if phi is None:
         phi = np.arange(steps) * (TWO_PI * n / steps)
-        periodic = True
     else:
         phi = np.asarray(phi, dtype=float).ravel()
-        steps, periodic = phi.size, False
-    theta = np.asarray(pair.law(phi), dtype=float)
-    k = np.asarray(pair.ratio(phi), dtype=float)
-    r2c = L / (1.0 + k)                                   # driven pitch radius at the contact point
-    half = 0.5 * pitch / r2c                              # ± half a pitch at the driven pitch point, rad
-    scene = _Scene(g1, g2, L, pitch, window, vertex_stride)
-    lower = np.full(steps, np.nan)
-    upper = np.full(steps, np.nan)
-    pen_min = np.zeros(steps)
-    grid = np.linspace(-1.0, 1.0, offsets)
-    for a in range(0, steps, chunk):
-        sl = slice(a, min(steps, a + chunk))
-        ph, th, hw = phi[sl], theta[sl], half[sl]
-        s = ph.size
-        rows = np.arange(s)
-        d = hw[:, None] * grid[None, :]                                       # (s, G)
-        pen = scene.penetration(ph, th[:, None] + d)
-        free = pen <= tol
-        # seed: the free grid value nearest δ = 0, else the golden-section minimum around the best grid value
-        dist = np.where(free, np.abs(np.arange(offsets) - (offsets - 1) / 2.0)[None, :], np.inf)
-        seed_i = np.argmin(dist, axis=1)
-        has = np.isfinite(dist[rows, seed_i])
-        seed_i = np.where(has, seed_i, np.argmin(pen, axis=1))
-        seed = d[rows, seed_i]
-        seed_pen = pen[rows, seed_i]
-        step = 2.0 * hw / (offsets - 1)
-        no = np.flatnonzero(~has)
-        if no.size:
-            lo_d, hi_d = seed[no] - step[no], seed[no] + step[no]
-            g = (math.sqrt(5) - 1) / 2
-
-            def f(x):
-                return scene.penetration(ph[no], (th[no] + x)[:, None])[:, 0]
-            x1, x2 = hi_d - g * (hi_d - lo_d), lo_d + g * (hi_d - lo_d)
-            f1, f2 = f(x1), f(x2)
-            for _ in range(24):
-                left = f1 < f2
-                hi_d = np.where(left, x2, hi_d)
-                lo_d = np.where(left, lo_d, x1)
-                n1, n2 = hi_d - g * (hi_d - lo_d), lo_d + g * (hi_d - lo_d)
-                x1, x2 = np.where(left, n1, x2), np.where(left, x1, n2)
-                fn1, fn2 = f(x1), f(x2)
-                f1, f2 = np.where(left, fn1, f2), np.where(left, f1, fn2)
-            seed[no] = 0.5 * (lo_d + hi_d)
-            seed_pen[no] = f(seed[no])
-        found = seed_pen <= tol
-        # outward on the grid to the first blocked value on either side (or ± one grid step from a golden
-        # seed, whose grid neighbours are blocked), then bisection between the last free and first blocked δ
-        idx = np.arange(offsets)[None, :]
-        blocked = ~free
-        left_block = np.where(blocked & (idx < seed_i[:, None]), idx, -1).max(axis=1)
-        right_block = np.where(blocked & (idx > seed_i[:, None]), idx, offsets).min(axis=1)
-        ends = []
-        for side, bidx in ((-1.0, left_block), (1.0, right_block)):
-            inside_i = np.clip(bidx - side, 0, offsets - 1).astype(np.intp)
-            a_free = np.where(has, d[rows, inside_i], seed)
-            edge = (bidx < 0) | (bidx >= offsets)
-            b_block = np.where(has & ~edge, d[rows, np.clip(bidx, 0, offsets - 1)], a_free + side * step)
-            b_block = np.where(has & edge, a_free + side * hw, b_block)
-            for _ in range(bisections):
-                mid = 0.5 * (a_free + b_block)
-                ok = scene.penetration(ph, (th + mid)[:, None])[:, 0] <= tol
-                a_free = np.where(ok, mid, a_free)
-                b_block = np.where(ok, b_block, mid)
-            ends.append(a_free)
-        lower[sl] = np.where(found, ends[0], np.nan)
-        upper[sl] = np.where(found, ends[1], np.nan)
-        pen_min[sl] = np.where(found, np.minimum(seed_pen, tol), seed_pen)
+        steps = phi.size
+    scan = _Scanner(_simplified(xy1, simplify * module), _simplified(xy2, simplify * module), pair, L, pitch,
+                    window, tol, chunk, grid)
+    theta, k, r2c, _ = scan.search_range(phi)
+    lower, upper, pen_min = scan(phi)
     interferes = np.isnan(lower)
-    pen_min = np.where(interferes, pen_min, np.minimum(pen_min, tol))
-    # d(θ + δ_lo)/dφ = k(φ) + dδ_lo/dφ, the offset differentiated by central differences (exact k: no
-    # finite-difference error of the law itself on a coarse scan)
-    if periodic:
-        ratio = k + (np.roll(lower, -1) - np.roll(lower, 1)) / (2.0 * (TWO_PI * n / steps))
-    else:          # an explicit scan: derivative along the given angles
-        ratio = k + np.gradient(lower, phi) if steps > 2 else np.full(steps, np.nan)
+    # the mean ratio over the window [φ, φ + w], w = ratio_window·p/r1(φ): (θ + δ_lo) at both ends, exact
+    if ratio_window > 0:
+        wdw = ratio_window * pitch / (L - r2c)          # driving rotation that rolls ratio_window pitches at φ
+        lo_end = scan(phi + wdw)[0]
+        d_law = np.asarray(pair.law(phi + wdw), dtype=float) - theta
+        ratio = (d_law + lo_end - lower) / wdw
+        law_window = d_law / wdw
+    else:          # no transmitted ratio asked for (an interference scan): two scans fewer
+        ratio = np.full(steps, np.nan)
+        law_window = k
     backlash = (upper - lower) * r2c
     return MeshReport(phi=phi, theta_law=theta, lower=lower, upper=upper, penetration=pen_min, interferes=interferes,
-                      law_ratio=k, actual_ratio=ratio, backlash=backlash, tolerance=tol, centre_distance=L)
+                      law_ratio=k, actual_ratio=ratio, backlash=backlash, tolerance=tol, centre_distance=L,
+                      outline_defects=tuple(f1 + f2), law_ratio_window=law_window, ratio_window=ratio_window,
+                      uniform=uniform)
 
 
 __all__ = ["MeshReport", "PolarOutline", "mesh_check", "polar_outline"]

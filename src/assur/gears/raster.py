@@ -1,7 +1,7 @@
 """Polar rasterisation of polylines for the tooth outlines: per ray, the nearest crossing of any polyline.
 
-Rays are uniform in angle, either about the gear centre (:func:`rasterise_min`) or in per-tooth fans about a pole
-(:func:`rasterise_fans`); along each polyline segment the distance is interpolated linearly in (angle, distance).
+Rays are uniform in angle about the gear centre (:func:`rasterise_min`); along each polyline segment the distance
+is interpolated linearly in (angle, distance).
 Also the periodic interpolation of values sampled on uniform angles, and angle wrapping.
 """
 from __future__ import annotations
@@ -70,29 +70,4 @@ def rasterise_min(out, xy, valid):
         np.minimum.at(out, np.mod(g, m), rho)
 
 
-def rasterise_fans(out, xy, valid, poles, start, step):
-    """Per fan z: lower ``out[z]`` (Z, R+1) (distance from ``poles[z]`` along the rays start[z] + i·step[z],
-    i = 0..R) by the segments of the polylines ``xy[z]`` (Z, n, K, 2) between consecutive valid points
-    (``valid`` (Z, n, K)). Linear interpolation in (angle, distance) along each segment."""
-    Z, R1 = out.shape
-    rel = xy - poles[:, None, None, :]
-    ang = np.arctan2(rel[..., 1], rel[..., 0]) - start[:, None, None]
-    ang = wrap_angle(ang)
-    dist = np.hypot(rel[..., 0], rel[..., 1])
-    ok = valid[..., :-1] & valid[..., 1:]
-    zz = np.broadcast_to(np.arange(Z)[:, None, None], ok.shape)[ok]
-    a0, a1 = ang[..., :-1][ok], ang[..., 1:][ok]
-    a1 = a0 + wrap_angle(a1 - a0)
-    d0, d1 = dist[..., :-1][ok], dist[..., 1:][ok]
-    st = step[zz]
-    lo = np.minimum(a0, a1) / st
-    hi = np.maximum(a0, a1) / st
-    g0 = np.maximum(np.ceil(lo - TOL.ray_end), 0).astype(np.int64)       # rays on a segment's end belong to both
-    g1 = np.minimum(np.floor(hi + TOL.ray_end), R1 - 1).astype(np.int64)
-    found = _values_on_rays(g0, g1, a0, a1, d0, d1, st)
-    if found is not None:
-        seg, g, d = found
-        np.minimum.at(out.reshape(-1), zz[seg] * R1 + g, d)
-
-
-__all__ = ["TWO_PI", "periodic_interp", "rasterise_fans", "rasterise_min", "wrap_angle"]
+__all__ = ["TWO_PI", "periodic_interp", "rasterise_min", "wrap_angle"]

@@ -15,23 +15,21 @@ traced by the rack's tip corners (the root fillets; where they cut a flank the g
 curve has a corner the rack pivots about the corner point, which the path samples represent by extra states at the
 same s with the tangent turning.
 
-The gear outline is the blank (pitch curve offset by +h_a, the tip) minus everything the rack sweeps. Teeth of a
-non-circular gear lean with the pitch-curve normal (by tens of degrees near a corner), so a tooth is not
-star-shaped about the gear centre; it is star-shaped about a **pole** on its own axis: the point 6·m (at most 0.6 of
-the pitch radius) below the pitch point at the tooth centre, along the normal. Each tooth sector — from the root
-point at the centre of one space (the pitch point there offset by −h_f) to the next — is sampled on uniform rays
-from its pole: along each ray the material ends at the first swept point (the smallest pole distance among all
-candidate curves crossing the ray, each candidate a polyline of exact envelope points from the cutter teeth on
-either side) or at the tip curve, whichever comes first. The sectors joined in order give one closed polygon.
+The gear outline is the blank (pitch curve offset by +h_a, the tip) minus everything the rack sweeps, computed
+by polygon booleans (:mod:`assur.gears.cutting`): every cutter tooth in every rack state of its engagement window is
+a polygon carrying the exact envelope points of that state, the union of all of them is subtracted from the blank.
+The result is one simple polygon by construction; it is then checked (:mod:`assur.gears.outline`: simplicity,
+point spacing ≤ m/8, slivers and needle-like notches, the number of teeth and their thickness on the pitch curve),
+and the findings are carried in ``GearOutline.defects`` and the pair's notes, with their body angles. On a concave
+stretch a straight rack cuts the neighbouring teeth as well (its teeth turn with the tangent); the outline is then
+what such a rack would cut, and the thinned teeth are reported where they are.
 
 Rack (the basic rack of ISO 53 without the tip radius): pitch p = π·m, pressure angle α, tooth of the cutter (= the
 gear's space) w = p/2 + j_n/(2·cos α) wide on the pitch line (the pair's normal backlash j_n is taken equally from
 both gears), cutter tip at v = −h_f = −(h_a* + c*)·m (the gear's root), gear tip at v = +h_a*·m.
 
-The generating rack acts only near its contact: the cutter teeth within a few pitches of the pitch point (their
-flanks between −h_f and h_a + c, their tip lands and tip corners); its body beyond is not modelled (on a concave
-stretch a real straight rack would also cut the neighbouring tips, which is why concave stretches are held to the
-same curvature limit as convex ones by :func:`assur.gears.pitch.curvature_report`). A rack cannot follow a
+The generating rack acts only near its contact: each cutter tooth while one of its flanks touches its envelope
+(foot point between −h_f and h_a + c), a quarter pitch more for its tip corners; the rack's body is not modelled. A rack cannot follow a
 corner of the pitch curve (the paper-001 law has kinks at the step boundaries); :func:`rounded_pair` rounds them
 first, and the mesh check shows what the rounding costs.
 
@@ -51,8 +49,13 @@ from ..errors import GearError
 from ..tolerances import DEFAULT as TOL
 from .errors import angle_ranges
 from .pitch import Corner
-from .raster import TWO_PI, periodic_interp, rasterise_fans, wrap_angle
+from .cutting import cut_polygon, densify
+from .outline import outline_defects
+from .raster import TWO_PI, periodic_interp, wrap_angle
 from .rounding import rounded_pair
+
+#: largest distance between consecutive outline points, in modules
+MAX_STEP = 0.125
 
 
 # -- result objects --------------------------------------------------------------------------------
@@ -66,6 +69,9 @@ class ToothParameters:
     addendum: float = 1.0
     clearance: float = 0.25
     backlash: float = 0.0
+    tip_radius: float = 0.0        #: radius of the rack's tip corners, in modules (ISO 53 profile A: 0.38)
+    profile_shift: float = 0.0     #: x: the driving gear is cut with the rack moved out by x·m, the driven by −x·m
+    print_clearance: float = 0.0   #: each flank moved into its tooth by this much along the pitch curve, m
 
     @property
     def pitch(self) -> float:
@@ -85,6 +91,19 @@ class ToothParameters:
         """Width of the cutter tooth (= the gear's tooth space) on the pitch line, m."""
         return 0.5 * self.pitch + 0.5 * self.backlash / math.cos(self.pressure_angle)
 
+    def rack(self, shift: float = 0.0) -> "Rack":
+        """The cutter for a gear cut with profile shift coefficient ``shift`` (the rack moved out by shift·m)."""
+        m = self.module
+        ta = math.tan(self.pressure_angle)
+        return Rack(module=m, alpha=self.pressure_angle,
+                    half_width=0.5 * self.space_width + self.print_clearance - shift * m * ta,
+                    v_tip=-self.dedendum_height + shift * m, v_top=self.addendum_height + self.clearance * m + shift * m,
+                    v_blank=self.addendum_height + shift * m, tip_radius=self.tip_radius * m)
+
+    def thickness(self, shift: float = 0.0) -> float:
+        """Designed tooth thickness along the pitch curve of a gear cut with profile shift ``shift``, m."""
+        return self.pitch - 2.0 * self.rack(shift).half_width
+
     def check(self) -> None:
         problems = []
         if not (self.module > 0 and math.isfinite(self.module)):
@@ -97,42 +116,73 @@ class ToothParameters:
             problems.append(f"clearance coefficient must be ≥ 0: {self.clearance!r}")
         if not (self.backlash >= 0):
             problems.append(f"backlash must be ≥ 0: {self.backlash!r}")
+        if not (self.tip_radius >= 0 and math.isfinite(self.tip_radius)):
+            problems.append(f"tip radius coefficient must be ≥ 0: {self.tip_radius!r}")
+        if not (abs(self.profile_shift) < 1 and math.isfinite(self.profile_shift)):
+            problems.append(f"profile shift coefficient must lie in (−1, 1): {self.profile_shift!r}")
+        if not (self.print_clearance >= 0 and math.isfinite(self.print_clearance)):
+            problems.append(f"print clearance must be ≥ 0: {self.print_clearance!r}")
         if problems:
             raise GearError("; ".join(problems))
-        land = 0.5 * self.space_width - self.dedendum_height * math.tan(self.pressure_angle)
+        sa = math.sin(self.pressure_angle)
+        rack = self.rack()
+        land = rack.half_width + rack.v_tip * math.tan(self.pressure_angle)
         if land <= 0:
             raise GearError(f"the rack cutter comes to a point before the root: tip land {2e3 * land:.4f} mm ≤ 0 "
                             f"(module {1e3 * self.module:g} mm, pressure angle "
                             f"{math.degrees(self.pressure_angle):g}°, dedendum "
-                            f"{self.addendum + self.clearance:g}·m, backlash {1e3 * self.backlash:g} mm)")
+                            f"{self.addendum + self.clearance:g}·m, backlash {1e3 * self.backlash:g} mm, print "
+                            f"clearance {1e3 * self.print_clearance:g} mm)")
+        rho = rack.tip_radius
+        if rho > 0 and rho * (1 - sa) > self.clearance * self.module * (1 + 1e-3):   # ISO 53: 0.38 (≈ 0.37995)
+            raise GearError(f"tip radius {self.tip_radius:g}·m too large: the rounded rack corner would reach "
+                            f"{1e3 * rho * (1 - sa):.4f} mm above the root line, into the working depth (at most "
+                            f"clearance·m = {1e3 * self.clearance * self.module:.4f} mm, i.e. tip radius ≤ "
+                            f"{self.clearance / (1 - sa):.4f}·m)")
+        if rho > 0 and land - rho * (1 - sa) / math.cos(self.pressure_angle) <= 0:
+            raise GearError(f"tip radius {self.tip_radius:g}·m too large for the rack's tip land "
+                            f"{2e3 * land:.4f} mm: both rounded corners do not fit (at most "
+                            f"{land * math.cos(self.pressure_angle) / (1 - sa) / self.module:.4f}·m)")
+
+
+@dataclass(frozen=True, slots=True)
+class Rack:
+    """The cutter of one gear in the rolling frame (u along the pitch line, v outward from the gear, m): flanks
+    u = u_c ± (half_width + v·tan α), tip line v = v_tip (the gear's root), top v = v_top, the gear's blank at
+    v = v_blank (its tip), tip corners rounded with radius tip_radius."""
+
+    module: float
+    alpha: float
+    half_width: float
+    v_tip: float
+    v_top: float
+    v_blank: float
+    tip_radius: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
 class GearOutline:
     """One gear's closed tooth outline in its body frame (centre at the origin).
 
-    xy: (M, 2) counter-clockwise closed polygon (first point not repeated), m. Per tooth sector k (Z sectors):
-    ``poles`` (Z, 2), the sector's ray fan from angle ``ray_start`` (Z,) over ``ray_span`` (Z,) in R+1 uniform
-    steps, and ``ray_length`` (Z, R+1) the outline's distance from the pole on each ray (see the module docstring).
+    xy: (M, 2) counter-clockwise simple closed polygon (first point not repeated), m: the blank minus every
+    position of the cutter (:mod:`assur.gears.cutting`), its edges split to at most ``max_step`` (m/8).
     ``undercut``: body-angle ranges (rad) where a working flank has an envelope cusp (the cutter's tip cuts the
     flank; text in ``undercut_text``). ``corners``: corners of the pitch curve. ``mirror``: True for the gear
-    whose pitch point moves clockwise on its body (the driving gear)."""
+    whose pitch point moves clockwise on its body (the driving gear). ``defects``: the located findings of
+    :func:`assur.gears.outline.outline_defects` (empty for a clean outline)."""
 
     name: str
     teeth: int
     tooth: ToothParameters
     xy: np.ndarray
-    poles: np.ndarray
-    ray_start: np.ndarray
-    ray_span: np.ndarray
-    ray_length: np.ndarray
     perimeter: float
     undercut: tuple = ()
     undercut_text: str = ""
     corners: tuple = ()
     min_curvature_radius: float = math.inf
     mirror: bool = False
-    _lookup: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    defects: tuple = ()
+    shift: float = 0.0
 
     @property
     def radius(self) -> np.ndarray:
@@ -152,59 +202,30 @@ class GearOutline:
     def root_radius(self) -> float:
         return float(self.radius.min())
 
-    def _sectors(self):
-        lk = self._lookup
-        if not lk:
-            # the start boundary of sector k is the ray from pole k through its first outline point (a root point)
-            R = self.ray_length.shape[1] - 1
-            first = self.poles + self.ray_length[:, 0, None] * np.stack(
-                [np.cos(self.ray_start), np.sin(self.ray_start)], axis=-1)
-            b = np.mod(np.arctan2(first[:, 1], first[:, 0]), TWO_PI)
-            order = np.argsort(b)
-            lk.update(order=order, boundary=b[order], rays=R)
-        return lk
-
-    def penetration(self, q) -> np.ndarray:
-        """How deep points q (..., 2) (body frame, m) lie inside the outline, measured along the ray of the tooth
-        sector that contains them (> 0 inside, < 0 outside by that distance), (...)."""
-        q = np.asarray(q, dtype=float)
-        lk = self._sectors()
-        order, bnd, R = lk["order"], lk["boundary"], lk["rays"]
-        z = order.size
-        a = np.mod(np.arctan2(q[..., 1], q[..., 0]), TWO_PI)
-        i = np.searchsorted(bnd, a, side="right") - 1                    # sector by the root boundaries' angles
-        best = np.full(q.shape[:-1], -np.inf)
-        found = np.zeros(q.shape[:-1], dtype=bool)
-        for shift in (0, -1, 1):                                          # the boundary ray is not radial
-            k = order[np.mod(i + shift, z)]
-            d = q - self.poles[k]
-            beta = np.mod(np.arctan2(d[..., 1], d[..., 0]) - self.ray_start[k], TWO_PI)
-            inside = (beta <= self.ray_span[k]) & ~found
-            x = np.clip(beta / self.ray_span[k], 0.0, 1.0) * R
-            j = np.minimum(np.floor(x).astype(np.intp), R - 1)
-            f = x - j
-            rl = self.ray_length[k, j] * (1 - f) + self.ray_length[k, j + 1] * f
-            pen = rl - np.hypot(d[..., 0], d[..., 1])
-            best = np.where(inside, pen, best)
-            found |= inside
-        # below the poles no fan reaches: that is the gear's body (positive, by the distance below the pole)
-        k = order[np.mod(i, z)]
-        below = np.hypot(self.poles[k, 0], self.poles[k, 1]) - np.hypot(q[..., 0], q[..., 1])
-        return np.where(found, best, np.abs(below))
-
     def radius_at(self, a) -> np.ndarray:
-        """Distance from the centre to the outline along body directions a (...,) (the first crossing from the
-        centre), m — by bisection on :meth:`penetration` (for plots and coarse checks)."""
-        a = np.asarray(a, dtype=float)
-        u = np.stack([np.cos(a), np.sin(a)], axis=-1)
-        lo = np.full(a.shape, 0.999 * self.root_radius)
-        hi = np.full(a.shape, 1.01 * self.tip_radius)
-        for _ in range(48):
-            mid = 0.5 * (lo + hi)
-            inside = self.penetration(mid[..., None] * u) > 0
-            lo = np.where(inside, mid, lo)
-            hi = np.where(inside, hi, mid)
-        return 0.5 * (lo + hi)
+        """Distance from the centre to the outline along body directions a (...,): the first crossing of the
+        polygon from the centre (exact ray casting), m."""
+        return first_crossing(self.xy, a)
+
+
+def first_crossing(xy, a, chunk: int = 256) -> np.ndarray:
+    """Distance from the origin to the first crossing of the closed polygon xy (M, 2) along directions a (...),
+    by exact ray–edge intersection (inf where the ray crosses nothing)."""
+    a = np.asarray(a, dtype=float)
+    flat = a.ravel()
+    u = np.stack([np.cos(flat), np.sin(flat)], axis=-1)
+    p, q = xy, np.roll(xy, -1, axis=0)
+    e = q - p
+    out = np.full(flat.size, np.inf)
+    for i in range(0, flat.size, chunk):
+        d = u[i:i + chunk, None, :]                                   # (c, 1, 2)
+        den = d[..., 0] * e[None, :, 1] - d[..., 1] * e[None, :, 0]   # d × e
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (p[None, :, 0] * e[None, :, 1] - p[None, :, 1] * e[None, :, 0]) / den    # along the ray
+            w = (p[None, :, 0] * d[..., 1] - p[None, :, 1] * d[..., 0]) / den            # along the edge
+        hit = (den != 0) & (t > 0) & (w >= 0) & (w < 1)
+        out[i:i + chunk] = np.where(hit, t, np.inf).min(axis=1)
+    return out.reshape(a.shape)
 
 
 @dataclass(frozen=True, slots=True)
@@ -272,11 +293,11 @@ def _rolling_path(points, max_turn: float) -> tuple[_Path, np.ndarray, np.ndarra
 
 # -- one gear ----------------------------------------------------------------------------------------
 def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_phase: float, samples: int,
-         rays: int, max_turn: float, name: str = "gear"):
+         max_turn: float, name: str = "gear", shift: float = 0.0):
     """Cut one gear whose pitch curve r(ψ) is traversed counter-clockwise from body angle ``start`` (arc 0).
 
     Cutter teeth (the gear's spaces) are centred at u = (rack_phase + k)·p, k = 0 … teeth−1; gear tooth k lies
-    between cutter teeth k and k+1. Returns (fans: poles (Z, 2), ray start (Z,), span (Z,), lengths (Z, R+1);
+    between cutter teeth k and k+1. Returns (outline (M, 2) ccw, :func:`assur.gears.cutting.cut_polygon`;
     undercut body angles (list); (smallest radius of curvature, corners, polyline perimeter))."""
     psi_v, pts = _pitch_polyline(radius_of, start, samples)
     path, turn, seg = _rolling_path(pts, max_turn)
@@ -284,14 +305,15 @@ def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_ph
     p = tooth.pitch
     alpha = tooth.pressure_angle
     m = tooth.module
-    ha, hf = tooth.addendum_height, tooth.dedendum_height
-    w2 = 0.5 * tooth.space_width
-    land = w2 - hf * math.tan(alpha)
+    rack = tooth.rack(shift)
+    w2 = rack.half_width
     sa, ca = math.sin(alpha), math.cos(alpha)
     per = path.perimeter
     pitch = per / teeth                     # = p within the caller's tolerance: spread over the exact perimeter
     centres = (rack_phase + np.arange(teeth)) * pitch                            # (Z,)
-    window = w2 + max(ha + tooth.clearance * m, hf) / (sa * ca) + p             # reach of a cutter tooth in s
+    # engagement of a cutter tooth: its flanks touch their envelope (foot point between the cutter's tip and root
+    # lines) for |s − u_c| ≤ w/2 + (h_a + c)/(sin α cos α); a quarter pitch more for the tip corners' fillets
+    window = w2 + max(rack.v_top, -rack.v_tip) / (sa * ca) + 0.25 * p
     # the path three times (s − per, s, s + per) so windows can wrap
     J = path.s.size
     s3 = np.concatenate([path.s - per, path.s, path.s + per])
@@ -309,75 +331,19 @@ def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_ph
     N = np.stack([T[..., 1], -T[..., 0]], axis=-1)
     uc = centres[:, None]
 
-    def place(u, v):
-        return P + (u - s)[..., None] * T + np.asarray(v)[..., None] * N
-
-    families, masks = [], []
     undercut = []
+    # the working flank: down to where the mating gear's tip reaches (its addendum, shifted the other way)
+    reach = -(tooth.addendum_height - shift * m)
     for side in (-1.0, 1.0):   # left flank (u = uc − w/2 − v·tanα), right flank (u = uc + w/2 + v·tanα)
         a_u = uc + side * w2
         v_foot = side * (s - a_u) * sa * ca
         u_foot = a_u + side * v_foot * math.tan(alpha)
-        ok = inside & (v_foot >= -hf) & (v_foot <= ha + tooth.clearance * m)
-        X = place(u_foot, v_foot)
-        families.append(X)
-        masks.append(ok)
-        undercut += _cusps(X, ok & (v_foot >= -ha - 1e-12 * m))
-        families.append(place(uc + side * land, np.full_like(s, -hf)))   # tip corner: its trochoid (fillet)
-        masks.append(inside)
-    families.append(place(s, np.full_like(s, -hf)))                      # root: envelope of the tip land
-    masks.append(inside & (np.abs(s - uc) <= land))
-    families.append(P + ha * N)                                          # the blank's tip curve
-    masks.append(inside)
-    cand = np.stack(families, axis=1)                                    # (Z, F, K, 2) per cutter tooth
-    cmask = np.stack(masks, axis=1)
-
-    # tooth fans: tooth k between cutter teeth k and k+1; pole on the normal below the tooth centre
-    def state_at(sv):
-        """(point, normal) of the path at arc lengths sv (Z,) (the middle state of a corner's pivot)."""
-        sv = np.mod(sv, per)
-        lo = np.searchsorted(path.s, sv, side="left")
-        hi = np.searchsorted(path.s, sv, side="right")
-        j = np.where(hi > lo, (lo + hi - 1) // 2, np.maximum(lo - 1, 0))
-        j = np.minimum(j, J - 1)
-        frac = np.where(hi > lo, 0.0, (sv - path.s[j]) / np.maximum(seg_at(j), 1e-300))
-        nxt = np.where(j + 1 < J, j + 1, 0)
-        pt = path.point[j] + frac[:, None] * (path.point[nxt] - path.point[j])
-        tu = path.tau[j] + frac * wrap_angle(path.tau[nxt] - path.tau[j])
-        return pt, np.stack([np.sin(tu), -np.cos(tu)], axis=-1)
-
-    def seg_at(j):
-        nxt = np.where(j + 1 < J, j + 1, 0)
-        return np.hypot(*(path.point[nxt] - path.point[j]).T)
-
-    mid_pt, mid_n = state_at(centres + 0.5 * pitch)
-    depth = np.minimum(6.0 * m, 0.6 * np.hypot(mid_pt[:, 0], mid_pt[:, 1]))
-    poles = mid_pt - depth[:, None] * mid_n
-    root_pt, root_n = state_at(centres)
-    bound = root_pt - hf * root_n                                        # root points at the space centres
-    b0 = bound - poles
-    b1 = np.roll(bound, -1, axis=0) - poles
-    ray0 = np.arctan2(b0[:, 1], b0[:, 0])
-    span = np.mod(np.arctan2(b1[:, 1], b1[:, 0]) - ray0, TWO_PI)
-    if np.any(span <= 0) or np.any(span >= math.pi):
-        raise GearError(f"the module {1e3 * m:g} mm is too large for the pitch radius: a tooth sector cannot be "
-                        f"laid out (smallest pitch radius {1e3 * float(np.hypot(*pts.T).min()):.3f} mm)")
-    R = rays
-    step = span / R
-    lengths = np.full((teeth, R + 1), np.inf)
-    nb = np.array([-1, 0, 1, 2])                                         # cutter teeth around tooth k
-    rows = np.mod(np.arange(teeth)[:, None] + nb[None, :], teeth)        # (Z, 4)
-    for z0 in range(0, teeth, 16):                                       # chunks of teeth (memory)
-        zs = np.arange(z0, min(teeth, z0 + 16))
-        xy = cand[rows[zs]].reshape(zs.size, -1, K, 2)
-        ok = cmask[rows[zs]].reshape(zs.size, -1, K)
-        sub = lengths[zs]
-        rasterise_fans(sub, xy, ok, poles[zs], ray0[zs], step[zs])
-        lengths[zs] = sub
-    if not np.all(np.isfinite(lengths)):
-        raise GearError("the tooth outline has directions without any boundary (the module is too large for the "
-                        "pitch curve)")
-    return (poles, ray0, span, lengths), undercut, (rc_min, corners, float(seg.sum()))
+        ok = inside & (v_foot >= rack.v_tip) & (v_foot <= rack.v_top)
+        X = P + (u_foot - s)[..., None] * T + v_foot[..., None] * N
+        undercut += _cusps(X, ok & (v_foot >= reach - 1e-12 * m))
+    tip_xy = path.point + rack.v_blank * np.stack([np.sin(path.tau), -np.cos(path.tau)], axis=-1)
+    xy = cut_polygon(P, T, N, s, inside, centres, rack, tip_xy)
+    return xy, undercut, (rc_min, corners, float(seg.sum()))
 
 
 def _cusps(X, ok):
@@ -474,51 +440,54 @@ def tooth_count(perimeter: float, module: float | None, teeth: int | None, *, na
 
 def cut_gear(radius_of, tooth: ToothParameters, teeth: int, *, name: str = "gear", start: float = 0.0,
              mirror: bool = False, space_at_start: bool = True, samples: int | None = None,
-             rays: int = 160, max_turn: float = math.radians(0.25)) -> GearOutline:
+             max_turn: float = math.radians(0.25), shift: float = 0.0) -> GearOutline:
     """Cut one gear with pitch curve r(ψ) (a vectorised callable, body angle ψ in rad → m).
 
     The rack rolls from body angle ``start`` counter-clockwise (``mirror=True``: clockwise, i.e. the curve is
     cut in the mirrored frame and mirrored back). ``space_at_start``: a tooth space (else a tooth) is centred on
-    the start point. samples: pitch-polyline points (default 256 per tooth, at least 8192); rays: rays per tooth
-    sector. The teeth are spread over the exact perimeter; the caller checks that ``teeth`` divides it
-    (:func:`tooth_count`)."""
+    the start point. samples: pitch-polyline points = rack states (default 256 per tooth, at least 8192). The
+    outline is checked by :func:`assur.gears.outline.outline_defects` (findings in ``defects``). The teeth are
+    spread over the exact perimeter; the caller checks that ``teeth`` divides it (:func:`tooth_count`). shift: the
+    profile shift coefficient this gear is cut with (:meth:`ToothParameters.rack`)."""
     tooth.check()
     if teeth < 3:
         raise GearError(f"tooth count of the {name} gear must be ≥ 3: {teeth}")
-    samples = samples or max(8192, 256 * teeth)
+    samples = samples or max(4096, 128 * teeth)
     sign = -1.0 if mirror else 1.0
     r_frame = (lambda a: radius_of(-a)) if mirror else radius_of
     start_frame = sign * start
-    (poles, ray0, span, lengths), cusps, (rc_min, corners, perimeter) = _cut(
+    xy, cusps, (rc_min, corners, perimeter) = _cut(
         r_frame, start_frame, tooth, teeth, rack_phase=0.0 if space_at_start else 0.5, samples=samples,
-        rays=rays, max_turn=max_turn, name=name)
-    R = lengths.shape[1] - 1
-    beta = ray0[:, None] + span[:, None] * (np.arange(R + 1) / R)[None, :]
-    pts = poles[:, None, :] + lengths[..., None] * np.stack([np.cos(beta), np.sin(beta)], axis=-1)
-    xy = pts[:, :-1, :].reshape(-1, 2)                          # the last ray of a sector = the next one's first
+        max_turn=max_turn, name=name, shift=shift)
     if mirror:
         xy = xy[::-1] * np.array([1.0, -1.0])
-        poles = poles[::-1] * np.array([1.0, -1.0])
-        ray0, span, lengths = -(ray0 + span)[::-1], span[::-1], lengths[::-1, ::-1]
+        xy = np.roll(xy, -int(np.argmin(np.mod(np.arctan2(xy[:, 1], xy[:, 0]), TWO_PI))), axis=0)
         cusps = [-c for c in cusps]
         corners = tuple(Corner(float(np.mod(-c.angle, TWO_PI)), c.radius, c.tangent_jump) for c in corners)
+    xy = densify(xy, MAX_STEP * tooth.module)
     rmin = float(np.min(radius_of(np.linspace(0, TWO_PI, 721))))
     runs = _angle_runs(cusps, tol=2.0 * tooth.pitch / rmin)
     text = ", ".join(f"[{_deg(lo)}, {_deg(hi)}]" for lo, hi in runs)
-    return GearOutline(name=name, teeth=int(teeth), tooth=tooth, xy=xy, poles=poles, ray_start=ray0,
-                       ray_span=span, ray_length=lengths, perimeter=perimeter, undercut=runs,
-                       undercut_text=text, corners=corners, min_curvature_radius=rc_min, mirror=mirror)
+    defects = outline_defects(xy, tooth.module, teeth=teeth, name=f"{name} gear", max_step=MAX_STEP * tooth.module,
+                              thickness=tooth.thickness(shift), pitch_radius=radius_of)
+    return GearOutline(name=name, teeth=int(teeth), tooth=tooth, xy=xy, perimeter=perimeter, undercut=runs,
+                       undercut_text=text, corners=corners, min_curvature_radius=rc_min, mirror=mirror,
+                       defects=tuple(defects), shift=shift)
 
 
 def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
              pressure_angle: float = math.radians(20.0), addendum: float = 1.0, clearance: float = 0.25,
              backlash: float = 0.0, rel_tol: float = TOL.tooth_perimeter, samples: int | None = None,
-             rays: int = 160) -> GearTeeth:
+             tip_radius: float = 0.0, profile_shift: float = 0.0, print_clearance: float = 0.0,
+             states_per_tooth: int | None = None) -> GearTeeth:
     """Cut both gears of a :class:`~assur.gears.pitch.GearPair` with one basic rack.
 
     module (m) and/or teeth (tooth count of the driving gear): the driving pitch perimeter must be π·m·z within
     ``rel_tol`` (else GearError naming the numbers); the driven gear gets z·driving_turns teeth. pressure_angle in
-    rad, backlash = the pair's normal backlash j_n in m."""
+    rad, backlash = the pair's normal backlash j_n in m; tip_radius (in modules), profile_shift (x: the driving gear
+    is cut with +x, the driven with −x, which keeps the centre distance) and print_clearance (m) as in
+    :class:`ToothParameters`. samples: rack states per gear (default :func:`cut_gear`'s); states_per_tooth: rack
+    states per tooth pitch instead (at least 4096 per gear)."""
     n = int(pair.driving_turns)
     p1, p2 = float(pair.driving.perimeter), float(pair.driven.perimeter)
     m, z1 = tooth_count(p1, module, teeth, name="driving", rel_tol=rel_tol)
@@ -528,16 +497,21 @@ def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
         raise GearError(f"tooth count: the driven pitch perimeter {1e3 * p2:.4f} mm holds {exact2:.4f} circular "
                         f"pitches, not {z2} = {z1}·{n} (driving teeth × driving turns)")
     tooth = ToothParameters(module=m, pressure_angle=pressure_angle, addendum=addendum, clearance=clearance,
-                            backlash=backlash)
+                            backlash=backlash, tip_radius=tip_radius, profile_shift=profile_shift,
+                            print_clearance=print_clearance)
     theta0 = float(np.asarray(pair.law(0.0)))
+    s1 = s2 = samples
+    if states_per_tooth is not None and samples is None:
+        s1, s2 = max(4096, int(states_per_tooth) * z1), max(4096, int(states_per_tooth) * z2)
     driving = cut_gear(pair.driving.radius_at, tooth, z1, name="driving", start=0.0, mirror=True,
-                       space_at_start=True, samples=samples, rays=rays)
+                       space_at_start=True, samples=s1, shift=profile_shift)
     driven = cut_gear(pair.driven.radius_at, tooth, z2, name="driven", start=math.pi + theta0, mirror=False,
-                      space_at_start=False, samples=samples, rays=rays)
+                      space_at_start=False, samples=s2, shift=-profile_shift)
     notes = []
     for g in (driving, driven):
         if g.undercut:
             notes.append(f"{g.name} gear: working flanks undercut near body angle {g.undercut_text}")
+        notes.extend(f"outline defect: {d}" for d in g.defects)
         for c in g.corners:
             notes.append(f"{g.name} gear: pitch-curve corner at body angle {_deg(c.angle)}, tangent turns by "
                          f"{math.degrees(c.tangent_jump):+.1f}° ({c.kind})")
@@ -545,5 +519,5 @@ def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
                      driving_turns=n, notes=tuple(notes))
 
 
-__all__ = ["GearOutline", "GearTeeth", "ToothParameters", "cut_gear", "cut_pair", "periodic_interp", "rounded_pair",
+__all__ = ["GearOutline", "GearTeeth", "Rack", "ToothParameters", "cut_gear", "cut_pair", "periodic_interp", "rounded_pair",
            "tooth_count"]

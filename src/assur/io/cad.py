@@ -23,13 +23,15 @@ MM = 1e3
 
 @dataclass(frozen=True)
 class Shape:
-    """One outline to export: name (layer), closed polygon xy (M, 2) in m, its centre (2,) in m, and optional
-    reference curves (each (K, 2), m, closed)."""
+    """One outline to export: name (layer), closed polygon xy (M, 2) in m, its centre (2,) in m, optional
+    reference curves (each (K, 2), m, closed) and an optional bore diameter (m; a circle about the centre, on the
+    layer ``BORE`` in DXF, a ``class="bore"`` circle in SVG)."""
 
     name: str
     xy: np.ndarray
     centre: tuple = (0.0, 0.0)
     references: tuple = field(default=())
+    bore: float | None = None
 
 
 def _check(shape: Shape) -> np.ndarray:
@@ -43,8 +45,64 @@ def _layer(name: str) -> str:
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in name.upper()) or "OUTLINE"
 
 
+def _fast_points_class():
+    """An ezdxf LWPOLYLINE vertex array that exports its (x, y) vertices as one block of text (the plain
+    per-vertex export of ezdxf costs ~30 µs a vertex: seconds for the gear outlines), or None when this ezdxf
+    does not have the expected internals (then the plain export is used)."""
+    global _FAST_POINTS
+    if _FAST_POINTS is not False:
+        return _FAST_POINTS
+    try:
+        from ezdxf.entities.lwpolyline import LWPolylinePoints
+
+        class _Block:
+            __slots__ = ("code", "value", "_text")
+
+            def __init__(self, text):
+                self.code, self.value, self._text = 10, None, text
+
+            def dxfstr(self):
+                return self._text
+
+        class FastPoints(LWPolylinePoints):
+            __slots__ = ()
+
+            def dxftags(self):
+                v = np.frombuffer(self.values, dtype=float).reshape(-1, 5)
+                if np.any(v[:, 2:]):               # widths or bulges: the plain export
+                    yield from super().dxftags()
+                    return
+                yield _Block("".join(f" 10\n{x!r}\n 20\n{y!r}\n" for x, y in v[:, :2].tolist()))
+
+        _FAST_POINTS = FastPoints
+    except Exception:  # noqa: BLE001 - any other ezdxf: the plain export
+        _FAST_POINTS = None
+    return _FAST_POINTS
+
+
+_FAST_POINTS = False
+
+
+def _add_polyline(msp, xy, layer):
+    """A closed LWPOLYLINE through xy (M, 2) (mm), all vertices set at once."""
+    e = msp.add_lwpolyline([], format="xy", close=True, dxfattribs={"layer": layer})
+    fast = _fast_points_class()
+    if fast is None:
+        e.set_points([tuple(p) for p in xy], format="xy")
+        return e
+    import array
+    pts = fast()
+    flat = np.zeros((xy.shape[0], 5))
+    flat[:, :2] = xy
+    pts.values = array.array("d")
+    pts.values.frombytes(np.ascontiguousarray(flat).tobytes())
+    e.lwpoints = pts
+    return e
+
+
 def write_dxf(path, shapes, *, metadata: dict | None = None, mark: float = 2.0) -> Path:
-    """Write shapes to a DXF (R2010, mm): closed LWPOLYLINE per outline, centre marks of ``mark`` mm."""
+    """Write shapes to a DXF (R2010, mm): closed LWPOLYLINE per outline, centre marks of ``mark`` mm, the bore
+    circle (when the shape has one) on the layer ``BORE``."""
     try:
         import ezdxf
     except ImportError as exc:  # pragma: no cover - ezdxf is an extra
@@ -60,14 +118,17 @@ def write_dxf(path, shapes, *, metadata: dict | None = None, mark: float = 2.0) 
         layer = _layer(s.name)
         if layer not in doc.layers:
             doc.layers.add(layer, color=(5 + 2 * i) % 255 or 7)
-        msp.add_lwpolyline([tuple(p) for p in xy], format="xy", close=True, dxfattribs={"layer": layer})
+        _add_polyline(msp, xy, layer)
         cx, cy = (float(c) * MM for c in s.centre)
         msp.add_line((cx - mark, cy), (cx + mark, cy), dxfattribs={"layer": "CENTRE"})
         msp.add_line((cx, cy - mark), (cx, cy + mark), dxfattribs={"layer": "CENTRE"})
         msp.add_circle((cx, cy), mark / 4, dxfattribs={"layer": "CENTRE"})
+        if s.bore:
+            if "BORE" not in doc.layers:
+                doc.layers.add("BORE", color=3)
+            msp.add_circle((cx, cy), 0.5 * float(s.bore) * MM, dxfattribs={"layer": "BORE"})
         for ref in s.references:
-            r = np.asarray(ref, dtype=float) * MM
-            msp.add_lwpolyline([tuple(p) for p in r], format="xy", close=True, dxfattribs={"layer": "PITCH"})
+            _add_polyline(msp, np.asarray(ref, dtype=float) * MM, "PITCH")
     for k, v in (metadata or {}).items():
         doc.header.custom_vars.append(str(k), str(v))
     path = Path(path)
@@ -104,6 +165,9 @@ def svg_text(shapes, *, metadata: dict | None = None, margin: float = 5.0, mark:
                        f'stroke-dasharray="1,1"/>')
         cx, cy = tr(np.asarray([s.centre], dtype=float) * MM)
         cx, cy = float(cx[0]), float(cy[0])
+        if s.bore:
+            out.append(f'<circle class="bore" cx="{cx:.6f}" cy="{cy:.6f}" r="{0.5 * float(s.bore) * MM:.6f}" '
+                       f'fill="none" stroke="blue" stroke-width="0.1"/>')
         out.append(f'<g class="centre" stroke="red" stroke-width="0.05"><line x1="{cx - mark:.4f}" y1="{cy:.4f}" '
                    f'x2="{cx + mark:.4f}" y2="{cy:.4f}"/><line x1="{cx:.4f}" y1="{cy - mark:.4f}" x2="{cx:.4f}" '
                    f'y2="{cy + mark:.4f}"/></g>')
@@ -127,6 +191,20 @@ def write_json(path, data) -> Path:
     return path
 
 
+def write_outline_csv(path, xy, *, comments: dict | None = None) -> Path:
+    """The closed outline xy (M, 2) (m) as CSV in mm: ``# key: value`` comment lines (``comments``, e.g. the face
+    width and the bore), then the header ``x [mm],y [mm]`` and one row per vertex."""
+    path = Path(path)
+    xy = np.asarray(xy, dtype=float) * MM
+    lines = [f"# {k}: {v}" for k, v in (comments or {}).items()]
+    lines.append("x [mm],y [mm]")
+    lines += [f"{x!r},{y!r}" for x, y in xy.tolist()]
+    with atomic_file(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write("\r\n".join(lines) + "\r\n")
+    return path
+
+
 def write_table(base, header, rows, *, meta: dict | None = None) -> tuple[Path, Path]:
     """A table as ``base.csv`` and ``base.json`` (``{"columns": [...], "rows": [[...]], **meta}``)."""
     base = Path(base)
@@ -136,4 +214,5 @@ def write_table(base, header, rows, *, meta: dict | None = None) -> tuple[Path, 
     return a, b
 
 
-__all__ = ["Shape", "svg_text", "write_csv", "write_dxf", "write_json", "write_svg", "write_table"]
+__all__ = ["Shape", "svg_text", "write_csv", "write_dxf", "write_json", "write_outline_csv", "write_svg",
+           "write_table"]

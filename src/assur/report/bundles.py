@@ -31,9 +31,12 @@ from ..tolerances import DEFAULT as TOL
 from .text import MM, mesh_text
 
 DEG = 180.0 / math.pi
+#: rack states per tooth pitch for the envelope teeth of ``assur gears`` (see docs/gears.md: the outline then stays
+#: within 1 µm of the one cut with 256 states per pitch on the paper's pair)
+STATES_PER_TOOTH = 64
 
 
-def _shapes_pair(name, xy1, xy2, pair, references=True):
+def _shapes_pair(name, xy1, xy2, pair, references=True, bore=None):
     from ..io.cad import Shape
     L = pair.centre_distance
     th0 = float(pair.law(0.0))
@@ -42,20 +45,29 @@ def _shapes_pair(name, xy1, xy2, pair, references=True):
     r1 = (pair.driving.xy(2048),) if references else ()
     p2 = pair.driven.xy(4096)
     r2 = (np.stack([L + c * p2[:, 0] - s * p2[:, 1], s * p2[:, 0] + c * p2[:, 1]], axis=-1),) if references else ()
-    return [Shape(f"{name}_driving", xy1, (0.0, 0.0), r1), Shape(f"{name}_driven", placed, (L, 0.0), r2)]
+    return [Shape(f"{name}_driving", xy1, (0.0, 0.0), r1, bore=bore),
+            Shape(f"{name}_driven", placed, (L, 0.0), r2, bore=bore)]
 
 
-def _write_outlines(tmp: Path, prefix: str, xy1, xy2, pair, meta: dict):
-    from ..io.cad import Shape, write_csv, write_dxf, write_svg
+def _manufacturing(design) -> dict:
+    """Face width and bore of a design (mm; "not given" when absent), for the file headers."""
+    return {"face_width_mm": design.face_width * MM if design.face_width else "not given",
+            "bore_mm": design.bore * MM if design.bore else "not given"}
+
+
+def _write_outlines(tmp: Path, prefix: str, xy1, xy2, pair, meta: dict, bore=None):
+    from ..io.cad import Shape, write_dxf, write_outline_csv, write_svg
     files = []
     for gear, xy, curve in (("driving", xy1, pair.driving), ("driven", xy2, pair.driven)):
-        shape = [Shape(f"{prefix}_{gear}", xy, (0.0, 0.0), (curve.xy(4096),))]
+        shape = [Shape(f"{prefix}_{gear}", xy, (0.0, 0.0), (curve.xy(4096),), bore=bore)]
         m = {**meta, "gear": gear, "points": int(len(xy)),
              "handedness": "counter-clockwise outline; the driving gear turns ccw, the driven cw"}
         files.append(write_dxf(tmp / f"{prefix}_{gear}.dxf", shape, metadata=m))
         files.append(write_svg(tmp / f"{prefix}_{gear}.svg", shape, metadata=m))
-        files.append(write_csv(tmp / f"{prefix}_{gear}_outline.csv", ["x [mm]", "y [mm]"], (xy * MM).tolist()))
-    pair_shapes = _shapes_pair(prefix, xy1, xy2, pair)
+        files.append(write_outline_csv(tmp / f"{prefix}_{gear}_outline.csv", xy, comments={
+            "gear": f"{prefix} {gear}", "face width [mm]": meta.get("face_width_mm", "not given"),
+            "bore [mm]": meta.get("bore_mm", "not given"), "units": "mm, counter-clockwise closed outline"}))
+    pair_shapes = _shapes_pair(prefix, xy1, xy2, pair, bore=bore)
     files.append(write_dxf(tmp / f"{prefix}_pair.dxf", pair_shapes, metadata={**meta, "assembly": "phi = 0"}))
     files.append(write_svg(tmp / f"{prefix}_pair.svg", pair_shapes, metadata={**meta, "assembly": "phi = 0"}))
     return files
@@ -68,10 +80,87 @@ def _mesh_json(rep, pair):
     return out
 
 
+def _design_key(design, *options):
+    """The content of a gear design (every field that changes an output) and the run's options, as a key."""
+    fields = [(f.name, repr(getattr(design, f.name))) for f in dataclasses.fields(design)
+              if f.name not in ("law", "_cache", "source")]
+    return repr((fields, options))
+
+
+#: in-process cache of computed gear bundles: key → (files {relative path: bytes}, summary, results, log lines)
+_CACHE: dict = {}
+_CACHE_SIZE = 4
+
+
 def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True, log=print,
-              frames: int = 0) -> dict:
-    """All outputs of a gear design into the directory ``tmp``; returns the summary (SI units, rad)."""
-    from ..gears.mesh import mesh_check, polar_outline
+              frames: int = 0, progress=None) -> dict:
+    """All outputs of a gear design into the directory ``tmp``; returns the summary (SI units, rad).
+
+    The computed bundle (files, summary, results) is kept in memory keyed by the design's content and the
+    options, so the same design run again in this process (``assur wheelstep`` after ``assur gears``, the report,
+    the tests) writes the same files without recomputing them. ``progress(text)``: told as each slow step starts."""
+    import copy
+    key = _design_key(design, mesh_steps, figures, frames)
+    hit = _CACHE.get(key)
+    if hit is None:
+        lines = []
+
+        def both(text):
+            lines.append(text)
+            log(text)
+        before = {p for p in tmp.rglob("*")}
+        summary = _compute_gears(design, tmp, mesh_steps=mesh_steps, figures=figures, log=both, frames=frames,
+                                 progress=progress or (lambda _: None))
+        files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(tmp.rglob("*"))
+                 if p.is_file() and p not in before}
+        results = summary.pop("_results")
+        while len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = (files, copy.deepcopy(summary), results, lines)
+        summary["_results"] = results
+        return summary
+    files, summary, results, lines = hit
+    for text in lines:
+        log(text)
+    for rel, data in files.items():
+        (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp / rel).write_bytes(data)
+    summary = copy.deepcopy(summary)
+    summary["_results"] = results
+    return summary
+
+
+def _plot_outline(xy, module, within: float = 0.01):
+    """An outline thinned for drawing, within ``within``·module (the figures' zoom: 1 %, 0.02 mm for m = 2 mm, a
+    fraction of its pixel; the animation at 72 dpi, ~0.6 mm a pixel: 5 %): thousands of points fewer to draw."""
+    import shapely
+    g = shapely.simplify(shapely.Polygon(xy), within * module, preserve_topology=True)
+    return np.asarray(g.exterior.coords)[:-1] if g.geom_type == "Polygon" and not g.is_empty else xy
+
+
+def _mesh_polygon(xy, rays):
+    """The outline itself for the mesh check when it is a simple polygon, else its polar form (the nearest
+    crossing on ``rays`` rays from the centre: the material seen from the centre)."""
+    import shapely
+    from ..gears.mesh import polar_outline
+    return polar_outline(xy, rays=rays)
+
+
+def _fine_ranges(corners_phi, offsets, bad, period):
+    """Interference ranges (text) of a fine scan made of one block of driving angles per corner (corner +
+    offsets): runs are taken within each block, never across blocks."""
+    from ..kernels.runs import runs
+    parts = []
+    blocks = bad.reshape(len(corners_phi), len(offsets))
+    for c, row in sorted(zip(np.mod(corners_phi, period), blocks), key=lambda x: x[0]):
+        for s, e in runs(row):
+            parts.append(f"[{math.degrees(np.mod(c + offsets[s], period)):.1f}°, "
+                         f"{math.degrees(np.mod(c + offsets[e], period)):.1f}°]")
+    return ", ".join(parts)
+
+
+def _compute_gears(design, tmp: Path, *, mesh_steps: int, figures: bool, log, frames: int, progress) -> dict:
+    from ..gears.mesh import mesh_check
     from ..gears.pitch import closure_report, curvature_report
     from ..gears.teeth import cut_pair, rounded_pair
     from ..io.cad import write_json, write_table
@@ -127,8 +216,11 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
     else:
         cut_on = pair
     module = design.module if (design.method == "envelope" and not corners) else None
+    progress("cutting the envelope teeth")
     gt = cut_pair(cut_on, module=module, teeth=z1, pressure_angle=design.pressure_angle,
-                  addendum=design.addendum, clearance=design.clearance, backlash=design.backlash)
+                  addendum=design.addendum, clearance=design.clearance, backlash=design.backlash,
+                  tip_radius=design.tip_radius, profile_shift=design.profile_shift,
+                  print_clearance=design.print_clearance, states_per_tooth=STATES_PER_TOOTH)
     m = gt.tooth.module
     if design.method != "envelope" or corners:
         log(f"envelope teeth: module {m * MM:.5f} mm = driving perimeter / (π·{z1}) (the design's "
@@ -138,8 +230,12 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
     env_meta = {**meta, "method": "rack-cutter envelope", "module_mm": m * MM,
                 "pressure_angle_deg": math.degrees(design.pressure_angle), "backlash_mm": design.backlash * MM,
                 "addendum": design.addendum, "clearance": design.clearance,
-                "teeth_driving": gt.driving.teeth, "teeth_driven": gt.driven.teeth}
-    _write_outlines(tmp, "envelope", gt.driving.xy, gt.driven.xy, cut_on, env_meta)
+                "tip_radius": design.tip_radius, "profile_shift": design.profile_shift,
+                "print_clearance_mm": design.print_clearance * MM,
+                "teeth_driving": gt.driving.teeth, "teeth_driven": gt.driven.teeth, **_manufacturing(design)}
+    progress("writing the envelope outlines (DXF, SVG, CSV)")
+    _write_outlines(tmp, "envelope", gt.driving.xy, gt.driven.xy, cut_on, env_meta, bore=design.bore)
+    progress("mesh check of the envelope teeth")
     rep = mesh_check(gt.driving, gt.driven, cut_on, steps=mesh_steps)
     ms = _mesh_json(rep, cut_on)
     write_json(tmp / "envelope_mesh.json", ms)
@@ -170,10 +266,11 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
         so = sector_outline(model, design.module, design.backlash, linking="relieved", dedendum=design.dedendum)
         sec_meta = {**meta, "method": "paper sector scheme (eqs. 11-14), relieved linking lines",
                     "module_mm": design.module * MM, "backlash_mm": design.backlash * MM,
-                    "teeth_driving": so.teeth[0], "teeth_driven": so.teeth[1]}
-        _write_outlines(tmp, "sectors", so.driving, so.driven, pair, sec_meta)
-        p1 = polar_outline(so.driving, rays=512 * so.teeth[0])
-        p2 = polar_outline(so.driven, rays=512 * so.teeth[1])
+                    "teeth_driving": so.teeth[0], "teeth_driven": so.teeth[1], **_manufacturing(design)}
+        progress("writing the sector-scheme outlines")
+        _write_outlines(tmp, "sectors", so.driving, so.driven, pair, sec_meta, bore=design.bore)
+        p1 = _mesh_polygon(so.driving, 512 * so.teeth[0])
+        p2 = _mesh_polygon(so.driven, 512 * so.teeth[1])
         summary["sectors"]["mesh"] = {}
         reps = {}
         distances = [design.centre_distance]
@@ -182,19 +279,18 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
         # the step boundaries (the driving curve's corners) are where the scheme is tight: scan ±12° around
         # each at 0.25° besides the coarse cycle (docs/papers/001.md B6.9)
         phi_c = np.unique(np.round(np.mod([-c["angle"] for c in curv["driving"]["corners"]], 2 * math.pi), 9))
-        fine = (phi_c[:, None] + np.radians(np.arange(-12.0, 12.01, 0.25))[None, :]).ravel()
+        offsets = np.radians(np.arange(-12.0, 12.01, 0.25))
+        fine = (phi_c[:, None] + offsets[None, :]).ravel()
         for L in distances:
+            progress(f"mesh check of the sector scheme at L = {L * MM:g} mm")
             at = dataclasses.replace(pair, centre_distance=L)
-            r = mesh_check(p1, p2, at, steps=mesh_steps, pitch=math.pi * design.module, vertex_stride=1)
+            r = mesh_check(p1, p2, at, steps=mesh_steps, pitch=math.pi * design.module)
             js = _mesh_json(r, at)
             if fine.size:
-                rf = mesh_check(p1, p2, at, phi=fine, pitch=math.pi * design.module, vertex_stride=1)
-                order = np.argsort(np.mod(fine, 2 * math.pi * n))
-                from ..gears.errors import angle_ranges
+                rf = mesh_check(p1, p2, at, phi=fine, pitch=math.pi * design.module, ratio_window=0)
                 js["fine_scan"] = {"driving_angles": "±12° around the step boundaries φ = " + ", ".join(
                     f"{math.degrees(a):.1f}°" for a in phi_c) + ", every 0.25°",
-                    "interference_driving_ranges": angle_ranges(np.mod(fine, 2 * math.pi * n)[order],
-                                                                rf.interferes[order], max_ranges=8),
+                    "interference_driving_ranges": _fine_ranges(phi_c, offsets, rf.interferes, 2 * math.pi * n),
                     "max_penetration": float(rf.penetration[rf.interferes].max()) if rf.any_interference else 0.0}
                 if rf.any_interference:
                     js["interference"] = True
@@ -205,26 +301,31 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
         results["sectors"] = (so, reps)
 
     if figures:
+        progress("plots")
         from ..plot.draw import close, figure_png
         from ..plot.gears import pitch_figure, speed_figure, teeth_figure
         fig = pitch_figure(pair, title=f"pitch curves, L = {pair.centre_distance * MM:.2f} mm")
         figs["pitch.png"] = fig
-        figs["teeth_envelope.png"] = teeth_figure(gt.driving.xy, gt.driven.xy, cut_on,
-                                                  title=f"envelope teeth, m = {m * MM:.4f} mm")
+        d1, d2 = _plot_outline(gt.driving.xy, m), _plot_outline(gt.driven.xy, m)
+        figs["teeth_envelope.png"] = teeth_figure(d1, d2, cut_on, title=f"envelope teeth, m = {m * MM:.4f} mm")
         ref = (np.linspace(0, 2 * math.pi * n, 2001), pair.ratio(np.linspace(0, 2 * math.pi * n, 2001)))
         figs["speed_envelope.png"] = speed_figure(rep, law_name="law (rounded)" if corners else "law",
                                                   reference=ref if corners else None)
         if "sectors" in results:
             so, reps = results["sectors"]
-            figs["teeth_sectors.png"] = teeth_figure(so.driving, so.driven, pair, title="paper sector scheme")
+            figs["teeth_sectors.png"] = teeth_figure(_plot_outline(so.driving, design.module),
+                                                     _plot_outline(so.driven, design.module), pair,
+                                                     title="paper sector scheme")
             figs["speed_sectors.png"] = speed_figure(reps[design.centre_distance], law_name="law")
         for name, fig in figs.items():
             (tmp / name).write_bytes(figure_png(fig, dpi=100))
             close(fig)
         if frames:
+            progress(f"animation ({frames} frames)")
             from ..plot.animation import save_animation
             from ..plot.gears import mesh_animation
-            fig, anim = mesh_animation(gt.driving.xy, gt.driven.xy, cut_on, frames=frames, report=rep)
+            a1, a2 = _plot_outline(gt.driving.xy, m, 0.05), _plot_outline(gt.driven.xy, m, 0.05)
+            fig, anim = mesh_animation(a1, a2, cut_on, frames=frames, report=rep)
             save_animation(anim, tmp / "envelope_mesh.html", fps=8, title="meshing pair (envelope teeth)")
             close(fig)
     write_json(tmp / "summary.json", summary)
@@ -233,7 +334,7 @@ def run_gears(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True,
 
 
 def run_wheelstep(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = True, log=print,
-                  frames: int = 0) -> dict:
+                  frames: int = 0, progress=None) -> dict:
     """Shoe outputs into ``tmp`` and the drive's gear outputs into ``tmp/gears``; returns the summary."""
     from ..io.cad import write_json, write_table
     shoe = design.shoe
@@ -264,7 +365,7 @@ def run_wheelstep(design, tmp: Path, *, mesh_steps: int = 360, figures: bool = T
     if design.gears is not None:
         (tmp / "gears").mkdir()
         summary["gears"] = run_gears(design.gears, tmp / "gears", mesh_steps=mesh_steps, figures=figures, log=log,
-                                     frames=frames)
+                                     frames=frames, progress=progress)
     return summary
 
 

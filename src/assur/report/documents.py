@@ -91,7 +91,10 @@ def _gears_html(s: dict, tmp: Path, rel: str, frames: int) -> str:
     from ..plot.animation import jshtml
     from ..plot.draw import close
     from ..plot.gears import mesh_animation
-    fig, anim = mesh_animation(gt.driving.xy, gt.driven.xy, cut_on, frames=frames, report=rep)
+    from .bundles import _plot_outline
+    m = gt.tooth.module
+    fig, anim = mesh_animation(_plot_outline(gt.driving.xy, m, 0.05), _plot_outline(gt.driven.xy, m, 0.05), cut_on,
+                               frames=frames, report=rep)
     import matplotlib
     with matplotlib.rc_context({"animation.embed_limit": 60.0}):
         js = jshtml(anim, fps=12)
