@@ -150,3 +150,20 @@ def test_layouts_designs_by_inputs_and_per_sample():
     assert np.array_equal(a.valid, b.valid)
     close(a.pos, b.pos, "pos")
     close(a.acc, b.acc, "acc")
+
+
+def test_a_generated_kernel_names_the_helpers_it_was_built_on(tmp_path):
+    """numba's disk cache does not follow a callee's changes: every generated kernel's source (and so its file name
+    and cache) carries the digest of assur.kernels.compiled, computed here independently from the file's bytes."""
+    import hashlib
+    from pathlib import Path
+
+    import assur.kernels.compiled as helpers
+    from assur.kernels.codegen import load_kernel
+    digest = hashlib.sha1(Path(helpers.__file__).read_bytes()).hexdigest()[:16]
+    source = "from numba import njit\n\n\n@njit(cache=True)\ndef kernel(x):\n    return x + 1.0\n"
+    assert load_kernel(source, tmp_path)(1.0) == 2.0
+    (written,) = tmp_path.glob("assur_kernel_*.py")
+    assert written.read_text(encoding="utf-8").splitlines()[0].endswith(digest)
+    name = "assur_kernel_" + hashlib.sha1(written.read_text(encoding="utf-8").encode()).hexdigest()[:16] + ".py"
+    assert written.name == name
