@@ -382,7 +382,7 @@ def test_cli_output_is_reproducible(tmp_path, capsys):
     ["--links", "16", "--dof", "1"],     # too large to finish
     ["--links", "6", "--dof", "0"],
     ["--links", "6"],                    # no --dof
-    ["--links", "6", "--dof", "1", "--walking-legs"],
+    ["--links", "7", "--dof", "1", "--walking-legs"],
 ])
 def test_cli_bad_input_one_line(argv, capsys):
     assert main(["atlas", *argv]) == 1
