@@ -216,10 +216,9 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     problem = leg_problem(candidate, s)
     # a group without a closed form (a triad) is solved by Newton iterations on whole populations: a local polish,
     # one design at a time, would cost as much as the whole search, so those candidates keep the search's best
-    newton = any(st.kind == "newton" for st in problem.plan.steps)
     res = synthesize(problem, s["method"], seed=candidate_seed(s["seed"], candidate.key), budget=s["budget"],
                      starts=s["starts"], parallel_starts=False, backend=s["backend"],
-                     polish="none" if newton else None)
+                     polish="none" if candidate.newton else None)
     metrics = None
     params = res.params()
     try:
@@ -291,7 +290,7 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
     executor = executor or InProcess()
     t0 = time.monotonic()
     todo = [c for c in cands if s["triads"] or not c.newton]
-    if isinstance(executor, InProcess) and type(executor) is InProcess:
+    if type(executor) is InProcess:          # a subclass (local processes, Dask) maps the candidates as tasks
         results = []
         for i, c in enumerate(todo):
             results.append(run_candidate(c, s))
