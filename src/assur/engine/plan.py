@@ -28,7 +28,7 @@ from ..model.mechanism import Mechanism
 from ..structure.assur import Structure
 
 #: step kinds; the position in this tuple is the integer code in ``plan.step_kind``
-STEP_KINDS = ("frame", "crank", "RRR", "RRP", "RPR", "PRP", "PPR", "newton", "RSS")
+STEP_KINDS = ("frame", "crank", "RRR", "RRP", "RPR", "PRP", "PPR", "newton", "RSS", "gear")
 #: parameter kinds; the position in this tuple is the integer code in ``plan.param_kind``
 PARAM_KINDS = ("length", "angle", "number")
 #: planar dyads with two assemblies (a sign chosen once at compile time)
@@ -92,6 +92,34 @@ class CrankStep(StepRecord):
     input: int
     zero_param: int
     sense: int
+
+
+@dataclass(frozen=True, slots=True)
+class GearStep(StepRecord):
+    """A link turning about a frame pivot, driven through a gear pair: θ = q[input] + params[zero_param], where
+    ``input`` indexes the plan's gear slots after its inputs (the driven link's rotation from the sketch, a jet
+    in the inputs: :class:`GearSlot`)."""
+    kind: ClassVar[str] = "gear"
+    point_fields: ClassVar[tuple[str, ...]] = ("pivot",)
+    param_fields: ClassVar[tuple[str, ...]] = ("zero_param",)
+    bodies: tuple[int, ...]
+    pivot: str
+    arm: str
+    input: int
+    zero_param: int
+    gear: int
+    sense: int = 1
+
+
+@dataclass(frozen=True, slots=True)
+class GearSlot:
+    """How a gear pair's driven rotation follows from the inputs: its driving link's rotation from the sketch is
+    x = ``sense``·(q[source] − ``sketch``) (``source`` an input, or an earlier slot at ``n_inputs + j`` with sense 1
+    and sketch 0), and the driven link's is ``gear.relative(x)``. ``gear`` indexes ``mechanism.gears``."""
+    gear: int
+    source: int
+    sense: float
+    sketch: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -416,6 +444,8 @@ class PlanarPlan(PlanBase):
     sketch_poses: tuple = field(repr=False, default=())
     ops: np.ndarray | None = field(repr=False, default=None)
     slots: np.ndarray | None = field(repr=False, default=None)
+    #: per gear pair, in solve order: how its driven rotation follows from the inputs (:class:`GearSlot`)
+    gear_slots: tuple = field(repr=False, default=())
 
     def __post_init__(self):
         PlanBase.__post_init__(self)

@@ -17,13 +17,14 @@ from ..tolerances import DEFAULT as TOL
 from . import units as U
 from .dynamics_file import MASS_KEYS, read_dynamics, read_gait_load
 from .mechanism_writer import as_dict, dump, dumps, to_dict
+from .gear_pairs import read_gear_pairs
 from .problems import Problems
 from .toml_reader import parse_toml, read_text, read_toml
 
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
 _TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
-        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads"}
+        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears"}
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
@@ -359,6 +360,11 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             gait = Gait(str(foot), vecs["ground"] or (1.0, 0.0), vecs["up"], tuple(float(c) * A for c in phases),
                         *read_gait_load(gdata, P))
 
+    gears = read_gear_pairs(data, P, angle_factor=A, link_points={lk.name: lk.points for lk in links},
+                            frame_points=set(next((lk.points for lk in links if lk.name == FRAME), ())),
+                            source=source)
+    if gears and dimension == 3:
+        P.add("gears", "gear pairs need a planar mechanism (dimension = 2)")
     dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,
                              links=links, prismatic=prismatic, actuators=actuators, drivers=drivers)
 
@@ -388,7 +394,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     P.raise_if_any(source)
     m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                   actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
-                  joints=tuple(joints), gait=gait, dynamics=dynamics, description=desc, units=units,
+                  joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, description=desc, units=units,
                   dimension=dimension)
     _warn_lengths_off_the_sketch(m, L, source)
     return m

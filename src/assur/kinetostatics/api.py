@@ -138,11 +138,18 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
     with np.errstate(all="ignore"):
         K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, prog.slide_of, z, p, orient, lam, reac, slides, frame,
                   driver)
-    return _result(plan, state, np.moveaxis(reac, -1, 0), np.moveaxis(slides, -1, 0), frame.T, driver.T, cond,
-                   lam.T, iterations=iterations, converged=converged, method=method, tol=tol)
+    reac, driver, gears = np.moveaxis(reac, -1, 0), driver.T.copy(), None
+    if plan.gear_slots:
+        from .gearing import gear_forces
+        inputs = np.broadcast_to(state.inputs, shape + (plan.n_inputs,)).reshape(n, -1)
+        with np.errstate(all="ignore"):
+            gears = gear_forces(plan, tables, z, inputs, lam, reac, driver)
+    return _result(plan, state, reac, np.moveaxis(slides, -1, 0), frame.T, driver, cond,
+                   lam.T, iterations=iterations, converged=converged, method=method, tol=tol, gears=gears)
 
 
-def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, converged, method, tol) -> Forces:
+def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, converged, method, tol,
+            gears=None) -> Forces:
     """The Forces of flat arrays (N, …): singular samples (a group's condition below the tolerance, or a
     non-finite unknown) and unassembled ones are NaN."""
     shape = state.shape
@@ -168,4 +175,6 @@ def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, 
                   frame_force=frame[:, :2].reshape(shape + (2,)), frame_moment=frame[:, 2].reshape(shape),
                   condition=np.where(valid, cond, np.nan).reshape(shape), valid=(valid & ~singular).reshape(shape),
                   singular=singular.reshape(shape), iterations=iterations, converged=converged, method=method,
-                  state=state, slides=(rows, slides.reshape(shape + (len(rows), 2))))
+                  state=state, slides=(rows, slides.reshape(shape + (len(rows), 2))),
+                  gears={name: {k: np.where(bad, np.nan, v).reshape(shape) for k, v in g.items()}
+                         for name, g in (gears or {}).items()})

@@ -110,6 +110,9 @@ def force_summary(cycle: ForceCycle, *, friction: bool = False) -> dict:
     out["shaking_moment_peak"] = _peak(_norm(f.frame_moment, nb))
     mags = _norm(f.reactions, nb + 1)
     out["joint_peaks"] = {_joint_key(f, k): _peak(mags[..., k]) for k in f.joint_pairs}
+    if f.gears:
+        out["gears"] = {name: {"tooth_force_peak": _peak(np.abs(g["tooth_force"])),
+                               "torque_peak": _peak(np.abs(g["torque"]))} for name, g in f.gears.items()}
     if friction:
         out["friction"] = {"iterations": int(f.iterations), "converged": bool(f.converged)}
     if not has_loads(plan.mechanism):

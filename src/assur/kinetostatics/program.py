@@ -55,7 +55,10 @@ class Program:
     @property
     def compiled_ok(self) -> bool:
         """True when the compiled kernel covers the whole program (no generic group)."""
-        return not self.generic
+        return not self.generic and not self.geared
+
+    #: True when the plan has gear pairs (their tooth forces are applied by the numpy path)
+    geared: bool = False
 
 
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -150,7 +153,8 @@ def build_program(t: ForceTables) -> Program:
                    idef, ipts, cpts, cw, coff, complex(*dyn.gravity[:2]), np.array(lpts, np.int64).reshape(-1, 2),
                    np.array(lforce, complex), torque, pr, ln, np.array(gr_rows, np.int64).reshape(-1, 12),
                    np.array(gb_list, np.int64), np.array(gd_list, np.int64), np.array(t.driver_pairs, np.int64),
-                   sense, slide_of, t.n_unknowns, tuple(generic), loads_in_kernel)
+                   sense, slide_of, t.n_unknowns, tuple(generic), loads_in_kernel,
+                   geared=bool(getattr(plan, "gear_slots", ())))
 
 
 def _group_row(t: ForceTables, bodies, mine, gb_list, gd_list):

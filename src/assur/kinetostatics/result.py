@@ -64,6 +64,10 @@ class Forces:
     #: ``couples`` and ``normal`` given in full instead (the spatial solver)
     full_couples: np.ndarray | None = field(repr=False, default=None)
     full_normal: np.ndarray | None = field(repr=False, default=None)
+    #: per gear pair name: ``torque`` (the gear's torque on its driven link, N·m), ``tooth_force`` (N, ≥ 0),
+    #: ``line_of_action`` (complex unit vector of the force on the driven link), ``pitch_point`` (complex, m),
+    #: each of the batch shape (:mod:`assur.kinetostatics.gearing`)
+    gears: dict = field(repr=False, default_factory=dict)
     _cache: dict = field(repr=False, default_factory=dict, compare=False)
 
     def _full(self, which: int, fill: float) -> np.ndarray:

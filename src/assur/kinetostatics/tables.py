@@ -10,6 +10,8 @@ body at the point to one other. Unknowns per pair (the columns of the equations)
                                          reference point Q, and the couple M
     driven actuator      N, M, F         … and the actuator's force F·u (u from cylinder to rod)
     crank                T               the motor's torque on the crank (ccw positive)
+    gear-driven link     T               the gear pair's torque on its driven link (ccw positive), later
+                                         replaced by the tooth force (:mod:`.gearing`)
 
 Each pair belongs to the group (plan step) that solves its later body; the groups are solved
 from the last back to the drivers, each from its own bodies' equilibrium.
@@ -88,6 +90,8 @@ class ForceTables:
     order: tuple[int, ...]
     #: per input: the driver's pair index (a crank's 'T' pair or a driven actuator's 'P' pair)
     driver_pairs: tuple[int, ...]
+    #: per gear slot of the plan: the 'T' pair of the gear's torque on its driven link
+    gear_pairs: tuple[int, ...] = ()
 
     @property
     def n_bodies(self) -> int:
@@ -159,6 +163,10 @@ def _build(plan: PlanarPlan) -> ForceTables:
             driver_pairs.append(len(pairs) - 1)
         else:
             driver_pairs.append(next(i for i, fp in enumerate(pairs) if fp.kind == "P" and fp.driven == k))
+    gear_pairs = []
+    for st in plan.steps_of("gear"):
+        add("T", 0, st.bodies[0], 1, point=pidx[st.pivot], name=m.gears[st.gear].name)
+        gear_pairs.append(len(pairs) - 1)
     groups = []
     for i, st in enumerate(plan.steps):
         if st.kind == "frame":
@@ -169,7 +177,7 @@ def _build(plan: PlanarPlan) -> ForceTables:
     masses = tuple(_mass(plan, b, dyn.mass_of(g.bodies[b].name), pidx) if b else None for b in range(nb))
     angles = tuple(_angle(plan, b, pidx) for b in range(nb))
     return ForceTables(plan, dyn, tuple(pairs), col, tuple(groups), masses, angles,
-                       tuple(rank[b] for b in range(nb)), tuple(driver_pairs))
+                       tuple(rank[b] for b in range(nb)), tuple(driver_pairs), tuple(gear_pairs))
 
 
 def _sketch(m, p) -> complex:

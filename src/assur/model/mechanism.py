@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .dynamics import Dynamics
+from .gearing import GearPair
 
 FRAME = "frame"
 
@@ -179,6 +180,8 @@ class Mechanism:
     gait: Gait | None = None
     #: mass properties, loads, friction and gravity for the force analysis (None: none given)
     dynamics: "Dynamics | None" = None
+    #: gear pairs (higher pairs, p4) between links turning about frame pivots
+    gears: tuple[GearPair, ...] = ()
     description: str = ""
     units: Units = Units()
     dimension: int = 2
@@ -220,6 +223,8 @@ class Mechanism:
             what = (f"crank {d.link} about {d.pivot}, {fmt(d.speed)} rad/s" if d.kind == "rotary"
                     else f"actuator {d.actuator}, {fmt(d.speed)} m/s")
             rows.append((f"driver {d.name}", what))
+        for gp in self.gears:
+            rows.append((f"gear pair {gp.name}", f"{gp.a} → {gp.b} ({gp.mesh}, mean ratio {fmt(gp.law.mean_ratio)})"))
         if self.gait is not None:
             rows.append(("gait foot", self.gait.foot))
         return html_table(f"Mechanism {self.name}".rstrip(), rows)

@@ -48,6 +48,9 @@ def summary_rows(s: dict, plan) -> list[tuple[str, str, str]]:
     rows += [("peak shaking force", _n(s["shaking_force_peak"]), "N"),
              ("peak shaking moment", _n(s["shaking_moment_peak"]), "N·m")]
     rows += [(f"peak load at {k}", _n(v), "N") for k, v in s["joint_peaks"].items()]
+    for name, gs in s.get("gears", {}).items():
+        rows += [(f"gear pair {name}: peak tooth force", _n(gs["tooth_force_peak"]), "N"),
+                 (f"gear pair {name}: peak torque on the driven link", _n(gs["torque_peak"]), "N·m")]
     rows.append(("singular samples (forces undefined)", str(s["singular"]), ""))
     if s.get("unassembled"):
         rows.append(("samples that cannot be assembled", str(s["unassembled"]), ""))

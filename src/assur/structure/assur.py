@@ -5,6 +5,12 @@ The decomposition is found from connectivity alone: starting from the frame and 
 and to already-determined bodies make it statically determinate (3·n = 2·p5): a dyad (class II,
 n = 2), then a triad (class III, n = 4), and so on. A driven linear actuator is one body of given
 length for this purpose (its driven slide is the input).
+
+A gear pair is a higher pair (p4). For the structure it is replaced by its substitute link: a binary link
+hinged at the centres of curvature of the two pitch curves at the contact point (two p5 for one p4, one more
+link). A gear pair whose driving link is determined therefore determines its driven link, hinged on the frame:
+the driven link and the substitute link form a class II group (an RRR dyad), written ``II(crank, drive′)``
+with the substitute link named after the pair.
 """
 from __future__ import annotations
 
@@ -27,6 +33,7 @@ class GroupKind(str, Enum):
     TRIAD = "triad"
     GENERAL = "general"
     RSS = "RSS"   # spatial: rocker hinged on the frame (R), coupler with spherical ends (S, S)
+    GEAR = "gear"  # a link hinged on the frame and driven through a gear pair (with its substitute link, an RRR dyad)
 
     @property
     def dyad_kind_number(self) -> int | None:
@@ -124,8 +131,15 @@ class Structure:
         for d in self.drivers:
             parts.append(f"I({', '.join([label(0)] + names(d.bodies))})")
         for g in self.groups:
-            parts.append(f"{roman(g.group_class)}({', '.join(names(g.bodies))})")
+            members = names(g.bodies)
+            if g.kind is GroupKind.GEAR:
+                members.append(self.substitute_link(g))
+            parts.append(f"{roman(g.group_class)}({', '.join(members)})")
         return " → ".join(parts)
+
+    def substitute_link(self, group: "AssurGroup") -> str:
+        """The name of a gear group's substitute link: the gear pair's name primed."""
+        return f"{self.graph.pairs[group.outer[1][1]].name}′"
 
     def describe(self) -> list[dict]:
         out = []
@@ -135,6 +149,9 @@ class Structure:
                 "bodies": [self.body_label(b) for b in g.bodies],
                 "attaches_to": [self.body_label(b) for b in g.attaches_to],
             })
+            if g.kind is GroupKind.GEAR:
+                out[-1]["gear_pair"] = self.graph.pairs[g.outer[1][1]].name
+                out[-1]["substitute_link"] = self.substitute_link(g)
         return out
 
 
@@ -173,8 +190,9 @@ def analyse(m: Mechanism) -> Structure:
         groups = tuple(_spatial_group(g, dy) for dy in dyads)
         return Structure(g, n, PairCounts(counts), W, "Somov–Malyshev", drivers, groups,
                          tuple(g.bodies[i].source for i in left), idle=idle)
-    counts = {"p5": len(g.pairs), "p4": 0}
-    W = mobility_chebyshev(n, counts["p5"], 0)
+    p4 = sum(1 for p in g.pairs if p.kind == "G")
+    counts = {"p5": len(g.pairs) - p4, "p4": p4}
+    W = mobility_chebyshev(n, counts["p5"], p4)
     drivers, groups, undetermined = _decompose(m, g)
     return Structure(g, n, PairCounts(counts), W, "Chebyshev", drivers, groups, undetermined)
 
@@ -210,7 +228,7 @@ def _decompose(m: Mechanism, g: StructureGraph):
             cyl, rod = g.index(f"{d.actuator}.cylinder"), g.index(f"{d.actuator}.rod")
             drivers.append(Driven(d.name, (cyl, rod), "linear"))
     # unit-level pairs (drop the driven slides, which are inputs)
-    upairs = [(i, p) for i, p in enumerate(g.pairs) if not (p.kind == "P" and p.driven)]
+    upairs = [(i, p) for i, p in enumerate(g.pairs) if not (p.kind == "P" and p.driven) and p.kind != "G"]
     units_all = sorted({u(i) for i in range(nb)})
     members = {x: tuple(i for i in range(nb) if u(i) == x) for x in units_all}
 
@@ -259,6 +277,12 @@ def _decompose(m: Mechanism, g: StructureGraph):
     groups = []
     unknown = [x for x in units_all if x not in known]
     while unknown:
+        geared = _gear_driven(g, known, u)
+        if geared is not None:
+            groups.append(geared)
+            known.add(u(geared.bodies[0]))
+            unknown = [x for x in unknown if x not in known]
+            continue
         found = None
         for size in (2, 4, 6):
             if size > len(unknown):
@@ -279,6 +303,23 @@ def _decompose(m: Mechanism, g: StructureGraph):
         known |= set(combo)
         unknown = [x for x in unknown if x not in known]
     return tuple(drivers), tuple(groups), ()
+
+
+def _gear_driven(g: StructureGraph, known: set, u):
+    """The group of the first gear pair whose driving link is determined and whose driven link, hinged on the
+    frame, is not (None if there is none)."""
+    frame_points = set(g.bodies[0].points)
+    for i, p in enumerate(g.pairs):
+        if p.kind != "G":
+            continue
+        a, b = p.bodies
+        if u(a) not in known or u(b) in known:
+            continue
+        pivot = next((q for q in g.bodies[b].points if q in frame_points), None)
+        if pivot is None:
+            continue
+        return AssurGroup((b,), 2, 2, GroupKind.GEAR, ((b, _pair_at(g, pivot, b, 0)), (b, i)), (), tuple(sorted({0, a})))
+    return None
 
 
 def _connected(G, used, g, u):

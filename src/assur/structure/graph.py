@@ -2,7 +2,8 @@
 
 Bodies: the frame (index 0), every other link, one slider block per pin-in-slot prismatic pair,
 and a cylinder and a rod per linear actuator. Pairs: a revolute joining k bodies at a point
-counts as k − 1 pairs; each prismatic pair and each actuator's cylinder–rod slide is one pair.
+counts as k − 1 pairs; each prismatic pair and each actuator's cylinder–rod slide is one pair; each gear
+pair is one higher pair (kind 'G', class p4) between its two links.
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ class Body:
 
 @dataclass(frozen=True, slots=True)
 class Pair:
-    kind: str          # 'R' (revolute at `point`) or 'P' (prismatic named `name`)
+    kind: str          # 'R' (revolute at `point`), 'P' (prismatic named `name`) or 'G' (gear pair named `name`)
     bodies: tuple[int, int]
     point: str | None = None
     name: str | None = None
@@ -76,4 +77,6 @@ def build_graph(m: Mechanism) -> StructureGraph:
     for ac in m.actuators:
         pairs.append(Pair("P", (index[f"{ac.name}.rod"], index[f"{ac.name}.cylinder"]), name=ac.name,
                           driven=ac.name in driven, joint="prismatic"))
+    for gp in m.gears:
+        pairs.append(Pair("G", (index[gp.a], index[gp.b]), name=gp.name, joint="gear"))
     return StructureGraph(tuple(bodies), tuple(pairs), tuple(joints))

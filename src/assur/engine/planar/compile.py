@@ -17,8 +17,8 @@ from ...errors import SpecError, StructureError
 from ...model.mechanism import FRAME, Mechanism
 from ...structure.assur import GroupKind, Structure, analyse
 from ...tolerances import DEFAULT
-from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, NewtonStep, PlanarPlan, PPRStep, PRPStep,
-                    RPRStep, RRPStep, RRRStep, Side)
+from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, GearSlot, GearStep, NewtonStep, PlanarPlan,
+                    PPRStep, PRPStep, RPRStep, RRPStep, RRRStep, Side)
 from .optable import build_op_table
 from .newton_group import sketch_branch_sign, sketch_misfit
 from .steps import context_at, run_steps
@@ -138,8 +138,10 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
     s = analyse(m)
     n_drivers = len(m.drivers)
     if s.mobility != n_drivers:
+        p4 = s.pair_counts["p4"]
         raise StructureError(
-            f"mobility W = 3·{s.n_moving} − 2·{s.pair_counts['p5']} = {s.mobility} but {n_drivers} driver(s) "
+            f"mobility W = 3·{s.n_moving} − 2·{s.pair_counts['p5']}{f' − {p4}' if p4 else ''} = {s.mobility} "
+            f"but {n_drivers} driver(s) "
             f"are given ({', '.join(d.name for d in m.drivers) or 'none'}); each degree of freedom needs one driver")
     if s.undetermined:
         raise StructureError(
@@ -165,8 +167,12 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
             ac = next(a for a in m.actuators if a.name == d.actuator)
             sketch_inputs.append(abs(B.sketch(ac.between[1]) - B.sketch(ac.between[0])))
             actuator_input[d.actuator] = k
+    gear_slots: list = []
     for grp in s.groups:
-        steps.append(_group_step(m, s, B, grp, actuator_input))
+        if grp.kind == GroupKind.GEAR:
+            steps.append(_gear_step(m, B, grp, steps, gear_slots, sketch_inputs))
+        else:
+            steps.append(_group_step(m, s, B, grp, actuator_input))
     # which body places each point
     solved_order = [b for st in steps for b in st.bodies]
     point_body = []
@@ -181,7 +187,7 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
         input_kinds=tuple(input_kinds), sketch_inputs=np.array(sketch_inputs, dtype=float),
         speeds=np.array(speeds, dtype=float), point_body=tuple(point_body), param_kind=np.array(B.kinds),
         geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale,
-        sketch_poses=_sketch_frames(B, g))
+        sketch_poses=_sketch_frames(B, g), gear_slots=tuple(gear_slots))
     if B.problems:
         raise SpecError(B.problems)
     sketch_e = [cmath.exp(1j * th) for _, _, th in plan.sketch_poses]
@@ -244,6 +250,33 @@ def _sketch_frames(B: _Builder, g) -> tuple:
         z0 = B.sketch(g.bodies[b].points[0])
         out.append((z0.real, z0.imag, B.sketch_angle(b)))
     return tuple(out)
+
+
+def _gear_step(m, B, grp, steps, gear_slots, sketch_inputs) -> GearStep:
+    """The step of a link driven through a gear pair, appending the pair's slot to ``gear_slots``: the driving
+    link must be a driven crank or the driven link of an earlier gear pair (a turning link whose whole rotation
+    the solver knows)."""
+    g = B.g
+    pair = g.pairs[grp.outer[1][1]]
+    k = next(i for i, gp in enumerate(m.gears) if gp.name == pair.name)
+    gp = m.gears[k]
+    a, b = pair.bodies
+    source = None
+    for st in steps:
+        if st.bodies == (a,) and st.kind == "crank":
+            d = m.drivers[st.input]
+            source = (st.input, float(d.sense), float(sketch_inputs[st.input]))
+        elif st.bodies == (a,) and st.kind == "gear":
+            source = (st.input, 1.0, 0.0)
+    if source is None:
+        raise StructureError(f"gear pair '{gp.name}': its driving link '{gp.a}' must be a driven crank or the "
+                             f"driven link of another gear pair (a link the drive turns directly)")
+    pivot = g.pairs[grp.outer[0][1]].point
+    arm = next(p for p in g.bodies[b].points if p != pivot)
+    zero = B.param(f"{gp.name}.zero", cmath.phase(B.sketch(arm) - B.sketch(pivot)), "angle")
+    slot = len(m.drivers) + len(gear_slots)
+    gear_slots.append(GearSlot(k, *source))
+    return GearStep((b,), pivot, arm, slot, zero, k)
 
 
 def _side(g, body, actuator_input):

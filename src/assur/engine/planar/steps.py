@@ -25,7 +25,7 @@ class Context:
         self.plan, self.order, self.tol = plan, order, tol
         self.w, self.lines = geometry(plan, params)
         self.params = params
-        self.q = q_jets
+        self.q = with_gear_slots(plan, q_jets)
         self.pose: dict[int, tuple[Jet, Jet]] = {}
         self.pos: dict[str, Jet] = {}
         self.valid = np.True_
@@ -70,6 +70,19 @@ class Context:
 
     def flag(self, valid):
         self.valid = self.valid & valid
+
+
+def with_gear_slots(plan, q_jets) -> list:
+    """The input jets followed by one jet per gear slot of the plan: the driven link's rotation from the sketch
+    through the pair's law (chain rule: y' = L'·x', y'' = L''·x'² + L'·x'')."""
+    out = list(q_jets)
+    for sl in getattr(plan, "gear_slots", ()):
+        x = (out[sl.source] - sl.sketch) * sl.sense
+        y, y1, y2 = plan.mechanism.gears[sl.gear].relative(x.v)
+        d = None if x.d is None else y1 * x.d
+        dd = None if (x.dd is None or x.d is None) else y2 * (x.d * x.d) + y1 * x.dd
+        out.append(Jet(y, d, dd))
+    return out
 
 
 def _frame(c: Context, st):
@@ -150,7 +163,7 @@ def _ppr(c: Context, st):
     c.place(b, ob, eb)
 
 
-EXECUTORS = {"frame": _frame, "crank": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "PPR": _ppr,
+EXECUTORS = {"frame": _frame, "crank": _crank, "gear": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "PPR": _ppr,
              "newton": solve_group}
 CLOSED_FORMS = ("RRR", "RRP", "RPR", "PRP", "PPR")
 
