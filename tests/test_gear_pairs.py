@@ -157,3 +157,17 @@ def test_a_gear_whose_driving_link_is_not_turned_by_the_drive_is_refused():
     with pytest.raises((SpecError, StructureError)) as e:
         assur.compile(loads(text, source="x.toml"))
     assert "rocker" in str(e.value)
+
+
+@pytest.mark.parametrize("law_line", [f'law = "{LAW}"', "law = 2",
+                                      "law = { phi = [0, 45, 90, 135, 180, 225, 270, 315], "
+                                      "theta = [0, 50, 95, 138, 180, 222, 265, 310] }"])
+def test_a_written_file_reads_back_the_same_gear(law_line, tmp_path):
+    from assur.io.mechanism_writer import dump
+    m = loads(geared_text(law_line), source=str(EXAMPLES / "x.toml"))
+    path = tmp_path / "again.toml"
+    dump(m, path)
+    again = load(path)
+    assert again.gears[0].name == "drive" and again.gears[0].mesh == "external"
+    x = np.linspace(-7, 7, 101)
+    np.testing.assert_allclose(again.gears[0].relative(x), m.gears[0].relative(x), atol=1e-9)

@@ -125,7 +125,7 @@ def _law(spec, angle_factor, path, P, source):
             return None, None, alpha
         phi = np.asarray(phi, float) * angle_factor
         theta = np.asarray(theta, float) * angle_factor
-        return _sampled(lambda x: np.interp(x, phi, theta), phi, theta, n, where, P, "table", table=True), None, alpha
+        return _sampled(phi, theta, n, where, P, "table", table=True), None, alpha
     if not isinstance(v, str):
         P.add(where, f"must be a ratio, an expression, a table or a file: {v!r}")
         return None, None, alpha
@@ -144,11 +144,11 @@ def _law(spec, angle_factor, path, P, source):
         P.add(where, f"cannot be evaluated over a driving turn: {exc}")
         return None, None, alpha
     ends = np.asarray(f(np.array([0.0, TWO_PI])), dtype=float) * np.ones(2)
-    law = _sampled(None, phi, theta, n, where, P, f"θ = {v}", closure=ends)
+    law = _sampled(phi, theta, n, where, P, f"θ = {v}", closure=ends, expression=v)
     return law, None, alpha
 
 
-def _sampled(_, phi, theta, n, where, P, description, *, table=False, closure=None):
+def _sampled(phi, theta, n, where, P, description, *, table=False, closure=None, expression=None):
     """A table GearLaw from samples over one driving turn, after checking start, increase and closure."""
     if not np.all(np.isfinite(theta)):
         P.add(where, "is not finite over the driving turn")
@@ -172,7 +172,7 @@ def _sampled(_, phi, theta, n, where, P, description, *, table=False, closure=No
                      f"(driving_turns = {n})")
         return None
     return GearLaw("table", phi=tuple(phi.tolist()), theta=tuple(theta.tolist()), driving_turns=n,
-                   source=description)
+                   source=description, expression=expression)
 
 
 def _from_design(v, spec, where, P, source):

@@ -116,6 +116,8 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
                                 "interpolation": dr.law.interpolation}
                 out.append(t)
         d["drivers"] = out
+    if m.gears:
+        d["gears"] = [_gear_table(gp, an) for gp in m.gears]
     if m.branches:
         d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
     if m.joints:
@@ -135,6 +137,24 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
     if m.dynamics is not None:
         _write_dynamics(d, m, ln)
     return d
+
+
+def _gear_table(gp, an) -> dict:
+    """A ``[[gears]]`` entry: the law as it was given (a ratio, an expression, a design file) or as its table."""
+    law = gp.law
+    if gp.design is not None:
+        value = gp.design
+    elif law.kind == "ratio":
+        value = _out(law.ratio)
+    elif law.expression is not None:
+        value = law.expression
+    else:
+        value = {"phi": [an(v) for v in law.phi], "theta": [an(v) for v in law.theta]}
+    t = {"name": gp.name, "a": gp.a, "b": gp.b, "law": value}
+    if law.kind != "ratio" and gp.design is None and law.driving_turns != 1:
+        t["driving_turns"] = law.driving_turns
+    t |= {"mesh": gp.mesh, "phase": an(gp.phase), "pressure_angle": an(gp.pressure_angle)}
+    return t
 
 
 def _mass_table(mp, ln) -> dict:

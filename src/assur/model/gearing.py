@@ -40,6 +40,8 @@ class GearLaw:
     theta: tuple[float, ...] = field(default=(), repr=False)
     driving_turns: int = 1
     source: str = ""
+    #: the expression θ(phi) the table was sampled from, if any (what a written file repeats)
+    expression: str | None = None
     _spline: object = field(default=None, init=False, repr=False, compare=False)
 
     @property
@@ -73,7 +75,8 @@ class GearLaw:
         return phi / n + s0(u), 1.0 / n + s1(u), s2(u)
 
     def __reduce__(self):   # the spline cache is rebuilt on the other side of a pickle
-        return GearLaw, (self.kind, self.ratio, self.phi, self.theta, self.driving_turns, self.source)
+        return GearLaw, (self.kind, self.ratio, self.phi, self.theta, self.driving_turns, self.source,
+                         self.expression)
 
 
 @dataclass(frozen=True, slots=True)
