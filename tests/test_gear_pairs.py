@@ -171,3 +171,21 @@ def test_a_written_file_reads_back_the_same_gear(law_line, tmp_path):
     assert again.gears[0].name == "drive" and again.gears[0].mesh == "external"
     x = np.linspace(-7, 7, 101)
     np.testing.assert_allclose(again.gears[0].relative(x), m.gears[0].relative(x), atol=1e-9)
+
+
+def test_drawn_pitch_curves_are_the_gear_modules_pitch_curves():
+    """The pitch curves drawn with a geared linkage (model.gearing.pitch_points) against assur.gears.pitch_pair,
+    an independent construction (r_driving = L·k/(1 + k) from the law's rate k), and the rolling condition: both
+    curves have the same perimeter for a 1:1 pair."""
+    from assur.gears.law import law_from_callable
+    from assur.gears.pitch import pitch_pair
+    from assur.model.gearing import pitch_points
+    m = loads(geared_text(), source=str(EXAMPLES / "x.toml"))
+    ca, cb = pitch_points(m.gears[0], 0.3j, 0j, samples=720)
+    pair = pitch_pair(law_from_callable(lambda x: law(x)[0]), 0.3, samples=720)
+    phi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    r1, r2 = pair.contact_radii(phi)
+    np.testing.assert_allclose(np.abs(ca), r1, rtol=1e-9)
+    np.testing.assert_allclose(np.sort(np.abs(cb)), np.sort(r2), rtol=1e-9)
+    perimeter = lambda c: np.sum(np.abs(np.diff(np.append(c, c[0]))))
+    assert abs(perimeter(ca) - perimeter(cb)) < 1e-5 * perimeter(ca)

@@ -106,3 +106,21 @@ class GearPair:
         L0 = self.law.evaluate(np.asarray(self.phase, dtype=float))[0]
         s = self.mesh_sign
         return s * (L - L0), s * L1, s * L2
+
+
+def pitch_points(gear: GearPair, pivot_a: complex, pivot_b: complex, samples: int = 720):
+    """The two pitch curves of a pair as drawn in the sketch position: points (N,) complex relative to each pivot,
+    in the link's sketch orientation. The pitch point P, where the links' velocities agree, lies on the centre
+    line at O_a + r_a·e (e = unit(O_b − O_a)), r_a = −y'·d/(1 − y') with y' = dθ_b/dθ_a; with a turned by x it
+    touches a's curve at r_a·e·exp(−ix) and b's at (r_a − d)·e·exp(−i·y(x)). a's curve is one turn of a, b's one
+    turn of b (n turns of a, or ``ratio`` turns for a circular pair)."""
+    d = abs(pivot_b - pivot_a)
+    e = (pivot_b - pivot_a) / d
+    turns = gear.law.mean_ratio
+    x_a = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    x_b = np.linspace(0.0, TWO_PI * turns, max(samples, int(samples * turns)), endpoint=False)
+    y1a = gear.relative(x_a)[1]
+    y_b, y1b, _ = gear.relative(x_b)
+    ra = -y1a * d / (1.0 - y1a)
+    rb = -y1b * d / (1.0 - y1b) - d
+    return ra * e * np.exp(-1j * x_a), rb * e * np.exp(-1j * y_b)

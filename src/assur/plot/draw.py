@@ -220,6 +220,7 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
             u = np.array([math.cos(d), math.sin(d)])
             _guide(cv, q0 + float((c - q0) @ u) * u, d, 5 * size, size)
         _block(cv, c, d, size, col, alpha, z=z + 0.5)
+    _gear_curves(cv, plan, pos, k, col, alpha, z)
     # ground symbols at the frame pivots
     if pivots:
         for p in m.frame.points:
@@ -244,6 +245,29 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
             out.append(ax.annotate(p, tuple(P[i]), xytext=(5, 5), textcoords="offset points", fontsize=9,
                                    zorder=z + 2))
     return out
+
+
+def _gear_curves(cv: "_Canvas", plan, pos, k, col, alpha, z):
+    """Each gear pair's pitch curves, turned with their links (a link's turn: its pivot → arm direction now
+    against the sketch)."""
+    from ..model.gearing import pitch_points
+    m = plan.mechanism
+    frame = set(m.frame.points)
+    for gp in m.gears:
+        ends = []
+        for name in (gp.a, gp.b):
+            pts = m.link(name).points
+            pivot = next(p for p in pts if p in frame)
+            arm = next(p for p in pts if p != pivot)
+            now = pos[plan.point_index(arm)] - pos[plan.point_index(pivot)]
+            then = np.asarray(m.sketch(arm)[:2]) - np.asarray(m.sketch(pivot)[:2])
+            turn = complex(*now) / complex(*then)
+            ends.append((complex(*pos[plan.point_index(pivot)]), turn / abs(turn), complex(*m.sketch(pivot)[:2])))
+        curves = pitch_points(gp, ends[0][2], ends[1][2])
+        for (centre, turn, _), curve in zip(ends, curves):
+            w = centre + turn * curve
+            xy = np.column_stack([w.real, w.imag]) * k
+            cv.line(np.vstack([xy, xy[:1]]), col, 1.0, 0.8 * alpha, z - 0.5)
 
 
 def set_limits(ax, pts, margin=0.08):
