@@ -121,9 +121,10 @@ def cmd_info(args) -> int:
     from ..structure.assur import analyse
     _emit(text.group_lines(s, getattr(analyse(m), "undetermined", ())))
     from ..structure.atlas.identify import identify
-    entry = identify(m)
-    _emit([entry.line() if entry else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
-                                       "or a body is joined to nothing)"])
+    entry = None if m.gears else identify(m)
+    _emit([entry.line() if entry else "atlas: a geared mechanism (the atlas holds chains of lower pairs only)"
+           if m.gears else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
+                           "or a body is joined to nothing)"])
     plan = compile_(m)
     _emit(text.parameter_lines(plan) + text.gait_lines(m))
     return 0
