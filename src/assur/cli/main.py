@@ -32,7 +32,7 @@ def build_parser():
     import argparse
 
     from .. import __version__
-    from . import atlas, design, forces, gears, mechanism, synth
+    from . import atlas, codesign, design, forces, gears, mechanism, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -40,6 +40,7 @@ def build_parser():
     forces.register(sub)
     synth.register(sub)
     gears.register(sub)   # `assur gears` and `assur wheelstep`
+    codesign.register(sub)
     design.register(sub)
     atlas.register(sub)
     return p

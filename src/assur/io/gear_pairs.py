@@ -8,7 +8,8 @@
     b = "crank"            # the driven link (turns about a frame pivot)
     law = 2                # a number: circular gears, the driving link turns `law` times per driven turn
     # law = "phi + 0.2*sin(phi)"             an expression: the driven rotation θ of the driving rotation phi (rad)
-    # law = { phi = [...], theta = [...] }   a table over one driving turn (file angle units)
+    # law = { phi = [...], theta = [...] }   a table over one driving turn (file angle units; phi from 0 to
+    #                                         below 360, or to 360 with θ closing there)
     # law = "walker_gears.toml"              a gear design file (assur-gears/1), relative to this file
     driving_turns = 1      # driving turns per driven turn of a non-circular law (default 1; a design file's own)
     mesh = "external"      # or "internal"
@@ -125,6 +126,12 @@ def _law(spec, angle_factor, path, P, source):
             return None, None, alpha
         phi = np.asarray(phi, float) * angle_factor
         theta = np.asarray(theta, float) * angle_factor
+        if abs(phi[-1] - phi[0] - TWO_PI) <= 1e-9:       # a table that spans the whole turn (as a gear file's)
+            if abs(theta[-1] - theta[0] - TWO_PI / n) > 1e-9:
+                P.add(where, f"does not close: θ at phi = 360° is {math.degrees(theta[-1]):.6g}°, must be "
+                             f"{360 / n:.6g}°")
+                return None, None, alpha
+            phi, theta = phi[:-1], theta[:-1]
         return _sampled(phi, theta, n, where, P, "table", table=True), None, alpha
     if not isinstance(v, str):
         P.add(where, f"must be a ratio, an expression, a table or a file: {v!r}")
