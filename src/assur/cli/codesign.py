@@ -7,6 +7,9 @@ stride (docs/codesign.md). Writes into DIR (atomically, all or nothing):
 - ``gears/``: the gear outputs of ``assur gears`` (pitch curves, DXF/SVG/CSV outlines, mesh check);
 - ``foot_speed.png`` (before/after), ``animation.gif`` (leg and gears), ``codesign.json`` (the summary, SI);
 - with ``--tradeoff``: ``tradeoff.png`` and its rows in the summary.
+
+Exit status 3 (nothing written) when no gear pair passes the checks (convexity, pressure angle, ratio range,
+undercut), with the violations on stderr.
 """
 from __future__ import annotations
 
@@ -77,6 +80,14 @@ def cmd_codesign(args) -> int:
                "max_pressure_angle": math.radians(args.max_pressure_angle), "ratio_bounds": tuple(args.ratio_bounds)}
     log = (lambda _: None) if args.json else print
     params, law, checks, search = _design(plan, args, options, log)
+    if not checks.ok:
+        import sys
+        print(f"no feasible gear pair for a window of {args.window:g} ({search['kind']} optimisation); nothing "
+              f"written. Try a smaller --window, other --centre-distance / --module, or --optimize joint:",
+              file=sys.stderr)
+        for text in checks.violations:
+            print(f"  {text}", file=sys.stderr)
+        return 3
     stem = f"{Path(args.file).stem}_geared"
     with atomic_directory(args.output) as tmp:
         summary = write_bundle(Path(tmp), plan, params, law, checks, stem=stem, options=options, args=args, log=log)

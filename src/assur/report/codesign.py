@@ -71,8 +71,8 @@ def geared_document(m, law, gear_file: str, *, centre_distance: float, direction
     u = np.array([math.cos(direction), math.sin(direction)])
     M = O + centre_distance * u
     M1 = M + 0.5 * centre_distance * np.array([1.0, 0.0])
-    d["points"][pivot] = [float(v / Lf) for v in M]
-    d["points"][arm] = [float(v / Lf) for v in M1]
+    d["points"][pivot] = [_clean(v / Lf) for v in M]
+    d["points"][arm] = [_clean(v / Lf) for v in M1]
     frame = d["links"]["frame"]
     if isinstance(frame, dict):
         frame["points"] = list(frame["points"]) + [pivot]
@@ -84,7 +84,7 @@ def geared_document(m, law, gear_file: str, *, centre_distance: float, direction
     d["drivers"] = [{"name": motor, "kind": "rotary", "link": motor, "pivot": pivot, "arm": arm, "zero": 0.0,
                      "sense": "ccw" if sense > 0 else "cw", "speed": f"{speed:.12g} rpm"}]
     d["gears"] = [{"name": "drive", "a": motor, "b": crank.link, "law": gear_file, "mesh": "external",
-                   "phase": phase / Af, "pressure_angle": pressure_angle / Af}]
+                   "phase": _clean(phase / Af), "pressure_angle": _clean(pressure_angle / Af)}]
     d["description"] = (d.get("description", "") + f"\nDriven from a uniform motor through the co-designed "
                         f"non-circular gear pair of {gear_file} (`assur codesign`): the foot's horizontal speed is "
                         f"constant over the central {law.fraction:g} of the stride.").strip() + "\n"
@@ -92,6 +92,12 @@ def geared_document(m, law, gear_file: str, *, centre_distance: float, direction
     if "dynamics" in d and isinstance(d["dynamics"], dict) and "drivers" in d["dynamics"]:
         d["dynamics"].pop("drivers")
     return d
+
+
+def _clean(v: float) -> float:
+    """A coordinate or angle rounded to 12 significant digits (no −0.0, no 1e-18 noise of a rotated axis)."""
+    v = float(f"{v:.12g}")
+    return 0.0 if abs(v) < 1e-12 else v
 
 
 def _fresh(name: str, taken: set) -> str:

@@ -255,7 +255,7 @@ def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> li
         v = g["support_ax"][stat]
         rows.append((f"support acceleration ax {stat}", n(None if v is None else v / Lf, 5, ascale and ascale / Lf),
                      f"{Lu}/s²"))
-    rows.append(("crank speed ω", n(g["omega"], 5), "rad/s"))
+    rows.append(("input speed ω (the driver's)", n(g["omega"], 5), "rad/s"))
     return rows
 
 
@@ -375,7 +375,7 @@ def output_link_lines(summary: dict) -> list[str]:
     out = [f"output link {o['link']}: swing {deg_text(o['swing'])}, from {deg_text(o['angle_min'])} to "
            f"{deg_text(o['angle_max'])}"]
     for e in o["extremes"]:
-        out.append(f"  extreme ({e['kind']}): {o['link']} at {deg_text(e['angle'])} with the crank at "
+        out.append(f"  extreme ({e['kind']}): {o['link']} at {deg_text(e['angle'])} with the input at "
                    f"{deg_text(e['input'])}")
     if o.get("time_ratio") is not None:
         ft, rt = ((f" ({format_number(o['forward_time'], 5)} s)", f" ({format_number(o['return_time'], 5)} s)")

@@ -17,8 +17,9 @@ Constraints: the leg assembles over a whole turn; step ≥ ``step_min``; lift �
 design: the foot's horizontal-speed spread over the central ``target`` fraction of the stride (default 0.9; the
 window's own speed is exact, so this measures the transfer law just beyond the window: |v_x| ∝ |x′|/g on the
 law's samples) minus a small reward for the worst gear margin. An infeasible design scores 1 + its total scaled
-violation. Search: scipy's differential evolution, seeded, half the first population about the file's design and
-its smoothest bridge, ``budget`` evaluations at most.
+violation. Search: scipy's differential evolution, seeded, from the file's design with the transfer that
+:func:`~assur.gears.codesign.optimize_transfer` finds for it first (half the first population about it),
+``budget`` evaluations at most.
 """
 from __future__ import annotations
 
@@ -95,8 +96,14 @@ class JointProblem:
         self.target = float(target)
         self._foot_key, self._foot = None, None
         self.offset = float(offset)
-        self.bounds = [(lo, hi) for _, lo, hi in self.vary] + [(-self.offset, self.offset)] * self.gears.n_bumps
+        self.start_from(np.zeros(self.gears.n_bumps))
         self.evaluations = 0
+
+    def start_from(self, offsets) -> None:
+        """Start the transfer at these offsets δ (n_bumps,) from the smoothest bridge, searching δ ± ``offset``."""
+        self.start_offsets = np.asarray(offsets, dtype=float).reshape(self.gears.n_bumps)
+        self.bounds = [(lo, hi) for _, lo, hi in self.vary] + [(d - self.offset, d + self.offset)
+                                                               for d in self.start_offsets]
 
     def split(self, z):
         """(params (n_params,), transfer coefficients c (n_bumps,)) of a search vector z."""
@@ -106,8 +113,8 @@ class JointProblem:
         return p, self.gears.default_coefficients(p) + z[len(self.index):]
 
     def start(self) -> np.ndarray:
-        """The file's design with its smoothest bridge."""
-        return np.concatenate([self.plan.defaults[self.index], np.zeros(self.gears.n_bumps)])
+        """The file's design with the starting transfer offsets (default: its smoothest bridge)."""
+        return np.concatenate([self.plan.defaults[self.index], self.start_offsets])
 
     def terms(self, z):
         """(violation ≥ 0, objective of a feasible design, gait metrics, gear margins) of z; UnbuildableError or
@@ -159,12 +166,18 @@ def optimize_codesign(plan, fraction: float, *, centre_distance: float, module: 
     evaluations at most; ``progress(text)``: told after each generation. Returns a :class:`JointDesign` whose
     ``feasible`` says whether every constraint holds; its law is rebuilt on the full 4096-sample foot law."""
     from scipy.optimize import differential_evolution
-    from ..gears.codesign import CodesignLaw, foot_law, gear_checks, geared_vx_spread
+    from ..gears.codesign import CodesignLaw, foot_law, gear_checks, geared_vx_spread, optimize_transfer
     if isinstance(budget, bool) or not isinstance(budget, (int, np.integer)) or budget < 50:
         raise SpecError([("budget", f"must be a whole number ≥ 50: {budget!r}")])
+    if progress is not None:
+        progress("the transfer law of the file's leg first …")
     problem = JointProblem(plan, fraction, centre_distance=centre_distance, module=module, vary=vary,
                            step_min=step_min, lift_min=lift_min, sag_max=sag_max, n_bumps=n_bumps,
                            max_pressure_angle=max_pressure_angle, ratio_bounds=ratio_bounds, target=target)
+    first = optimize_transfer(plan, fraction, centre_distance=centre_distance, module=module, n_bumps=n_bumps,
+                              max_pressure_angle=max_pressure_angle, ratio_bounds=problem.gears.ratio_bounds,
+                              seed=seed, measure=False)
+    problem.start_from(first.coefficients - problem.gears.default_coefficients(plan.defaults))
     dims = len(problem.bounds)
     pop = max(5, int(popsize)) * dims
     maxiter = max(1, int(budget) // pop - 1)
