@@ -202,7 +202,7 @@ def _from_design(v, spec, where, P, source):
     n = law.driving_turns
     phi = np.arange(LAW_SAMPLES) * (TWO_PI / LAW_SAMPLES)
     gl = GearLaw("table", phi=tuple(phi.tolist()), theta=tuple(np.asarray(law.theta(phi), float).tolist()),
-                 driving_turns=n, source=f"gear design {v}")
+                 driving_turns=n, source=f"gear design {file.name}")
     mid = phi + 0.5 * TWO_PI / LAW_SAMPLES
     exact = np.asarray(law.ratio(mid), float)
     held = gl.evaluate(mid)[1]
@@ -212,4 +212,4 @@ def _from_design(v, spec, where, P, source):
         P.add(where, f"the law of {v!r} has corners (its ratio jumps near phi = {math.degrees(mid[k]):.3f}°): a "
                      f"driven link's acceleration is unbounded there; smooth it (e.g. law.rounding > 0)")
         return None, None, alpha
-    return gl, str(file), float(design.pressure_angle)
+    return gl, str(file.resolve()), float(design.pressure_angle)

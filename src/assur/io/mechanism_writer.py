@@ -80,6 +80,13 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
             if isinstance(links[name], list):
                 links[name] = {"points": links[name]}
             links[name] |= _mass_table(mp, ln)
+    # TOML writes plain values before tables: once a link is a table, the later ones are tables too (their order
+    # is the bodies' numbering)
+    tabled = False
+    for name, v in links.items():
+        tabled = tabled or isinstance(v, dict)
+        if tabled and isinstance(v, list):
+            links[name] = {"points": v}
     if m.prismatic:
         out = []
         for pr in m.prismatic:
