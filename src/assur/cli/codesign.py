@@ -209,4 +209,6 @@ def summary_lines(s: dict) -> list[str]:
              f"{'interference' if o['interference'] else 'no interference'}"]
     lines += [f"  violation: {t}" for t in c["violations"]]
     lines += [f"  outline: {t}" for t in o["defects"]]
+    lines += [f"  the rack cutter undercuts the working flanks of the {g} gear near body angle {u}"
+              for g, u in zip(("motor", "crank"), o["undercut"]) if u]
     return lines
