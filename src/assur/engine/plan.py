@@ -95,20 +95,12 @@ class CrankStep(StepRecord):
 
 
 @dataclass(frozen=True, slots=True)
-class GearStep(StepRecord):
-    """A link turning about a frame pivot, driven through a gear pair: θ = q[input] + params[zero_param], where
-    ``input`` indexes the plan's gear slots after its inputs (the driven link's rotation from the sketch, a jet
-    in the inputs: :class:`GearSlot`)."""
+class GearStep(CrankStep):
+    """A link turning about a frame pivot, driven through a gear pair: a crank step (sense 1) whose ``input``
+    indexes the plan's gear slots after its inputs (the driven link's rotation from the sketch, a jet in the inputs:
+    :class:`GearSlot`); ``gear`` indexes ``mechanism.gears``."""
     kind: ClassVar[str] = "gear"
-    point_fields: ClassVar[tuple[str, ...]] = ("pivot",)
-    param_fields: ClassVar[tuple[str, ...]] = ("zero_param",)
-    bodies: tuple[int, ...]
-    pivot: str
-    arm: str
-    input: int
-    zero_param: int
-    gear: int
-    sense: int = 1
+    gear: int = 0
 
 
 @dataclass(frozen=True, slots=True)

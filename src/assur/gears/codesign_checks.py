@@ -158,26 +158,9 @@ def gear_checks(law, centre_distance: float, *, module: float, pressure_angle: f
     limit = module_adjusted / math.sin(alpha) ** 2
     mu = np.arctan(t["tan_pressure"])
     i_mu = int(np.argmax(mu))
-    names = {"driving": "motor (driving)", "driven": "crank (driven)"}
-    convexity, concave, rho_min, violations = {}, {}, {}, []
-    for name in ("driving", "driven"):
-        kappa = t[f"kappa_{name}"]
-        convexity[name] = float(np.min(kappa) * L)
-        concave[name] = _ranges(q, kappa < 0)
-        rho = np.abs(1.0 / np.where(kappa != 0, kappa, np.inf))
-        rho_min[name] = float(np.min(rho))
-        if concave[name]:
-            violations.append(f"the {names[name]} pitch curve is concave for crank angle q ∈ "
-                              f"{ranges_text(concave[name])} (min κ·L = {convexity[name]:.4g})")
-        risky = rho < limit
-        if risky.any():
-            violations.append(f"undercut: the {names[name]} pitch curve's radius of curvature falls to "
-                              f"{rho_min[name] * 1e3:.4g} mm < m/sin²α = {limit * 1e3:.4g} mm for crank angle q ∈ "
-                              f"{ranges_text(_ranges(q, risky))}")
-    if mu[i_mu] > mu_max:
-        violations.append(f"the centrode pressure angle reaches {math.degrees(mu[i_mu]):.2f}° > "
-                          f"{math.degrees(mu_max):.2f}° at crank angle q = "
-                          f"{math.degrees(np.mod(q[i_mu], TWO_PI)):.1f}° (over {ranges_text(_ranges(q, mu > mu_max))})")
+    convexity, concave, rho_min, violations = curve_findings(
+        t, L, limit, mu, mu_max, lambda mask: _ranges(q, mask), float(np.mod(q[i_mu], TWO_PI)),
+        {"driving": "motor (driving)", "driven": "crank (driven)"}, "crank angle q")
     if g.min() < lo or g.max() > hi:
         violations.append(f"the ratio g = dτ/dq spans [{g.min():.4g}, {g.max():.4g}], outside the bounds "
                           f"[{lo:.4g}, {hi:.4g}]")
@@ -187,4 +170,32 @@ def gear_checks(law, centre_distance: float, *, module: float, pressure_angle: f
                       float(mu[i_mu]), float(np.mod(q[i_mu], TWO_PI)), convexity, concave, rho_min, limit, violations)
 
 
-__all__ = ["GearChecks", "check_angle", "check_bounds", "gear_checks", "perimeter", "pitch_terms", "ranges_text"]
+def curve_findings(t: dict, L: float, limit: float, mu, mu_max: float, ranges, at: float, names: dict, angle: str,
+                   suffix: str = ""):
+    """(convexity, concave ranges, smallest radius of curvature, violations) of both pitch curves from their
+    closed-form terms ``t`` (:func:`pitch_terms`) on samples: convexity (min κ·L ≥ 0), undercut (|ρ| ≥ ``limit`` =
+    m/sin²α) and the centrode pressure angle ``mu`` (samples, rad; max ``mu_max``, its largest at the angle
+    ``at``). ``ranges(mask)`` → [(from, to)] of the sample angles; ``names`` the curves' names in messages;
+    ``angle`` the angle's name ("crank angle q"); ``suffix`` appended to the ranges (" of each step")."""
+    convexity, concave, rho_min, violations = {}, {}, {}, []
+    for name in ("driving", "driven"):
+        kappa = t[f"kappa_{name}"]
+        convexity[name] = float(np.min(kappa) * L)
+        concave[name] = ranges(kappa < 0)
+        rho = np.abs(1.0 / np.where(kappa != 0, kappa, np.inf))
+        rho_min[name] = float(np.min(rho))
+        if concave[name]:
+            violations.append(f"the {names[name]} pitch curve is concave for {angle} ∈ "
+                              f"{ranges_text(concave[name])}{suffix} (min κ·L = {convexity[name]:.4g})")
+        if (rho < limit).any():
+            violations.append(f"undercut: the {names[name]} pitch curve's radius of curvature falls to "
+                              f"{rho_min[name] * 1e3:.4g} mm < m/sin²α = {limit * 1e3:.4g} mm for {angle} ∈ "
+                              f"{ranges_text(ranges(rho < limit))}{suffix}")
+    if np.max(mu) > mu_max:
+        violations.append(f"the centrode pressure angle reaches {math.degrees(np.max(mu)):.2f}° > "
+                          f"{math.degrees(mu_max):.2f}° at {angle} = "
+                          f"{math.degrees(at):.1f}° (over {ranges_text(ranges(mu > mu_max))}{suffix})")
+    return convexity, concave, rho_min, violations
+
+
+__all__ = ["GearChecks", "curve_findings", "check_angle", "check_bounds", "gear_checks", "perimeter", "pitch_terms", "ranges_text"]

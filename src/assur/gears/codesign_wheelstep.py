@@ -45,7 +45,7 @@ import numpy as np
 
 from ..analysis.gait import central_vx_spread
 from ..errors import GearError, SpecError
-from .codesign_checks import check_angle, check_bounds, pitch_terms, ranges_text
+from .codesign_checks import check_angle, check_bounds, curve_findings, pitch_terms
 from .codesign_law import CodesignLaw, FootLaw, check_fraction, smooth_coefficients, support_window, transfer_basis
 from .law import TransmissionLaw, WheelStepLaw
 from .pitch import find_corners, pitch_pair
@@ -269,25 +269,9 @@ def wheelstep_gear_checks(law, centre_distance: float, *, module: float, pressur
     limit = module_adjusted / math.sin(alpha) ** 2
     mu = np.arctan(t["tan_pressure"])
     i_mu = int(np.argmax(mu))
-    names = {"driving": "driving", "driven": "driven (hub)"}
-    convexity, concave, rho_min, violations = {}, {}, {}, []
-    for name in ("driving", "driven"):
-        kappa = t[f"kappa_{name}"]
-        convexity[name] = float(np.min(kappa) * L)
-        concave[name] = _runs(theta, kappa < 0)
-        rho = np.abs(1.0 / np.where(kappa != 0, kappa, np.inf))
-        rho_min[name] = float(np.min(rho))
-        if concave[name]:
-            violations.append(f"the {names[name]} pitch curve is concave for hub angle θ ∈ "
-                              f"{ranges_text(concave[name])} of each step (min κ·L = {convexity[name]:.4g})")
-        if (rho < limit).any():
-            violations.append(f"undercut: the {names[name]} pitch curve's radius of curvature falls to "
-                              f"{rho_min[name] * 1e3:.4g} mm < m/sin²α = {limit * 1e3:.4g} mm for hub angle θ ∈ "
-                              f"{ranges_text(_runs(theta, rho < limit))} of each step")
-    if mu[i_mu] > mu_max:
-        violations.append(f"the centrode pressure angle reaches {math.degrees(mu[i_mu]):.2f}° > "
-                          f"{math.degrees(mu_max):.2f}° at hub angle θ = {math.degrees(theta[i_mu]):.1f}° (over "
-                          f"{ranges_text(_runs(theta, mu > mu_max))} of each step)")
+    convexity, concave, rho_min, violations = curve_findings(
+        t, L, limit, mu, mu_max, lambda mask: _runs(theta, mask), float(theta[i_mu]),
+        {"driving": "driving", "driven": "driven (hub)"}, "hub angle θ", " of each step")
     if G.min() < lo or G.max() > hi:
         violations.append(f"the ratio G = dψ/dθ spans [{G.min():.4g}, {G.max():.4g}], outside [{lo:.4g}, {hi:.4g}]")
     return WheelStepGearChecks(L, m, alpha, n, z1, n * z1, module_adjusted, p1, p2, float(G.min()), float(G.max()),

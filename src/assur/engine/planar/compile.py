@@ -276,7 +276,7 @@ def _gear_step(m, B, grp, steps, gear_slots, sketch_inputs) -> GearStep:
     zero = B.param(f"{gp.name}.zero", cmath.phase(B.sketch(arm) - B.sketch(pivot)), "angle")
     slot = len(m.drivers) + len(gear_slots)
     gear_slots.append(GearSlot(k, *source))
-    return GearStep((b,), pivot, arm, slot, zero, k)
+    return GearStep((b,), pivot, arm, slot, zero, 1, k)
 
 
 def _side(g, body, actuator_input):
