@@ -62,7 +62,7 @@ def exercise(path: Path, text: str):
     """Read the text the way its command would, and use the result a little."""
     tmp = path.parent / f".fuzz-{path.name}"
     if 'format = "assur/1"' in text:
-        plan = assur.compile(assur.loads(text))
+        plan = assur.compile(assur.loads(text, source=str(path)))
         one_crank = plan.n_inputs == 1 and plan.input_kinds[0] == "rotary"
         q = np.linspace(0.0, 2 * np.pi, 24, endpoint=False) if one_crank else plan.sketch_inputs
         st = assur.solve(plan, inputs=q, order=2)

@@ -9,13 +9,20 @@ from pathlib import Path
 from .args import path_arg, positive
 
 
+#: the gear cache (assur.gears.cache), told in the sub-commands' help
+CACHE_NOTE = ("The rack-cut outlines and the mesh checks are kept in a cache ($ASSUR_CACHE_DIR/gears, else "
+              "$XDG_CACHE_HOME/assur/gears or ~/.cache/assur/gears; never the output directory), so the same gears "
+              "are not computed twice, in this or a later run (assur gears, assur wheelstep, assur report). "
+              "ASSUR_CACHE_DIR=off turns the cache off.")
+
+
 def register(sub) -> None:
     """Add this module's sub-commands to the argparse sub-parsers `sub`."""
     for name, func, help_ in (("gears", cmd_gears, "non-circular gear pair: pitch curves, teeth (DXF/SVG), "
                                                    "mesh check, tables and plots"),
                               ("wheelstep", cmd_wheelstep, "wheel-step mover: shoe profile, displacement budget, "
                                                            "and the outputs of its gear drive")):
-        sp = sub.add_parser(name, help=help_, description=help_)
+        sp = sub.add_parser(name, help=help_, description=help_, epilog=CACHE_NOTE)
         sp.add_argument("file", metavar="FILE", help="design file (.toml)")
         sp.add_argument("-o", "--output", type=path_arg, required=True, metavar="DIR", help="output directory")
         sp.add_argument("--json", action="store_true", help="print the summary as one JSON object (SI units)")

@@ -10,8 +10,8 @@ do not overlap:
 - exact events: rotating the driven gear by δ moves every driving vertex, seen from the driven gear, on a circle
   about O2, and every driven vertex, seen from the driving gear placed at δ = 0, on a circle about O2 the other
   way. Each circle's crossings with the other polygon's edges (solved exactly, segment by segment, for the pairs
-  whose radial ranges overlap) are the offsets at which that vertex enters or leaves the other gear's material.
-  The first contact of two polygons moving apart or together is always a vertex on an edge, so from a free offset
+  whose radial ranges and angular reach overlap) are the offsets at which that vertex enters or leaves the other
+  gear's material. The first contact of two polygons moving apart or together is always a vertex on an edge, so from a free offset
   the admissible interval ends exactly at the nearest events on either side (no grid, no bisection);
 - the law position δ = 0 is free when no vertex is inside the other polygon (read from its next event: a vertex
   that leaves next is inside). Otherwise the free offset nearest 0 is sought on a grid of ``grid`` offsets over
@@ -37,6 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import GearError
+from .cache import cached
+from .contact import depth_of, events, inside_any
 from .errors import angle_ranges
 from .raster import TWO_PI, periodic_interp, rasterise_min
 
@@ -158,6 +160,23 @@ class MeshReport:
         }
 
 
+#: results of the polygon preparation (checks, simplification) of recent mesh checks, by content: the same
+#: outline checked again (the sector scheme at two centre distances, a fine scan after the coarse one) reuses them
+_MEMO: dict = {}
+_MEMO_SIZE = 16
+
+
+def _memo(kind, xy, params, compute):
+    """``compute()`` once per (kind, content of the array xy, params); the few latest results are kept."""
+    import hashlib
+    key = (kind, xy.shape, hashlib.blake2b(np.ascontiguousarray(xy).tobytes(), digest_size=16).digest(), params)
+    if key not in _MEMO:
+        while len(_MEMO) >= _MEMO_SIZE:
+            _MEMO.pop(next(iter(_MEMO)))
+        _MEMO[key] = compute()
+    return _MEMO[key]
+
+
 def _polygon(outline, module):
     """The outline as a counter-clockwise polygon (M, 2) and its findings (:mod:`assur.gears.outline`)."""
     from .outline import outline_defects
@@ -169,16 +188,21 @@ def _polygon(outline, module):
             xy = xy[::-1]
     found = list(getattr(outline, "defects", ()))
     if not found:
-        found = [d for d in outline_defects(xy, module, name=name, max_step=np.inf)]
+        found = list(_memo("defects", xy, (module, name), lambda: tuple(
+            outline_defects(xy, module, name=name, max_step=np.inf))))
     return xy, found
 
 
 def _simplified(xy, tol):
-    import shapely
-    g = shapely.Polygon(xy).simplify(tol, preserve_topology=True)
-    out = np.asarray(g.exterior.coords)[:-1]
-    x, y = out[:, 0], out[:, 1]
-    return out if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0 else out[::-1]
+    def compute():
+        import shapely
+        g = shapely.Polygon(xy).simplify(tol, preserve_topology=True)
+        out = np.asarray(g.exterior.coords)[:-1]
+        x, y = out[:, 0], out[:, 1]
+        out = out if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0 else out[::-1]
+        out.flags.writeable = False
+        return out
+    return _memo("simplified", np.asarray(xy, dtype=float), (tol,), compute)
 
 
 class _Side:
@@ -224,80 +248,6 @@ def _rot(xy, ang):
     return np.stack([c * xy[..., 0] - s * xy[..., 1], s * xy[..., 0] + c * xy[..., 1]], axis=-1)
 
 
-def _events(p, a, b, sign, W):
-    """Driven offsets δ at which points p (S, V, 2), moving on circles about the origin by the angle sign·δ, cross
-    the segments a→b (S, E, 2) of a counter-clockwise polygon within ±W (S,): δ (S, V, C) sorted per point (NaN
-    padded) and whether the point enters the polygon's material there (S, V, C). Only the (point, segment) pairs
-    whose radial ranges overlap are solved."""
-    S, V = p.shape[:2]
-    rho = np.hypot(p[..., 0], p[..., 1])                                    # (S, V)
-    d = b - a                                                               # (S, E, 2)
-    dd = np.einsum("sei,sei->se", d, d)
-    ad = np.einsum("sei,sei->se", a, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        foot = np.clip(-ad / dd, 0.0, 1.0)
-    foot = np.where(dd > 0, foot, 0.0)
-    rmin = np.hypot(a[..., 0] + foot * d[..., 0], a[..., 1] + foot * d[..., 1])
-    rmax = np.maximum(np.hypot(a[..., 0], a[..., 1]), np.hypot(b[..., 0], b[..., 1]))
-    si, vi, ei = np.nonzero((rho[:, :, None] >= rmin[:, None, :]) & (rho[:, :, None] <= rmax[:, None, :]))
-    A, B = dd[si, ei], ad[si, ei]
-    aa = a[si, ei]
-    dv = d[si, ei]
-    C = aa[:, 0] ** 2 + aa[:, 1] ** 2 - rho[si, vi] ** 2
-    disc = B * B - A * C
-    ok = (disc >= 0) & (A > 0)
-    sq = np.sqrt(np.where(ok, disc, 0.0))
-    beta0 = np.arctan2(p[si, vi, 1], p[si, vi, 0])
-    ds, en, key = [], [], []
-    for root in (-sq, sq):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tt = (-B + root) / A
-        hit = ok & (tt >= 0) & (tt < 1)
-        x = aa[:, 0] + tt * dv[:, 0]
-        y = aa[:, 1] + tt * dv[:, 1]
-        beta = np.arctan2(y, x)
-        delta = sign * (np.mod(beta - beta0 + math.pi, TWO_PI) - math.pi)
-        hit &= np.abs(delta) <= W[si]
-        # the point's motion as δ grows: ccw (sign +1) or cw (sign −1) about the origin
-        tx, ty = -sign * np.sin(beta), sign * np.cos(beta)
-        ds.append(delta[hit])
-        en.append(((dv[:, 0] * ty - dv[:, 1] * tx) > 0)[hit])
-        key.append((si * V + vi)[hit])
-    ds, en, key = np.concatenate(ds), np.concatenate(en), np.concatenate(key)
-    order = np.lexsort((ds, key))
-    ds, en, key = ds[order], en[order], key[order]
-    start = np.searchsorted(key, key, side="left")
-    rank = np.arange(key.size) - start
-    Cn = int(rank.max()) + 1 if rank.size else 1
-    ev = np.full((S * V, Cn), np.nan)
-    ent = np.zeros((S * V, Cn), dtype=bool)
-    ev[key, rank] = ds
-    ent[key, rank] = en
-    return ev.reshape(S, V, Cn), ent.reshape(S, V, Cn)
-
-
-def _status(ev, en, base, delta):
-    """Inside (bool) and circumferential depth factor (rad) of each point at offsets delta (S, G): (S, V, G)."""
-    dg = delta[:, None, :, None]                                            # (S, 1, G, 1)
-    e = ev[:, :, None, :]                                                   # (S, V, 1, C)
-    k = np.sum(e <= dg, axis=-1)                                            # (S, V, G) events passed
-    nvalid = np.sum(np.isfinite(ev), axis=-1)[..., None]                    # (S, V, 1)
-    C = ev.shape[-1]
-    nxt_i = np.minimum(k, C - 1)
-    prv_i = np.maximum(k - 1, 0)
-    nxt = np.take_along_axis(ev, nxt_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
-    prv = np.take_along_axis(ev, prv_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
-    en_n = np.take_along_axis(en, nxt_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
-    en_p = np.take_along_axis(en, prv_i.reshape(ev.shape[0], ev.shape[1], -1), axis=-1).reshape(k.shape)
-    has_n = k < nvalid
-    has_p = k > 0
-    inside = np.where(has_n, ~en_n, np.where(has_p, en_p, base[..., None]))
-    dd = delta[:, None, :]
-    far = 2.0 * np.max(np.abs(delta), axis=-1)[:, None, None] + 1e-300     # no exit within the window
-    depth = np.minimum(np.where(has_n, nxt - dd, far), np.where(has_p, dd - prv, far))
-    return inside, depth
-
-
 class _Scanner:
     """The admissible offset interval [δ_lo, δ_hi] (and the least penetration) at any driving angles, for two
     polygons at a centre distance (the body of :func:`mesh_check`)."""
@@ -323,12 +273,38 @@ class _Scanner:
         r2c = self.L / (1.0 + k)
         return theta, k, r2c, 0.5 * self.pitch / r2c
 
+    def _overlapping(self, rows, evA, enA, baseA, rhoA, evB, enB, baseB, rhoB, w):
+        """The rows whose law position overlaps: the free offset nearest it, else the least overlap (offset NaN
+        if that is deeper than the tolerance); returns (offset (R,), penetration (R,) m). The overlap changes only
+        at events, so the candidates of a row are the midpoints between its consecutive events (exact) and a grid
+        of ``grid`` offsets over ±w; the rows are padded to the same number of candidates (NaN, never chosen)."""
+        cands = []
+        for row in rows:
+            evs = np.concatenate([evA[row].ravel(), evB[row].ravel()])
+            evs = np.unique(evs[np.isfinite(evs)])
+            cands.append(np.concatenate([0.5 * (evs[:-1] + evs[1:]), w[row] * np.linspace(-1.0, 1.0, self.grid)]))
+        cand = np.full((rows.size, max(c.size for c in cands)), np.nan)
+        for i, c in enumerate(cands):
+            cand[i, :c.size] = c
+        far = np.array([2.0 * np.max(np.abs(c)) for c in cands]) + 1e-300
+        depth = np.maximum(depth_of(evA[rows], enA[rows], baseA[rows], rhoA[rows], cand, far),
+                           depth_of(evB[rows], enB[rows], baseB[rows], rhoB[rows], cand, far))           # (R, G), m
+        depth = np.where(np.isnan(cand), np.inf, depth)
+        free = depth <= 0.0
+        nearest = np.argmin(np.where(free, np.abs(cand), np.inf), axis=1)     # the first of the nearest free
+        least = np.argmin(depth, axis=1)                                      # the first of the least deep
+        r = np.arange(rows.size)
+        has_free = free.any(axis=1)
+        pen = np.where(has_free, 0.0, depth[r, least])
+        centre = np.where(has_free, cand[r, nearest], np.where(pen <= self.tol, cand[r, least], np.nan))
+        return centre, pen
+
     def __call__(self, phi):
         """(δ_lo, δ_hi, least penetration) at driving angles phi (S,): NaN offsets where the position interferes."""
         phi = np.asarray(phi, dtype=float)
         steps = phi.size
         theta, _, _, W = self.search_range(phi)
-        g1, g2, chunk, grid, tol = self.g1, self.g2, self.chunk, self.grid, self.tol
+        g1, g2, chunk = self.g1, self.g2, self.chunk
         lower = np.full(steps, np.nan)
         upper = np.full(steps, np.nan)
         pen_min = np.zeros(steps)
@@ -344,39 +320,23 @@ class _Scanner:
             b1 = _rot(_rot(e1[..., 2:], ph[:, None]) - Lv, th[:, None])
             v = _Side.near(g2.v, g2.kv, math.pi + th)                         # (S, V2, 2) driven body frame
             e2 = _Side.near(g2.e, g2.ke, math.pi + th)
-            evA, enA = _events(q, e2[..., :2], e2[..., 2:], 1.0, w)           # driving points vs driven edges
-            evB, enB = _events(v, a1, b1, -1.0, w)                            # driven points vs driving edges
+            evA, enA = events(q, e2[..., :2], e2[..., 2:], 1.0, w)           # driving points vs driven edges
+            evB, enB = events(v, a1, b1, -1.0, w)                            # driven points vs driving edges
             baseA = np.hypot(q[..., 0], q[..., 1]) < g2.rmin                  # below the other's root: inside
             vw = _rot(v, -th[:, None]) + Lv                                    # driven points in the world
             baseB = np.hypot(vw[..., 0], vw[..., 1]) < g1.rmin
             rhoA, rhoB = np.hypot(q[..., 0], q[..., 1]), np.hypot(v[..., 0], v[..., 1])
             S = ph.size
-            zero = np.zeros((S, 1))
-            inA, _ = _status(evA, enA, baseA, zero)
-            inB, _ = _status(evB, enB, baseB, zero)
-            free0 = ~(inA.any(axis=(1, 2)) | inB.any(axis=(1, 2)))
+            free0 = ~(inside_any(evA, enA, baseA) | inside_any(evB, enB, baseB))
             lo = np.full(S, np.nan)
             hi = np.full(S, np.nan)
             pen = np.zeros(S)
             centre = np.zeros(S)
             # the law position overlaps: the free offset nearest it, else the least overlap. The overlap changes
             # only at events, so the candidates are the midpoints between consecutive events (exact) and a grid
-            for row in np.flatnonzero(~free0):
-                evs = np.concatenate([evA[row].ravel(), evB[row].ravel()])
-                evs = np.unique(evs[np.isfinite(evs)])
-                cand = np.concatenate([0.5 * (evs[:-1] + evs[1:]), w[row] * np.linspace(-1.0, 1.0, grid)])
-                dg = cand[None, :]
-                iA, dA = _status(evA[row:row + 1], enA[row:row + 1], baseA[row:row + 1], dg)
-                iB, dB = _status(evB[row:row + 1], enB[row:row + 1], baseB[row:row + 1], dg)
-                depth = np.maximum(np.where(iA, dA * rhoA[row:row + 1, :, None], 0.0).max(axis=1),
-                                   np.where(iB, dB * rhoB[row:row + 1, :, None], 0.0).max(axis=1))[0]   # (G,), m
-                fr = np.flatnonzero(depth <= 0.0)
-                if fr.size:
-                    centre[row] = cand[fr[np.argmin(np.abs(cand[fr]))]]
-                else:
-                    g = int(np.argmin(depth))
-                    pen[row] = depth[g]
-                    centre[row] = cand[g] if pen[row] <= tol else np.nan
+            rows = np.flatnonzero(~free0)
+            if rows.size:
+                centre[rows], pen[rows] = self._overlapping(rows, evA, enA, baseA, rhoA, evB, enB, baseB, rhoB, w)
             ok = np.isfinite(centre)
             rel = np.concatenate([evA.reshape(S, -1), evB.reshape(S, -1)], axis=1) - centre[:, None]
             for out, side in ((lo, -1.0), (hi, 1.0)):
@@ -407,7 +367,7 @@ def mesh_check(driving, driven, pair, *, steps: int = 720, window: float = 1.0, 
     along the pitch curves (default 1: one tooth pitch, w = p/r1(φ)); the ratio at φ is the mean over [φ, φ + w]
     from the exact offsets at both ends (one more scan), so it does not depend on the sampling and its largest deviation
     converges as the scan is refined; ``ratio_window=0``: no ratio (NaN; an interference scan). See the module
-    docstring."""
+    docstring. The report is kept in the disk cache of :mod:`assur.gears.cache`."""
     if pitch is None:
         tooth = getattr(driving, "tooth", None)
         if tooth is None:
@@ -418,8 +378,6 @@ def mesh_check(driving, driven, pair, *, steps: int = 720, window: float = 1.0, 
     ratio_window = 1.0 if ratio_window is None else float(ratio_window)
     if not ratio_window >= 0:
         raise GearError(f"the ratio window must be ≥ 0 pitches (0: no transmitted ratio): {ratio_window!r}")
-    xy1, f1 = _polygon(driving, module)
-    xy2, f2 = _polygon(driven, module)
     L = float(pair.centre_distance)
     n = int(pair.driving_turns)
     uniform = phi is None
@@ -428,26 +386,52 @@ def mesh_check(driving, driven, pair, *, steps: int = 720, window: float = 1.0, 
     else:
         phi = np.asarray(phi, dtype=float).ravel()
         steps = phi.size
-    scan = _Scanner(_simplified(xy1, simplify * module), _simplified(xy2, simplify * module), pair, L, pitch,
-                    window, tol, chunk, grid)
-    theta, k, r2c, _ = scan.search_range(phi)
-    lower, upper, pen_min = scan(phi)
-    interferes = np.isnan(lower)
-    # the mean ratio over the window [φ, φ + w], w = ratio_window·p/r1(φ): (θ + δ_lo) at both ends, exact
-    if ratio_window > 0:
-        wdw = ratio_window * pitch / (L - r2c)          # driving rotation that rolls ratio_window pitches at φ
-        lo_end = scan(phi + wdw)[0]
-        d_law = np.asarray(pair.law(phi + wdw), dtype=float) - theta
-        ratio = (d_law + lo_end - lower) / wdw
-        law_window = d_law / wdw
-    else:          # no transmitted ratio asked for (an interference scan): two scans fewer
-        ratio = np.full(steps, np.nan)
-        law_window = k
-    backlash = (upper - lower) * r2c
-    return MeshReport(phi=phi, theta_law=theta, lower=lower, upper=upper, penetration=pen_min, interferes=interferes,
-                      law_ratio=k, actual_ratio=ratio, backlash=backlash, tolerance=tol, centre_distance=L,
-                      outline_defects=tuple(f1 + f2), law_ratio_window=law_window, ratio_window=ratio_window,
-                      uniform=uniform)
+    # the disk cache (assur.gears.cache) key: the outlines as given and the law at every angle the scans look at
+    law_at = lambda a: (np.asarray(pair.law(a), dtype=float), np.asarray(pair.ratio(a), dtype=float))  # noqa: E731
+    at_phi = law_at(phi)
+    ends = law_at(phi + ratio_window * pitch / (L - L / (1.0 + at_phi[1]))) if ratio_window > 0 else ()
+    key = (_outline_key(driving), _outline_key(driven), pitch, tol, ratio_window, window, chunk, grid, simplify,
+           uniform, L, n, phi, at_phi, ends)
+
+    def compute():
+        xy1, f1 = _polygon(driving, module)
+        xy2, f2 = _polygon(driven, module)
+        scan = _Scanner(_simplified(xy1, simplify * module), _simplified(xy2, simplify * module), pair, L, pitch,
+                        window, tol, chunk, grid)
+        theta, k, r2c, _ = scan.search_range(phi)
+        lower, upper, pen_min = scan(phi)
+        interferes = np.isnan(lower)
+        # the mean ratio over the window [φ, φ + w], w = ratio_window·p/r1(φ): (θ + δ_lo) at both ends, exact
+        if ratio_window > 0:
+            wdw = ratio_window * pitch / (L - r2c)          # driving rotation that rolls ratio_window pitches at φ
+            lo_end = scan(phi + wdw)[0]
+            d_law = np.asarray(pair.law(phi + wdw), dtype=float) - theta
+            ratio = (d_law + lo_end - lower) / wdw
+            law_window = d_law / wdw
+        else:          # no transmitted ratio asked for (an interference scan): two scans fewer
+            ratio = np.full(steps, np.nan)
+            law_window = k
+        backlash = (upper - lower) * r2c
+        return MeshReport(phi=phi, theta_law=theta, lower=lower, upper=upper, penetration=pen_min,
+                          interferes=interferes, law_ratio=k, actual_ratio=ratio, backlash=backlash, tolerance=tol,
+                          centre_distance=L, outline_defects=tuple(f1 + f2), law_ratio_window=law_window,
+                          ratio_window=ratio_window, uniform=uniform)
+    return cached("mesh-check", key, compute, _pack_report, lambda arrays, meta: MeshReport(
+        **arrays, **{**meta, "outline_defects": tuple(meta["outline_defects"])}))
+
+
+def _outline_key(outline):
+    """What of an outline the mesh check sees: its polygon as given, its name and its findings."""
+    xy = np.asarray(outline.xy if hasattr(outline, "xy") else outline, dtype=float)
+    return xy, getattr(outline, "name", None), tuple(getattr(outline, "defects", ()))
+
+
+def _pack_report(r: MeshReport):
+    """The arrays and JSON data of a report for :func:`assur.gears.cache.cached`."""
+    arrays = {f: getattr(r, f) for f in ("phi", "theta_law", "lower", "upper", "penetration", "interferes",
+                                         "law_ratio", "actual_ratio", "backlash", "law_ratio_window")}
+    meta = {f: getattr(r, f) for f in ("tolerance", "centre_distance", "ratio_window", "uniform")}
+    return {k: v for k, v in arrays.items() if v is not None}, {**meta, "outline_defects": list(r.outline_defects)}
 
 
 __all__ = ["MeshReport", "PolarOutline", "mesh_check", "polar_outline"]

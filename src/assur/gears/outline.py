@@ -35,12 +35,18 @@ def _pieces(geom, min_area):
     return [g for g in parts if not g.is_empty and g.area > min_area]
 
 
+def pitch_ring_angles(teeth: int) -> np.ndarray:
+    """(K,) the body angles (rad) at which the tooth checks of :func:`outline_defects` sample the pitch curve."""
+    return np.linspace(0.0, 2 * math.pi, 8 * 1024 * max(1, teeth // 32), endpoint=False)
+
+
 def outline_defects(xy, module: float, *, teeth: int | None = None, name: str = "outline",
                     max_step: float | None = None, thickness: float | None = None, pitch_radius=None,
                     max_listed: int = 6) -> list[str]:
     """Located defects of the closed polygon xy (M, 2) (m, body frame, centre at the origin); see the module
-    docstring. pitch_radius: the pitch curve r(ψ) (vectorised callable) for the tooth checks, with ``teeth`` and
-    the designed tooth ``thickness`` on it (m)."""
+    docstring. pitch_radius: the pitch curve r(ψ) (vectorised callable, or its radii (K,) at the angles
+    :func:`pitch_ring_angles` (teeth)) for the tooth checks, with ``teeth`` and the designed tooth ``thickness`` on
+    it (m)."""
     import shapely
     from shapely.validation import explain_validity
     xy = np.asarray(xy, dtype=float)
@@ -79,8 +85,8 @@ def outline_defects(xy, module: float, *, teeth: int | None = None, name: str = 
             more = f" and {len(bad) - max_listed} more" if len(bad) > max_listed else ""
             out.append(f"{name}: {len(bad)} {kind} thinner than {2 * eps * 1e3:.3g} mm at body angle {where}{more}")
     if pitch_radius is not None and teeth is not None:
-        a = np.linspace(0.0, 2 * math.pi, 8 * 1024 * max(1, teeth // 32), endpoint=False)
-        r = np.asarray(pitch_radius(a), dtype=float)
+        a = pitch_ring_angles(teeth)
+        r = np.asarray(pitch_radius(a) if callable(pitch_radius) else pitch_radius, dtype=float)
         ring = shapely.LinearRing(np.column_stack([r * np.cos(a), r * np.sin(a)]))
         on = shapely.line_merge(poly.intersection(ring))
         pieces = [g for g in getattr(on, "geoms", [on]) if g.geom_type == "LineString" and g.length > 0]
@@ -98,4 +104,4 @@ def outline_defects(xy, module: float, *, teeth: int | None = None, name: str = 
     return out
 
 
-__all__ = ["outline_defects", "SLIVER_RADIUS", "THICKNESS_TOLERANCE"]
+__all__ = ["outline_defects", "pitch_ring_angles", "SLIVER_RADIUS", "THICKNESS_TOLERANCE"]

@@ -94,8 +94,12 @@ class PitchCurve:
         if n is None:
             a, r = self.angle, self.radius
         else:
-            a = self.angle[0] + np.arange(n) * (TWO_PI / n)
-            r = self.radius_at(a)
+            key = ("xy", int(n))
+            if key not in self._cache:      # kept: the writers and the plots ask for the same curve several times
+                a = self.angle[0] + np.arange(n) * (TWO_PI / n)
+                r = self.radius_at(a)
+                self._cache[key] = np.stack([r * np.cos(a), r * np.sin(a)], axis=-1)
+            return self._cache[key].copy()
         return np.stack([r * np.cos(a), r * np.sin(a)], axis=-1)
 
     @property

@@ -40,6 +40,7 @@ centred on its φ = 0 pitch point and the driven gear a *tooth* there, so the tw
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -50,7 +51,8 @@ from ..tolerances import DEFAULT as TOL
 from .errors import angle_ranges
 from .pitch import Corner
 from .cutting import cut_polygon, densify
-from .outline import outline_defects
+from .cache import cached
+from .outline import outline_defects, pitch_ring_angles
 from .raster import TWO_PI, periodic_interp, wrap_angle
 from .rounding import rounded_pair
 
@@ -292,14 +294,15 @@ def _rolling_path(points, max_turn: float) -> tuple[_Path, np.ndarray, np.ndarra
 
 
 # -- one gear ----------------------------------------------------------------------------------------
-def _cut(radius_of, start: float, tooth: ToothParameters, teeth: int, *, rack_phase: float, samples: int,
-         max_turn: float, name: str = "gear", shift: float = 0.0):
-    """Cut one gear whose pitch curve r(ψ) is traversed counter-clockwise from body angle ``start`` (arc 0).
+def _cut(polyline, tooth: ToothParameters, teeth: int, *, rack_phase: float, max_turn: float, name: str = "gear",
+         shift: float = 0.0):
+    """Cut one gear whose pitch curve, the polyline (ψ (N,), P (N, 2)) of :func:`_pitch_polyline`, is traversed
+    counter-clockwise from its first point (arc 0).
 
     Cutter teeth (the gear's spaces) are centred at u = (rack_phase + k)·p, k = 0 … teeth−1; gear tooth k lies
     between cutter teeth k and k+1. Returns (outline (M, 2) ccw, :func:`assur.gears.cutting.cut_polygon`;
     undercut body angles (list); (smallest radius of curvature, corners, polyline perimeter))."""
-    psi_v, pts = _pitch_polyline(radius_of, start, samples)
+    psi_v, pts = polyline
     path, turn, seg = _rolling_path(pts, max_turn)
     rc_min, corners = _curvature_check(name, turn, seg, tooth, psi_v, np.hypot(pts[:, 0], pts[:, 1]))
     p = tooth.pitch
@@ -445,31 +448,64 @@ def cut_gear(radius_of, tooth: ToothParameters, teeth: int, *, name: str = "gear
 
     The rack rolls from body angle ``start`` counter-clockwise (``mirror=True``: clockwise, i.e. the curve is
     cut in the mirrored frame and mirrored back). ``space_at_start``: a tooth space (else a tooth) is centred on
-    the start point. samples: pitch-polyline points = rack states (default 256 per tooth, at least 8192). The
+    the start point. samples: pitch-polyline points = rack states (default 128 per tooth, at least 4096). The
     outline is checked by :func:`assur.gears.outline.outline_defects` (findings in ``defects``). The teeth are
     spread over the exact perimeter; the caller checks that ``teeth`` divides it (:func:`tooth_count`). shift: the
-    profile shift coefficient this gear is cut with (:meth:`ToothParameters.rack`)."""
+    profile shift coefficient this gear is cut with (:meth:`ToothParameters.rack`).
+
+    The outline is kept in the disk cache of :mod:`assur.gears.cache`, keyed by the pitch curve as sampled here
+    (the only way the cut sees it) and every parameter."""
     tooth.check()
     if teeth < 3:
         raise GearError(f"tooth count of the {name} gear must be ≥ 3: {teeth}")
     samples = samples or max(4096, 128 * teeth)
     sign = -1.0 if mirror else 1.0
     r_frame = (lambda a: radius_of(-a)) if mirror else radius_of
-    start_frame = sign * start
+    polyline = _pitch_polyline(r_frame, sign * start, samples)
+    r_coarse = np.asarray(radius_of(np.linspace(0, TWO_PI, 721)), dtype=float)     # for the undercut grouping
+    r_ring = np.asarray(radius_of(pitch_ring_angles(teeth)), dtype=float)          # for the tooth checks
+    key = (polyline, r_coarse, r_ring, dataclasses.astuple(tooth), int(teeth), name, bool(mirror),
+           bool(space_at_start), float(max_turn), float(shift))
+
+    def compute():
+        return _cut_gear(polyline, r_coarse, r_ring, tooth, teeth, name=name, mirror=mirror,
+                         space_at_start=space_at_start, max_turn=max_turn, shift=shift)
+
+    def unpack(arrays, meta):
+        return GearOutline(name=name, teeth=int(teeth), tooth=tooth, xy=arrays["xy"], perimeter=meta["perimeter"],
+                           undercut=tuple(tuple(float(x) for x in u) for u in arrays["undercut"]),
+                           undercut_text=meta["undercut_text"],
+                           corners=tuple(Corner(*(float(x) for x in c)) for c in arrays["corners"]),
+                           min_curvature_radius=meta["min_curvature_radius"], mirror=mirror,
+                           defects=tuple(meta["defects"]), shift=shift)
+    return cached("gear-outline", key, compute, _pack_outline, unpack)
+
+
+def _pack_outline(g: GearOutline):
+    """The arrays and JSON data of an outline for :func:`assur.gears.cache.cached`."""
+    return ({"xy": g.xy, "undercut": np.array(g.undercut, dtype=float).reshape(-1, 2),
+             "corners": np.array([(c.angle, c.radius, c.tangent_jump) for c in g.corners], dtype=float).reshape(-1, 3)},
+            {"perimeter": g.perimeter, "undercut_text": g.undercut_text,
+             "min_curvature_radius": g.min_curvature_radius, "defects": list(g.defects)})
+
+
+def _cut_gear(polyline, r_coarse, r_ring, tooth, teeth, *, name, mirror, space_at_start, max_turn, shift):
+    """The body of :func:`cut_gear`, from the sampled pitch curve: the polyline of the cut (in the mirrored frame
+    when ``mirror``), the radii at 721 uniform angles and at :func:`assur.gears.outline.pitch_ring_angles`."""
     xy, cusps, (rc_min, corners, perimeter) = _cut(
-        r_frame, start_frame, tooth, teeth, rack_phase=0.0 if space_at_start else 0.5, samples=samples,
-        max_turn=max_turn, name=name, shift=shift)
+        polyline, tooth, teeth, rack_phase=0.0 if space_at_start else 0.5, max_turn=max_turn, name=name,
+        shift=shift)
     if mirror:
         xy = xy[::-1] * np.array([1.0, -1.0])
         xy = np.roll(xy, -int(np.argmin(np.mod(np.arctan2(xy[:, 1], xy[:, 0]), TWO_PI))), axis=0)
         cusps = [-c for c in cusps]
         corners = tuple(Corner(float(np.mod(-c.angle, TWO_PI)), c.radius, c.tangent_jump) for c in corners)
     xy = densify(xy, MAX_STEP * tooth.module)
-    rmin = float(np.min(radius_of(np.linspace(0, TWO_PI, 721))))
+    rmin = float(np.min(r_coarse))
     runs = _angle_runs(cusps, tol=2.0 * tooth.pitch / rmin)
     text = ", ".join(f"[{_deg(lo)}, {_deg(hi)}]" for lo, hi in runs)
     defects = outline_defects(xy, tooth.module, teeth=teeth, name=f"{name} gear", max_step=MAX_STEP * tooth.module,
-                              thickness=tooth.thickness(shift), pitch_radius=radius_of)
+                              thickness=tooth.thickness(shift), pitch_radius=r_ring)
     return GearOutline(name=name, teeth=int(teeth), tooth=tooth, xy=xy, perimeter=perimeter, undercut=runs,
                        undercut_text=text, corners=corners, min_curvature_radius=rc_min, mirror=mirror,
                        defects=tuple(defects), shift=shift)

@@ -72,7 +72,7 @@ def _fast_points_class():
                 if np.any(v[:, 2:]):               # widths or bulges: the plain export
                     yield from super().dxftags()
                     return
-                yield _Block("".join(f" 10\n{x!r}\n 20\n{y!r}\n" for x, y in v[:, :2].tolist()))
+                yield _Block((" 10\n%r\n 20\n%r\n" * v.shape[0]) % tuple(v[:, :2].ravel().tolist()))
 
         _FAST_POINTS = FastPoints
     except Exception:  # noqa: BLE001 - any other ezdxf: the plain export
@@ -155,12 +155,12 @@ def svg_text(shapes, *, metadata: dict | None = None, margin: float = 5.0, mark:
     out.append(f"<metadata>{escape(json.dumps(metadata or {}, ensure_ascii=False))}</metadata>")
     for s, p in zip(shapes, pts):
         x, y = tr(p)
-        d = "M " + " L ".join(f"{a:.6f},{b:.6f}" for a, b in zip(x, y)) + " Z"
+        d = _svg_path(x, y)
         out.append(f'<path id="{escape(_layer(s.name).lower())}" d="{d}" fill="none" stroke="black" '
                    f'stroke-width="0.1" fill-rule="evenodd"/>')
         for j, ref in enumerate(s.references):
             rx, ry = tr(np.asarray(ref, dtype=float) * MM)
-            d = "M " + " L ".join(f"{a:.6f},{b:.6f}" for a, b in zip(rx, ry)) + " Z"
+            d = _svg_path(rx, ry)
             out.append(f'<path class="pitch" d="{d}" fill="none" stroke="gray" stroke-width="0.05" '
                        f'stroke-dasharray="1,1"/>')
         cx, cy = tr(np.asarray([s.centre], dtype=float) * MM)
@@ -173,6 +173,12 @@ def svg_text(shapes, *, metadata: dict | None = None, margin: float = 5.0, mark:
                    f'y2="{cy + mark:.4f}"/></g>')
     out.append("</svg>")
     return "\n".join(out) + "\n"
+
+
+def _svg_path(x, y) -> str:
+    """The SVG path data "M x,y L x,y … Z" of the closed polyline (x (K,), y (K,)), mm to 6 decimals."""
+    xy = np.column_stack([x, y]).ravel().tolist()
+    return "M " + " L ".join(["%.6f,%.6f"] * (len(xy) // 2)) % tuple(xy) + " Z"
 
 
 def write_svg(path, shapes, *, metadata: dict | None = None) -> Path:
@@ -198,10 +204,10 @@ def write_outline_csv(path, xy, *, comments: dict | None = None) -> Path:
     xy = np.asarray(xy, dtype=float) * MM
     lines = [f"# {k}: {v}" for k, v in (comments or {}).items()]
     lines.append("x [mm],y [mm]")
-    lines += [f"{x!r},{y!r}" for x, y in xy.tolist()]
+    text = "".join(line + "\r\n" for line in lines) + ("%r,%r\r\n" * xy.shape[0]) % tuple(xy.ravel().tolist())
     with atomic_file(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write("\r\n".join(lines) + "\r\n")
+            fh.write(text)
     return path
 
 

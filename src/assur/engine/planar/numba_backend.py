@@ -43,14 +43,20 @@ def available() -> bool:
 
 
 def cache_dir():
-    """Where generated kernels live: $ASSUR_CACHE_DIR, else $XDG_CACHE_HOME/assur/kernels, else ~/.cache."""
-    import os
-    from pathlib import Path
-    base = os.environ.get("ASSUR_CACHE_DIR")
-    if base:
-        return Path(base)
-    xdg = os.environ.get("XDG_CACHE_HOME")
-    return (Path(xdg) if xdg else Path.home() / ".cache") / "assur" / "kernels"
+    """Where generated kernels live (:func:`assur.kernels.cache_root.cache_root`, kind 'kernels'); with the caches
+    off (``ASSUR_CACHE_DIR=off``) a temporary directory of this process."""
+    from ...kernels.cache_root import cache_root
+    root = cache_root("kernels")
+    if root is None:
+        global _PROCESS_DIR
+        if _PROCESS_DIR is None:
+            import tempfile
+            _PROCESS_DIR = tempfile.mkdtemp(prefix="assur-kernels-")
+        return _PROCESS_DIR
+    return root
+
+
+_PROCESS_DIR = None
 
 
 def _load(plan, key: str, make_source):
