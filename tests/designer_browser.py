@@ -26,6 +26,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import assur
+
 from browser import BROWSER
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -137,7 +139,11 @@ class Designer:
         from assur.designer.session import Session, document_of
         self.file = tmp_path / Path(example).name
         if not self.file.exists():
-            shutil.copy(EXAMPLES / example if not Path(example).is_absolute() else example, self.file)
+            source = EXAMPLES / example if not Path(example).is_absolute() else Path(example)
+            shutil.copy(source, self.file)
+            for gear in assur.load(source).gears:          # a gear pair's design file goes with its mechanism
+                if gear.design is not None:
+                    shutil.copy(gear.design, tmp_path / Path(gear.design).name)
         doc, path = document_of(self.file)
         self.server = start_server(Session(doc, path))
         self.context = browser.new_context(viewport={"width": viewport[0], "height": viewport[1]})

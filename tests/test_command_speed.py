@@ -100,7 +100,7 @@ def test_compile_is_announced_once(tmp_path):
     env = {**os.environ, "ASSUR_CACHE_DIR": str(tmp_path)}
     # 20 000 samples: backend="auto" takes the compiled kernel (engine/options.AUTO_COMPILED_MIN_SAMPLES)
     cmd = [sys.executable, "-m", "assur", "solve", str(SLIDER), "--steps", "20000"]
-    line = f"compiling a kernel for this mechanism (once, cached in {tmp_path})"
+    line = f"compiling a kernel for this mechanism (once, cached in {tmp_path / 'kernels'})"
     first = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
     assert first.stderr.count(line) == 1, first.stderr
     second = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
