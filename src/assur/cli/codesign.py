@@ -91,7 +91,8 @@ def cmd_codesign(args) -> int:
     stem = f"{Path(args.file).stem}_geared"
     with atomic_directory(args.output) as tmp:
         summary = write_bundle(Path(tmp), plan, params, law, checks, stem=stem, options=options, args=args, log=log)
-    summary["search"] = search
+        summary["search"] = search
+        (Path(tmp) / "codesign.json").write_text(json_text(summary), encoding="utf-8")
     if args.json:
         print(json_text(summary))
     else:
@@ -126,10 +127,10 @@ def _design(plan, args, options, log):
 
 
 def write_bundle(out: Path, plan, params, law, checks, *, stem, options, args, log) -> dict:
-    """Every output file into ``out``; returns the summary (SI)."""
+    """Every output file but the summary into ``out``; returns the summary (SI)."""
     import numpy as np
 
-    from ..analysis.gait import gait_metrics
+    from ..analysis.gait import gait_metrics_and_curves
     from ..engine import compile as compile_
     from ..gears.codesign import geared_vx_spread
     from ..gears.design import load_design
@@ -153,8 +154,8 @@ def write_bundle(out: Path, plan, params, law, checks, *, stem, options, args, l
     (out / "gears").mkdir()
     gears = run_gears(load_design(out / gear_name), out / "gears", mesh_steps=args.mesh_steps, log=lambda _: None,
                       frames=0)
-    before, after = gait_metrics(plain), gait_metrics(geared)
-    R.foot_speed_figure(plain, geared, out / "foot_speed.png", fraction=law.fraction)
+    (before, curves_before), (after, curves_after) = gait_metrics_and_curves(plain), gait_metrics_and_curves(geared)
+    R.foot_speed_figure((before, curves_before), (after, curves_after), out / "foot_speed.png", fraction=law.fraction)
     if args.frames:
         log("drawing the animation …")
         from ..plot.animation import animation, save_animation
@@ -187,13 +188,7 @@ def write_bundle(out: Path, plan, params, law, checks, *, stem, options, args, l
                         seed=args.seed)
         R.tradeoff_figure(rows, out / "tradeoff.png")
         summary["tradeoff"] = rows
-    (out / "codesign.json").write_text(__import__("json").dumps(_ready(summary), indent=1), encoding="utf-8")
     return summary
-
-
-def _ready(x):
-    from ..io.output import json_ready
-    return json_ready(x)
 
 
 def summary_lines(s: dict) -> list[str]:

@@ -108,16 +108,15 @@ def _fresh(name: str, taken: set) -> str:
     return out
 
 
-def foot_speed_figure(plain, geared, path: Path, *, fraction: float, dpi: int = 110) -> None:
-    """|v_x| of the foot over the stride position (central part shaded) for the plain leg (uniform crank) and the
-    geared leg (uniform motor), support samples only: the before/after figure."""
-    from ..analysis.gait import gait_metrics_and_curves
+def foot_speed_figure(before, after, path: Path, *, fraction: float, dpi: int = 110) -> None:
+    """|v_x| of the foot over the stride position (the window shaded), support samples only: the plain leg
+    (uniform crank) and the geared leg (uniform motor). ``before``, ``after``: (GaitMetrics, GaitCurves) of
+    :func:`assur.analysis.gait.gait_metrics_and_curves`."""
     from ..plot.draw import close, mpl
     _, plt = mpl()
     fig, ax = plt.subplots(figsize=(7.0, 4.2), dpi=dpi)
-    for plan, label, color in ((plain, "uniform crank (before)", "0.45"), (geared, "uniform motor, co-designed "
-                                                                          "gears (after)", "tab:blue")):
-        metrics, curves = gait_metrics_and_curves(plan, steps=2048)
+    for (metrics, curves), label, color in ((before, "uniform crank (before)", "0.45"),
+                                            (after, "uniform motor, co-designed gears (after)", "tab:blue")):
         x = np.asarray(curves.x)
         on = np.asarray(curves.contact, dtype=bool)
         vx = np.abs(np.asarray(curves.vx))
