@@ -607,3 +607,34 @@ def test_spatial_parameter_sliders(designer):
     for i, name in enumerate(plan.point_names):
         np.testing.assert_allclose(pos[name][valid], state.pos[valid, i], atol=1e-12, rtol=1e-9)
     assert d.state("result.toml") == toml0 and d.state("history.undo") == 0     # the sliders do not edit the file
+
+
+def test_a_geared_leg_draws_its_pitch_curves_turning_and_touching(designer):
+    """walker_fourbar_geared: at a cycle sample both pitch curves are drawn where the solved links put them (the
+    gear module's curves turned by each link's turn, computed here from the page's own positions), and they touch
+    (roll) at one point, within a drawing tolerance."""
+    from assur.model.gearing import pitch_points
+    d = designer("walker_fourbar_geared.toml")
+    mech = assur.load(EXAMPLES / "walker_fourbar_geared.toml")
+    k = 40
+    d.set_sample(k)
+    settle(d.page)
+    pos = d.array("pos")[k]
+    order = d.point_order()
+    at = {name: complex(*pos[i][:2]) for i, name in enumerate(order)}
+    sketch = {name: complex(*mech.sketch(name)[:2]) for name in order}
+    curves = pitch_points(mech.gears[0], sketch["M"], sketch["O"], samples=180)
+    to_screen = d.world_to_screen()
+    drawn = {}
+    for tag, curve, pivot, arm in (("a", curves[0], "M", "M1"), ("b", curves[1], "O", "K")):
+        turn = (at[arm] - at[pivot]) / (sketch[arm] - sketch[pivot])
+        world = at[pivot] + turn / abs(turn) * curve
+        want = np.array([to_screen((z.real, z.imag)) for z in world])
+        text = d.testid(f"gear-drive-{tag}").get_attribute("points")
+        got = np.array([[float(v) for v in pair.split(",")] for pair in text.split()])
+        box = d.page.locator('[data-testid="canvas"]').bounding_box()
+        got = got + np.array([box["x"], box["y"]])              # SVG user units → page pixels (no viewBox scaling)
+        np.testing.assert_allclose(got, want, atol=0.6)
+        drawn[tag] = world
+    gap = np.min(np.abs(drawn["a"][:, None] - drawn["b"][None, :]))
+    assert gap < 0.01 * abs(sketch["M"] - sketch["O"])        # the two curves meet (sampled every 2°)

@@ -289,6 +289,7 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         m["groups"] = group_records(plan, structure)
         m["point_order"] = list(plan.point_names)
         m["body_names"] = list(plan.body_names)
+        m["gears"] = gear_records(mech)
         params = plan.defaults.copy()
         for name, value in (overrides or {}).items():
             if name in plan.param_names:
@@ -306,6 +307,29 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
     for w in caught:
         meta["diagnostics"].append(_diagnostic("warning", type(w.message).__name__, str(w.message)))
     return Description(meta, arrays, plan, params, mech)
+
+
+def gear_records(mech, samples: int = 180) -> list[dict]:
+    """Each gear pair's two pitch curves for the page to draw turning with their links: per curve its link's
+    ``pivot`` and ``arm`` points, the sketch angle ``angle0`` of pivot → arm (rad) and ``xy`` (samples, 2), the
+    curve relative to the pivot in the sketch orientation (m; :func:`assur.model.gearing.pitch_points`)."""
+    from ..model.gearing import pitch_points
+    frame = set(mech.frame.points)
+    out = []
+    for gp in mech.gears:
+        ends = []
+        for name in (gp.a, gp.b):
+            pts = mech.link(name).points
+            pivot = next(p for p in pts if p in frame)
+            arm = next(p for p in pts if p != pivot)
+            z0, z1 = (complex(*mech.sketch(p)[:2]) for p in (pivot, arm))
+            ends.append((pivot, arm, z0, float(np.angle(z1 - z0))))
+        curves = pitch_points(gp, ends[0][2], ends[1][2], samples=samples)
+        out.append({"name": gp.name, "curves": [
+            {"pivot": pivot, "arm": arm, "angle0": angle0,
+             "xy": np.round(np.column_stack([c.real, c.imag]), 12).tolist()}
+            for (pivot, arm, _, angle0), c in zip(ends, curves)]})
+    return out
 
 
 def _sketch(doc: dict, arrays: dict) -> None:

@@ -1344,6 +1344,20 @@ class Designer {
         "data-link": link.name, points,
       }));
     }
+    // gear pairs: both pitch curves, turned with their links (pivot → arm now against the sketch)
+    for (const gear of snapshot.model.gears || []) {
+      gear.curves.forEach((curve, i) => {
+        const p = at(curve.pivot);
+        const q = at(curve.arm);
+        if (!p || !q) return;
+        const turn = Math.atan2(q[1] - p[1], q[0] - p[0]) - curve.angle0;
+        const c = Math.cos(turn);
+        const s = Math.sin(turn);
+        const points = curve.xy.map(([x, y]) => this.toScreen([p[0] + c * x - s * y, p[1] + s * x + c * y]))
+          .map(([x, y]) => `${x.toFixed(2)},${y.toFixed(2)}`).join(" ");
+        children.push(svg("polygon", { class: "asd-gear", testid: `gear-${gear.name}-${i ? "b" : "a"}`, points }));
+      });
+    }
     this.ui.canvas.links.replaceChildren(...children);
   }
 
