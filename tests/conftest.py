@@ -59,3 +59,12 @@ class InterruptingExecutor(InProcess):
         ev = evaluator(X, detail)
         self.seen.append(ev.penalised)
         return ev
+
+
+def as_from_a_shell():
+    """``preexec_fn`` of a child the tests interrupt with SIGINT: Ctrl-C delivered and handled as in a process a shell
+    starts (default disposition, not blocked), whatever the test process inherited or set up for its own threads
+    (an ignored SIGINT survives exec, and Python then never turns it into KeyboardInterrupt)."""
+    import signal
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

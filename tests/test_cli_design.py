@@ -13,13 +13,15 @@ import pytest
 
 from assur.cli.main import main
 
+from conftest import as_from_a_shell
+
 ROOT = Path(__file__).resolve().parents[1]
 pytest.importorskip("starlette")
 
 
 def _start(*args):
     p = subprocess.Popen([sys.executable, "-m", "assur", "design", *args], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, preexec_fn=as_from_a_shell)
     line = p.stdout.readline()
     return p, line
 

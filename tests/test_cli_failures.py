@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import assur
-from conftest import InterruptingExecutor
+from conftest import InterruptingExecutor, as_from_a_shell
 from assur.cli.main import build_parser, main
 from assur.errors import GearError, MissingPackageError, SpecError
 from assur.synthesis import Evaluator, InProcess, load_problem
@@ -46,7 +46,8 @@ SIGINT_AT_FIRST_HEAVY_IMPORT = textwrap.dedent("""
 def _run_with_early_sigint(cmd, tmp_path):
     (tmp_path / "sitecustomize.py").write_text(SIGINT_AT_FIRST_HEAVY_IMPORT, encoding="utf-8")
     env = {**os.environ, "PYTHONPATH": str(tmp_path)}
-    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120, cwd=ROOT)
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120, cwd=ROOT,
+                          preexec_fn=as_from_a_shell)
 
 
 @pytest.mark.parametrize("how", ["python -m assur", "assur script"])
@@ -59,7 +60,9 @@ def test_ctrl_c_during_start_up_exits_130_with_one_line(how, tmp_path):
             pytest.skip("the assur console script is not installed next to this interpreter")
         cmd = [sys.executable, str(script), "validate", str(FOURBAR)]
     r = _run_with_early_sigint(cmd, tmp_path)
-    assert r.returncode == 130, r.stderr
+    import signal
+    assert r.returncode == 130, (r.stderr, "this process's SIGINT:", signal.getsignal(signal.SIGINT),
+                                 signal.pthread_sigmask(signal.SIG_BLOCK, []))
     assert r.stderr == "error: interrupted\n"
     assert r.stdout == ""
 
