@@ -313,15 +313,11 @@ def gear_records(mech, samples: int = 180) -> list[dict]:
     """Each gear pair's two pitch curves for the page to draw turning with their links: per curve its link's
     ``pivot`` and ``arm`` points, the sketch angle ``angle0`` of pivot → arm (rad) and ``xy`` (samples, 2), the
     curve relative to the pivot in the sketch orientation (m; :func:`assur.model.gearing.pitch_points`)."""
-    from ..model.gearing import pitch_points
-    frame = set(mech.frame.points)
+    from ..model.gearing import gear_ends, pitch_points
     out = []
     for gp in mech.gears:
         ends = []
-        for name in (gp.a, gp.b):
-            pts = mech.link(name).points
-            pivot = next(p for p in pts if p in frame)
-            arm = next(p for p in pts if p != pivot)
+        for pivot, arm in gear_ends(mech, gp):
             z0, z1 = (complex(*mech.sketch(p)[:2]) for p in (pivot, arm))
             ends.append((pivot, arm, z0, float(np.angle(z1 - z0))))
         curves = pitch_points(gp, ends[0][2], ends[1][2], samples=samples)

@@ -19,6 +19,8 @@ import math
 
 import numpy as np
 
+from ..model.gearing import gear_ends
+
 
 def _cross(u, v):
     return np.imag(np.conj(u) * v)
@@ -53,7 +55,7 @@ def gear_forces(plan, tables, z, inputs, lam, reac, driver) -> dict:
         # the driving link's own rate: its rotation per unit of the slot's source
         b = st.bodies[0]
         a = plan.structure.graph.index(gp.a)
-        a_pivot = next(p for p in plan.structure.graph.bodies[a].points if p in m.frame.points)
+        a_pivot = gear_ends(m, gp)[0][0]
         Oa, Ob = z[plan.point_index(a_pivot)], z[plan.point_index(st.pivot)]
         d = np.abs(Ob - Oa)
         e = (Ob - Oa) / d

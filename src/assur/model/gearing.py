@@ -124,3 +124,15 @@ def pitch_points(gear: GearPair, pivot_a: complex, pivot_b: complex, samples: in
     ra = -y1a * d / (1.0 - y1a)
     rb = -y1b * d / (1.0 - y1b) - d
     return ra * e * np.exp(-1j * x_a), rb * e * np.exp(-1j * y_b)
+
+
+def gear_ends(mechanism, gear: GearPair) -> tuple[tuple[str, str], tuple[str, str]]:
+    """((pivot, arm) of link a, (pivot, arm) of link b): each link's frame pivot and another of its points (its
+    turn is the pivot → arm direction's)."""
+    frame = set(mechanism.frame.points)
+    out = []
+    for name in (gear.a, gear.b):
+        pts = mechanism.link(name).points
+        pivot = next(p for p in pts if p in frame)
+        out.append((pivot, next(p for p in pts if p != pivot)))
+    return out[0], out[1]

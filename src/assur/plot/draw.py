@@ -250,15 +250,11 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
 def _gear_curves(cv: "_Canvas", plan, pos, k, col, alpha, z):
     """Each gear pair's pitch curves, turned with their links (a link's turn: its pivot → arm direction now
     against the sketch)."""
-    from ..model.gearing import pitch_points
+    from ..model.gearing import gear_ends, pitch_points
     m = plan.mechanism
-    frame = set(m.frame.points)
     for gp in m.gears:
         ends = []
-        for name in (gp.a, gp.b):
-            pts = m.link(name).points
-            pivot = next(p for p in pts if p in frame)
-            arm = next(p for p in pts if p != pivot)
+        for pivot, arm in gear_ends(m, gp):
             now = pos[plan.point_index(arm)] - pos[plan.point_index(pivot)]
             then = np.asarray(m.sketch(arm)[:2]) - np.asarray(m.sketch(pivot)[:2])
             turn = complex(*now) / complex(*then)
