@@ -44,7 +44,7 @@ def _moving_bodies(plan) -> list[int]:
 
 def link_motions(cycle: Cycle) -> dict:
     """Per moving link of the cycle's plan: ``angle_min``/``angle_max`` (rad; a swinging link's arc, None
-    for a link that turns fully), ``turns`` (net revolutions per crank turn), ``omega_max``, ``alpha_max``
+    for a link that turns fully), ``turns`` (net revolutions per turn of the input), ``omega_max``, ``alpha_max``
     (largest |ω| rad/s, |α| rad/s²). A spatial link has no single angle: only |ω| and |α| (norms of the
     vectors). Needs every sample of the turn buildable for the angle ranges (else they are None)."""
     plan = cycle.plan

@@ -358,7 +358,7 @@ def link_rows(summary: dict) -> list[tuple[str, str, str, str, str]]:
             swing = deg_text(v["angle_max"] - v["angle_min"])
         elif v["turns"]:
             rng, swing = (f"turns fully ({abs(v['turns'])} turn{'s' if abs(v['turns']) > 1 else ''} "
-                          f"{'ccw' if v['turns'] > 0 else 'cw'} per crank turn)"), "—"
+                          f"{'ccw' if v['turns'] > 0 else 'cw'} per input turn)"), "—"
         else:
             rng = swing = "—"
         rows.append((name, rng, swing, format_number(v["omega_max"], 5, wscale),
@@ -381,7 +381,7 @@ def output_link_lines(summary: dict) -> list[str]:
         ft, rt = ((f" ({format_number(o['forward_time'], 5)} s)", f" ({format_number(o['return_time'], 5)} s)")
                   if o.get("forward_time") is not None else ("", ""))
         out.append(f"  time ratio {o['time_ratio']:.4f}: forward stroke ({o['forward']} angle) over "
-                   f"{deg_text(o['forward_crank_angle'])} of crank{ft}, return stroke over "
+                   f"{deg_text(o['forward_crank_angle'])} of input{ft}, return stroke over "
                    f"{deg_text(o['return_crank_angle'])}{rt}")
     return out
 
