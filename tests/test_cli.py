@@ -545,7 +545,7 @@ def test_report_unbuildable(unbuildable, tmp_path, capsys):
     assert code == 0 and "Traceback" not in err
     text = (out / "index.html").read_text(encoding="utf-8")
     plan = assur.compile(assur.load(unbuildable))
-    from assur.analysis.transmission import buildable_ranges
+    from assur.analysis.api import buildable_ranges
     n_bad = buildable_ranges(plan, steps=36)[1]
     assert n_bad > 0
     assert f"{n_bad} of 36 positions cannot be assembled" in text
@@ -598,11 +598,11 @@ def test_one_solve_of_the_turn_serves_the_analysis_and_the_figure(tmp_path, monk
     dead centres scan their own grid of positions) and the figure drawn from it solves nothing new;
     its numbers equal a plain analyze at the same sample count."""
     import assur.analysis.sampling as sampling
-    from assur.analysis.summary import analyze, summarize
+    from assur.analysis.study import Study
     from assur.plot.draw import close
-    from assur.plot.figures import Sweep, mechanism_figure
+    from assur.plot.figures import mechanism_figure
     plan = assur.compile(assur.loads(FOURBAR.format(crank=0.27, phases="[0, 180]")))
-    expected = analyze(plan, steps=90)
+    expected = Study(plan, steps=90).as_dict()
     grids = []
     solve = sampling.solve
 
@@ -611,11 +611,12 @@ def test_one_solve_of_the_turn_serves_the_analysis_and_the_figure(tmp_path, monk
             grids.append(kw.get("order"))          # the uniform grid of the turn (not a refinement)
         return solve(plan_, params, q, **kw)
     monkeypatch.setattr(sampling, "solve", counting)
-    an = summarize(plan, steps=90)
+    study = Study(plan, steps=90)
+    summary = study.as_dict()
     assert grids == [2]
-    assert an.summary == expected and an.summary["module"]["max_feet"] >= 1
-    assert an.gait.as_dict() == expected["gait"] and len(an.gait_curves.q) == 90
-    fig = mechanism_figure(plan, sweep=Sweep.of_cycle(an.cycle), gait=an.gait_curves)
+    assert summary == expected and summary["module"]["max_feet"] >= 1
+    assert study.gait.as_dict() == expected["gait"] and len(study.gait_curves.q) == 90
+    fig = mechanism_figure(study)
     close(fig)
     assert grids == [2]
 

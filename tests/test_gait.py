@@ -232,7 +232,7 @@ def test_a_solved_state_or_a_shared_cycle_gives_the_same_numbers(plan):
     state = assur.solve(plan, None, q[:, None], order=2)
     a = gait_metrics(plan, steps=360)
     b, cb = gait_metrics_and_curves(state)
-    c = gait_metrics(Cycle(plan), steps=360)
+    c = gait_metrics(Cycle(plan, steps=360))
     assert a == b == c and b.samples == 360
     ca = gait_curves(plan, steps=360)
     for name in ("q", "x", "v", "speed", "contact", "body_x"):

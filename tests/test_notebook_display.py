@@ -100,9 +100,7 @@ def test_dead_centre_analysis_envelope_repr_html():
     out = dc._repr_html_()
     assert is_table(out) and "1.5 rad" in out and "&lt;rod&gt;" in out
     plan = assur.compile(fourbar("plain"))
-    from assur.analysis.summary import summarize
-    summary = summarize(plan)
-    out = summary._repr_html_()
+    out = assur.Study(plan)._repr_html_()
     assert is_table(out) and "mobility" in out
     e1, e2 = Extreme(0.5, 0.0, 0.5, False), Extreme(0.9, 2.0, 0.9, True)
     env = Envelope(np.zeros(5), np.zeros(5), np.ones(5, bool), {}, {("<cyl>", "length"): {"min": e1, "max": e2}},

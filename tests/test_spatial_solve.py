@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import assur
-from assur.analysis.spatial import analyze_spatial, dyads, rocker_angle
+from assur.analysis.spatial import dyads, rocker_angle
 from assur.errors import StructureError, UnbuildableError, UnbuildableWarning
 from assur.kernels import spatial as V
 from conftest import rssr
@@ -178,7 +178,7 @@ def test_analyze_reports_the_buildable_range(plan):
         r=('rocker = { points = ["P4", "P3"], length = 50 }', 'rocker = { points = ["P4", "P3"], length = 20 }'),
         p=("P3 = [0, -9.294117647058824, 69.17647058823529]", "P3 = [0, 20, 50]"),
         s=("P2 = [0, -20, 0]", "P2 = [0, 20, 0]")))
-    out = analyze_spatial(sub, steps=360)
+    out = assur.Study(sub, steps=360).as_dict()
     assert out["full_rotation"] is False
     (r,) = out["buildable_ranges"]
     lo = math.atan2(4, 3) + math.acos(-0.375)

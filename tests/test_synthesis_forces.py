@@ -179,8 +179,8 @@ def test_example_lowers_the_peak_motor_torque_within_the_limits():
     res = synthesize(prob, "de", seed=1, popsize=10, budget=1500)
     assert res.feasible
     params = res.params()
-    before = np.nanmax(np.abs(gait_forces(plan, steps=720).module_driver))
-    after_g = gait_forces(plan, params, steps=720)
+    before = np.nanmax(np.abs(assur.Study(plan, steps=720).force_cycle.gait.module_driver))
+    after_g = assur.Study(plan, params, steps=720).force_cycle.gait
     after = np.max(np.abs(after_g.module_driver))
     assert np.all(after_g.forces.valid)
     assert after < 0.8 * before

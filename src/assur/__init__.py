@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from .io.mechanism_file import dump, dumps, load, loads
     from .model.mechanism import Mechanism
     from .structure.assur import AssurGroup, GroupKind, Structure, analyse
+    from .analysis.study import Study
 
 __version__ = "0.1.0"
 
@@ -41,12 +42,13 @@ _LAZY = {
     **{name: ("assur.structure.assur", name) for name in ("AssurGroup", "GroupKind", "Structure", "analyse")},
     #: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
     "analyse_structure": ("assur.structure.assur", "analyse"),
-    "summarize": ("assur.analysis.summary", "analyze"),
-    "analyze": ("assur.analysis.summary", "analyze"),     # the former name of summarize
-    "gait_metrics": ("assur.analysis.gait", "gait_metrics"),
-    "gait_curves": ("assur.analysis.gait", "gait_curves"),
+    "Study": ("assur.analysis.study", "Study"),
+    "summarize": ("assur.analysis.api", "analyze"),    # deprecated: Study(...).as_dict()
+    "analyze": ("assur.analysis.api", "analyze"),      # deprecated: Study(...).as_dict()
+    "gait_metrics": ("assur.analysis.api", "gait_metrics"),
+    "gait_curves": ("assur.analysis.api", "gait_curves"),
     "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
-    "dead_centres": ("assur.analysis.transmission", "dead_centres"),
+    "dead_centres": ("assur.analysis.api", "dead_centres"),
     "forces": ("assur.kinetostatics.api", "forces"),
 }
 
@@ -72,7 +74,7 @@ def __dir__():
 
 
 __all__ = ["AssurError", "AssurGroup", "Builder", "Designer", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
-           "SpatialState", "State", "Structure", "StructureError", "SynthesisError", "UnbuildableError",
+           "SpatialState", "State", "Structure", "Study", "StructureError", "SynthesisError", "UnbuildableError",
            "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
            "dumps", "load", "loads", "solve", "__version__", "summarize", "analyze", "gait_metrics", "gait_curves",
            "transmission_angles", "dead_centres", "forces"]

@@ -38,8 +38,9 @@ from scipy.optimize import brentq
 
 from ..engine import State, solve
 from ..errors import SpecError, UnbuildableError
+from ..kernels.arcs import arc_mask, population_contact, sampled_arcs
 from ..kernels.runs import cyclic_runs
-from .sampling import TWO_PI, Cycle
+from .sampling import TWO_PI, Cycle, roots_between
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,7 @@ class _Foot:
         self.omega = float(cycle.plan.speeds[0])
 
     def eval(self, q) -> dict:
-        return self.values(self.cycle.state(np.atleast_1d(np.asarray(q, dtype=float))))
+        return self.values(self.cycle.state_at(np.atleast_1d(np.asarray(q, dtype=float))))
 
     def values(self, s) -> dict:
         """The foot's coordinates and derivatives in a State solved with order 2."""
@@ -162,14 +163,13 @@ class _Foot:
 
 def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, extra_roots: str | None = None):
     """(min, max) of F[key] over [lo, hi]: candidates are the ends and the exact roots of its
-    derivative F[dkey] (brentq between grid samples where it changes sign)."""
+    derivative F[dkey] between the grid samples where it changes sign (all refined together,
+    :func:`~assur.analysis.sampling.roots_between`)."""
     cands = [lo, hi]
     for k in (dkey, extra_roots) if extra_roots else (dkey,):
         dv = vals[k]
         idx = np.nonzero(np.sign(dv[:-1]) * np.sign(dv[1:]) < 0)[0]
-        f = F.scalar(k)
-        for i in idx:
-            cands.append(brentq(f, qq[i], qq[i + 1], xtol=1e-14, rtol=1e-14))
+        cands += list(roots_between(lambda t, k=k: F.eval(t)[k], qq[idx], qq[idx + 1]))
         cands += list(qq[np.nonzero(dv == 0)[0]])
     values = F.eval(np.array(cands))[key]
     return float(np.min(values)), float(np.max(values))
@@ -233,18 +233,13 @@ def gait_metrics_and_curves(plan, params=None, *, foot=None, ground=None, up=Non
 
 
 def _grid(source, params, steps):
-    """(cycle, q (n,), state at q) of a plan, a Cycle or a State solved over the uniform grid of one turn."""
+    """(cycle, q (n,), state at q) of a plan (its turn solved here once, at ``params`` and ``steps``), a Cycle or
+    Study (its own run), or a State solved over the uniform grid of one turn (nothing solved)."""
     if isinstance(source, State):
-        q = np.asarray(source.inputs, dtype=float)
-        if q.ndim != 2 or q.shape[1] != 1 or not np.array_equal(
-                q[:, 0], np.linspace(0.0, TWO_PI, len(q), endpoint=False)):
-            raise SpecError([("state", "must be solved at the inputs linspace(0, 2π, n, endpoint=False), "
-                                       f"shape (n, 1): {q.shape}")])
-        if source.d2pos_dq2 is None:
-            raise SpecError([("state", "must be solved with order = 2")])
-        return Cycle(source.plan, params), q[:, 0], source
-    cycle = source if isinstance(source, Cycle) else Cycle(source, params)
-    q, state = cycle.grid(steps)
+        cycle = Cycle.from_state(source, params)
+    else:
+        cycle = Cycle.of(source, params, steps)
+    q, state = cycle.grid()
     return cycle, q, state
 
 
@@ -253,6 +248,8 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         raise SpecError([("support", f"must be 'arc', 'band' or 'antiphase': {support!r}")])
     if isinstance(plan, State):
         steps = len(plan.inputs)
+    elif isinstance(plan, Cycle):
+        steps = plan.steps
     if steps < 16:
         raise SpecError([("steps", f"must be at least 16: {steps}")])
     foot, ground, up = resolve_gait(plan.plan if isinstance(plan, (State, Cycle)) else plan, foot, ground, up)
@@ -276,15 +273,17 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
     qb, xb = _extreme_location(F, "x", "dx", q, vals, "max")
     step_length = xb - xa
     if support == "arc":
-        # the two arcs between the horizontal extremes; the contact arc has the lower mean height
+        # the two arcs between the horizontal extremes; the contact arc has the lower mean height (decided on the
+        # turn's samples; only the contact arc is sampled afresh, at ``steps`` inputs from its start to its end)
         arcs = []
         for start, end in ((qa, qb), (qb, qa)):
             width = (end - start) % TWO_PI
-            qq = start + np.linspace(0.0, width, steps)
-            av = F.eval(qq)
-            arcs.append((float(simpson(av["v"] - vmin, x=qq) / width), start, width, qq, av))
+            inside = ((q - start) % TWO_PI) <= width
+            arcs.append((float(np.mean(v[inside] - vmin)) if inside.any() else math.inf, start, width))
         arcs.sort(key=lambda a: a[0])
-        _, start, width, qq, av = arcs[0]
+        _, start, width = arcs[0]
+        qq = start + np.linspace(0.0, width, steps)
+        av = F.eval(qq)
         lo, hi = start, start + width
         smin, smax = _extremes(F, "v", "dv", qq, av, lo, hi)
         sag = smax - smin
@@ -351,7 +350,7 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
     x, v = pos @ g * scale, pos @ u * scale
     M = x.shape[1]
-    ia, ib, start, width = _sampled_arcs(x, v)
+    ia, ib, start, width = sampled_arcs(x, v)
     contact = arc_mask(start, width, M)
     out = {"step": np.take_along_axis(x, ib[:, None], 1)[:, 0] - np.take_along_axis(x, ia[:, None], 1)[:, 0],
            "lift": np.max(v, axis=1) - np.min(v, axis=1),   # NaN where a sample failed
@@ -372,37 +371,6 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
         out["vx_spread_90"] = central_vx_spread(x, vx, contact, 0.9, x_min, x_max)
     bad = ~np.all(valid, axis=1)
     return {key: np.where(bad, np.nan, val) for key, val in out.items()}
-
-
-def population_contact(pos, *, ground, up) -> tuple[np.ndarray, np.ndarray]:
-    """The sampled contact arc of n designs, the one :func:`population_gait` uses: (start (n,), width (n,)) as
-    sample indices, the arc being the samples k with ``(k − start) mod M ≤ width`` (:func:`arc_mask`).
-    pos: (n, M, 2) foot positions at M uniform inputs over one turn; ground, up: (2,) directions."""
-    g, u = np.asarray(ground, dtype=float), np.asarray(up, dtype=float)
-    _, _, start, width = _sampled_arcs(pos @ g, pos @ u)
-    return start, width
-
-
-def arc_mask(start, width, M: int, shift=0) -> np.ndarray:
-    """(n, M) bool: the samples k of the arcs (start (n,), width (n,) sample indices) of
-    :func:`population_contact`, read at sample ``k + shift`` (an integer: a leg ``shift`` samples ahead)."""
-    k = np.arange(M) + int(shift)
-    return np.mod(k[None, :] - np.asarray(start)[:, None], M) <= np.asarray(width)[:, None]
-
-
-def _sampled_arcs(x, v):
-    """(ia, ib, start, width) of stride and height samples x, v (n, M): the samples of smallest and largest x,
-    and the contact arc between them with the lower sample-mean height."""
-    n, M = x.shape
-    ia = np.argmin(np.where(np.isfinite(x), x, np.inf), axis=1)
-    ib = np.argmax(np.where(np.isfinite(x), x, -np.inf), axis=1)
-    w1, w2 = np.mod(ib - ia, M), np.mod(ia - ib, M)
-    arc1, arc2 = arc_mask(ia, w1, M), arc_mask(ib, w2, M)
-    with np.errstate(all="ignore"):
-        m1 = np.where(arc1, v, 0).sum(axis=1) / arc1.sum(axis=1)
-        m2 = np.where(arc2, v, 0).sum(axis=1) / arc2.sum(axis=1)
-    first = m1 <= m2
-    return ia, ib, np.where(first, ia, ib), np.where(first, w1, w2)
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .overview import finite_or_none
-from .sampling import TWO_PI, Cycle, root_between, sign_changes
+from .sampling import TWO_PI, root_between, sign_changes
 
 __all__ = ["link_motions", "output_link", "wrap_angle"]
 
@@ -42,7 +42,7 @@ def _moving_bodies(plan) -> list[int]:
     return list(range(1, plan.n_bodies))
 
 
-def link_motions(cycle: Cycle) -> dict:
+def link_motions(cycle) -> dict:
     """Per moving link of the cycle's plan: ``angle_min``/``angle_max`` (rad; a swinging link's arc, None
     for a link that turns fully), ``turns`` (net revolutions per turn of the input), ``omega_max``, ``alpha_max``
     (largest |ω| rad/s, |α| rad/s²). A spatial link has no single angle: only |ω| and |α| (norms of the
@@ -87,7 +87,7 @@ def _output_body(plan) -> int | None:
     return None
 
 
-def output_link(cycle: Cycle) -> dict | None:
+def output_link(cycle) -> dict | None:
     """The output link of a one-crank planar mechanism whose last link hinged to the frame swings, over
     the cycle's turn: ``link``, ``angle_min``/``angle_max`` and ``swing`` (rad), ``extremes`` (each
     ``input`` angle, output ``angle``, ``kind`` 'min' or 'max', located where the link's ω vanishes by a
@@ -110,7 +110,7 @@ def output_link(cycle: Cycle) -> dict | None:
     shift = float(u[0] - st.body_angle[0, b])
 
     def rate(t):
-        return float(cycle.state(np.array(t), order=1).dangle_dq[..., b, 0].ravel()[0])
+        return float(cycle.state_at(np.array(t), order=1).dangle_dq[..., b, 0].ravel()[0])
 
     def on_arc(theta):   # a wrapped angle on the swing's continuous arc
         mid = 0.5 * (u.min() + u.max())
@@ -122,7 +122,7 @@ def output_link(cycle: Cycle) -> dict | None:
         lo = q[i]
         hi = q[i + 1] if i + 1 < len(q) else q[0] + TWO_PI
         t = root_between(rate, lo, hi) % TWO_PI
-        s1 = cycle.state(np.array(t), order=0)
+        s1 = cycle.state_at(np.array(t), order=0)
         extremes.append({"input": float(t), "angle": float(on_arc(s1.body_angle[..., b].ravel()[0])),
                          "kind": "max" if d1[i] > 0 else "min"})
     extremes.sort(key=lambda e: e["input"])

@@ -9,10 +9,11 @@ import math
 from ..structure.assur import analyse
 
 
-def structure_summary(mech) -> dict:
+def structure_summary(mech, structure=None) -> dict:
     """Mobility (with its formula), links, kinematic pairs, drivers, Assur groups and the structural formula of
-    the mechanism ``mech``; ``idle_freedoms`` and ``mobility_without_idle`` where links spin idly."""
-    s = analyse(mech)
+    the mechanism ``mech``; ``idle_freedoms`` and ``mobility_without_idle`` where links spin idly. ``structure``:
+    its :class:`~assur.structure.assur.Structure` when already known (a plan's), else decomposed here."""
+    s = analyse(mech) if structure is None else structure
     out = {
         "name": mech.name,
         "mobility": s.mobility,
@@ -34,11 +35,11 @@ def structure_summary(mech) -> dict:
     return out
 
 
-def summary_header(plan, params, steps: int) -> dict:
+def summary_header(plan, params, steps: int, structure=None) -> dict:
     """:func:`structure_summary` with the ``parameters`` (at ``params`` (n_params,), default the plan's), the
     ``inputs`` and the number of samples ``steps``; a plan with several inputs gets ``unbuildable`` None and a
     ``note`` instead of a cycle analysis."""
-    out = structure_summary(plan.mechanism)
+    out = structure_summary(plan.mechanism, structure)
     out["parameters"] = {n: float(v) for n, v in zip(plan.param_names, plan.defaults if params is None else params)}
     out["inputs"] = [{"name": n, "kind": k, "speed": float(s), "sketch": float(q)}
                      for n, k, s, q in zip(plan.input_names, plan.input_kinds, plan.speeds, plan.sketch_inputs)]

@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels import spatial as V
-from .overview import finite_or_none, summary_header
-from .sampling import CYCLE_STEPS, TWO_PI, Cycle, cycle_source, root_between, sign_changes
+from .overview import finite_or_none
+from .sampling import CYCLE_STEPS, TWO_PI, Cycle, root_between, sign_changes
 from .transmission import buildable_ranges
 
 
@@ -185,7 +185,7 @@ def dyad_summaries(plan, params=None, steps: int = CYCLE_STEPS) -> list[DyadSumm
 
     plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
     :class:`~assur.analysis.sampling.Cycle` (its solved grid and parameters)."""
-    cyc = Cycle.of(plan, params, steps, order=1)
+    cyc = Cycle.of(plan, params, steps)
     plan = cyc.plan
     q, st = cyc.grid()
     out = []
@@ -195,7 +195,7 @@ def dyad_summaries(plan, params=None, steps: int = CYCLE_STEPS) -> list[DyadSumm
         f = stopping_function(plan, st, g.point)
 
         def stop(t, point=g.point):
-            s1 = cyc.state(np.array([t]), order=1)
+            s1 = cyc.state_at(np.array([t]), order=1)
             return float(stopping_function(plan, s1, point)[0])
 
         dcs = []
@@ -203,7 +203,7 @@ def dyad_summaries(plan, params=None, steps: int = CYCLE_STEPS) -> list[DyadSumm
             a = q[i]
             b = q[i + 1] if i + 1 < len(q) else TWO_PI
             r = root_between(stop, a, b) % TWO_PI
-            s1 = cyc.state(np.array([r]), order=0)
+            s1 = cyc.state_at(np.array([r]), order=0)
             g1 = next(d for d in dyads(plan, s1, cyc.params) if d.point == g.point)
             dcs.append((r, float(rocker_angle(g1)[0]), _extended(plan, s1, g1)))
         ok = np.isfinite(th)
@@ -252,23 +252,18 @@ def _nanmax(x):
     return float(np.nanmax(x)) if np.isfinite(x).any() else float("nan")
 
 
-def analyze_spatial(plan, params=None, steps: int = CYCLE_STEPS) -> dict:
-    """The JSON-ready summary of a spatial plan (``assur analyze``): structure, buildability with the
-    buildable crank ranges, and every dyad's branch, swing, transmission angles and dead centres.
-
-    plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
-    :class:`~assur.analysis.sampling.Cycle` (its one solved grid serves every quantity)."""
-    source = plan
-    plan, params, steps = cycle_source(source, params, steps)
-    out = summary_header(plan, params, steps)
-    if plan.n_inputs != 1:
-        return out
-    cyc = Cycle.of(source, params, steps)
-    ranges, bad, _ = buildable_ranges(cyc)
+def spatial_summary(cycle, out: dict) -> dict:
+    """The cycle entries of a spatial plan's JSON summary into ``out`` (``assur analyze``): buildability with the
+    buildable crank ranges, and every dyad's branch, swing, transmission angles and dead centres, from the one
+    solved turn of ``cycle`` (a Cycle or Study of a one-input plan; ``cycle.buildable`` and ``cycle.spatial`` when
+    it is a Study)."""
+    b = getattr(cycle, "buildable", None)
+    ranges, bad, _ = (b.ranges, b.unbuildable, b.steps) if b is not None else buildable_ranges(cycle)
     out["unbuildable"] = bad
     out["buildable_ranges"] = [{"start": a, "end": b} for a, b in ranges]
     out["full_rotation"] = bad == 0
-    sums = dyad_summaries(cyc)
+    sums = getattr(cycle, "spatial", None)
+    sums = dyad_summaries(cycle) if sums is None else sums
     out["transmission_angles"] = {}
     out["dead_centres"] = []
     for s in sums:

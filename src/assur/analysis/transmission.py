@@ -18,7 +18,7 @@ import numpy as np
 from ..engine import geometry
 from ..kernels.runs import cyclic_runs
 from ..tolerances import DEFAULT as TOL
-from .sampling import TWO_PI, Cycle, cycle_source, root_between, sign_changes
+from .sampling import TWO_PI, root_between, sign_changes
 
 
 def _angle(a, b):
@@ -65,85 +65,88 @@ def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
 @dataclass(frozen=True)
 class DeadCentre:
     driver: str
-    angle: float      # input angle, rad
+    angle: float      # the input's angle (rad): the motor's for a crank driven through gears
     kind: str         # 'extended' | 'folded'
     link: str         # the link hinged at the crank's arm
+    crank: str = ""   # the crank (a link turning about a frame pivot: the driver's, or one driven through gears)
 
     def _repr_html_(self) -> str:
         from ..model.display import dataclass_table
         return dataclass_table(self, "Dead centre", units={"angle": "rad"})
 
 
-def dead_centres(plan, params=None, steps: int = 1440, *, grid_pos=None) -> list[DeadCentre]:
-    """Input angles where a crank is collinear with the link hinged at its arm (one-input plans).
-
-    plan: a plan (at ``params``, default its defaults) or a :class:`~assur.analysis.sampling.Cycle` (its plan
-    and parameters). The crank's turn is scanned at ``steps`` inputs for sign changes of the collinearity,
-    each then refined by a root solve. With ``grid_pos`` (steps, n_points, 2), the positions already solved on
-    that uniform grid, nothing is solved: each root is the linear interpolation of the collinearity between
-    its two samples (an error of O(h²) in the angle, h = 2π/steps)."""
-    plan, params, _ = cycle_source(plan, params)
-    if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
-        return []
-    cyc = Cycle(plan, params, order=0)
-    crank = next(s for s in plan.steps if s.kind == "crank")
-    pivot, arm = crank.pivot, crank.arm
-    # the link hinged at the arm (whatever group solves it), and another of its points
-    follower = None
+def _crank_followers(plan) -> list[tuple]:
+    """(pivot, arm, follower point, follower link, crank link) of every crank of a one-input planar plan (a
+    driver's crank, or a link turned through gears) whose arm carries another link."""
     g = plan.structure.graph
-    for b in g.bodies_at(arm):
-        body = g.bodies[b]
-        if body.kind == "link" and b != crank.bodies[0]:
-            others = [p for p in body.points if p != arm]
-            if others:
-                follower = (others[0], body.name)
-                break
-    if follower is None:
-        return []
-    J, link = follower
-    io, ia, ij = (plan.point_index(p) for p in (pivot, arm, J))
-
-    def collinearity(pos):
-        z = pos[..., 0] + 1j * pos[..., 1]
-        a, b = z[..., ia] - z[..., io], z[..., ij] - z[..., ia]
-        c = np.conj(a) * b
-        return c.imag, c.real
-
-    def cross_dot(q):
-        return collinearity(cyc.state(np.atleast_1d(q)).pos)
-
-    q = np.linspace(0.0, TWO_PI, steps, endpoint=False)
-    cr, dt = cross_dot(q) if grid_pos is None else collinearity(np.asarray(grid_pos))
     out = []
-    for i in sign_changes(q, cr):
-        a, b = q[i], q[i] + (q[1] - q[0])
-        if grid_pos is None:
-            root = root_between(lambda t: float(cross_dot(t)[0][0]), a, b)
-            d = float(cross_dot(root)[1][0])
-        else:
-            j = (i + 1) % steps
-            w = cr[i] / (cr[i] - cr[j])
-            root, d = a + w * (b - a), float(dt[i] + w * (dt[j] - dt[i]))
-        out.append(DeadCentre(plan.input_names[0], float(root % TWO_PI), "extended" if d > 0 else "folded", link))
+    for crank in plan.steps:
+        if crank.kind not in ("crank", "gear"):
+            continue
+        for b in g.bodies_at(crank.arm):
+            body = g.bodies[b]
+            if body.kind == "link" and b != crank.bodies[0]:
+                others = [p for p in body.points if p != crank.arm]
+                if others:
+                    out.append((crank.pivot, crank.arm, others[0], body.name, plan.body_names[crank.bodies[0]]))
+                    break
     return out
 
 
-def buildable_ranges(plan, params=None, steps: int = 1440):
-    """Input intervals over one turn where the mechanism assembles, with their ends refined by
-    bisection on buildability to :attr:`~assur.tolerances.Tolerances.toggle_angle` (the toggle positions
-    where a group locks).
+def dead_centres(cycle, *, refine: bool = True) -> list[DeadCentre]:
+    """The input angles where a crank is collinear with the link hinged at its arm, over the turn of ``cycle`` (a
+    :class:`~assur.analysis.sampling.Cycle` or Study of a one-input planar plan). Every crank counts: the
+    driver's, and a link turned through gears, whose dead centres are found in the motor's angle.
 
-    plan: a plan (sampled here at ``steps`` inputs and ``params``) or a
-    :class:`~assur.analysis.sampling.Cycle` (its solved grid and parameters).
+    The collinearity is bracketed between the samples of the cycle's solved turn, and each root refined by Brent's
+    method to :attr:`~assur.tolerances.Tolerances.root_angle` (``refine``; else the linear interpolation of the
+    collinearity between its two samples, an error of O(h²) in the angle, h = 2π/steps). Sorted by crank, then
+    angle."""
+    plan = cycle.plan
+    if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
+        return []
+    q, state = cycle.grid()
+    steps = len(q)
+    out = []
+    for pivot, arm, J, link, crank in _crank_followers(plan):
+        io, ia, ij = (plan.point_index(p) for p in (pivot, arm, J))
+
+        def collinearity(pos, io=io, ia=ia, ij=ij):
+            z = pos[..., 0] + 1j * pos[..., 1]
+            a, b = z[..., ia] - z[..., io], z[..., ij] - z[..., ia]
+            c = np.conj(a) * b
+            return c.imag, c.real
+
+        def cross_dot(t, collinearity=collinearity):
+            return collinearity(cycle.state_at(np.atleast_1d(t), order=0).pos)
+
+        cr, dt = collinearity(state.pos)
+        for i in sign_changes(q, cr):
+            a, b = q[i], q[i] + (q[1] - q[0])
+            if refine:
+                root = root_between(lambda t, f=cross_dot: float(f(t)[0][0]), a, b)
+                d = float(cross_dot(root)[1][0])
+            else:
+                j = (i + 1) % steps
+                w = cr[i] / (cr[i] - cr[j])
+                root, d = a + w * (b - a), float(dt[i] + w * (dt[j] - dt[i]))
+            out.append(DeadCentre(plan.input_names[0], float(root % TWO_PI), "extended" if d > 0 else "folded",
+                                  link, crank))
+    return out
+
+
+def buildable_ranges(cycle):
+    """Input intervals over the turn of ``cycle`` (a :class:`~assur.analysis.sampling.Cycle` or Study) where the
+    mechanism assembles, with their ends refined by bisection on buildability to
+    :attr:`~assur.tolerances.Tolerances.toggle_angle` (the toggle positions where a group locks).
     Returns (ranges [(start, end)] in rad, number of unbuildable samples, steps)."""
-    cyc = Cycle.of(plan, params, steps, order=0)
-    q, state = cyc.grid()
+    q, state = cycle.grid()
     valid = state.valid
     steps = len(q)
     h = q[1] - q[0]
 
     def ok(t):
-        return bool(cyc.state(np.array([t]), order=0).valid[0])
+        return bool(cycle.state_at(np.array([t]), order=0).valid[0])
 
     def edge(good, bad):
         for _ in range(60):

@@ -108,7 +108,9 @@ def cmd_forces(args) -> int:
             if args.friction:
                 print(f"friction: {f.iterations} iterations ({'converged' if f.converged else 'NOT converged'})")
     else:
-        cyc = force_cycle(plan, steps=args.steps, friction=args.friction)
+        from ..analysis.study import Study
+        study = Study(plan, steps=args.steps)
+        cyc = study.force_cycle if not args.friction else force_cycle(study, friction=True)
         f = cyc.forces
         s = force_summary(cyc, friction=args.friction)
         if args.json:

@@ -157,22 +157,18 @@ def cmd_solve(args) -> int:
 
 
 def cmd_analyze(args) -> int:
-    """``assur analyze FILE``: the analysis summary as text or ``--json``."""
-    from ..analysis.summary import analyze
+    """``assur analyze FILE``: the analysis summary of the file's Study as text or ``--json``."""
+    from ..analysis.study import Study
     from ..io.output import json_text
     from ..report.text import analysis_lines
     m, plan = compile_file(args.file)
-    from ..kinetostatics.overview import force_cycle, force_summary, has_loads
-    summary = analyze(plan, steps=args.steps)
-    with_forces = has_loads(m) and plan.n_inputs == 1
-    if with_forces:
-        summary["forces"] = force_summary(force_cycle(plan, steps=args.steps))
+    summary = Study(plan, steps=args.steps).as_dict()
     if args.json:
         print(json_text({"file": str(args.file), **summary}))
         return 0
     print(f"{_title(m, args.file)}  [{args.file}]" + (" (spatial)" if plan.dimension == 3 else ""))
     _emit(analysis_lines(summary, m.units, args.units))
-    if with_forces:
+    if "forces" in summary:
         from ..report.forces import summary_lines
         print("Forces (N, N·m, W, J):")
         _emit(summary_lines(summary["forces"], plan))
@@ -221,14 +217,15 @@ def _save_figure(fig, args, ext) -> int:
 
 def _plot_forces(args, plan, ext) -> int:
     """``assur plot FILE --forces -o OUT``: the sheet of force figures."""
-    from ..kinetostatics.overview import check_one_driver, force_cycle
+    from ..analysis.study import Study
+    from ..kinetostatics.overview import check_one_driver
     from ..plot.forces import forces_figure
     from .forces import parse_at
     if plan.dimension == 3:
         raise SpecError([("--forces", "the force figures are for planar mechanisms")])
     check_one_driver(plan)
     at = None if args.at is None else float(parse_at(plan, [args.at])[0])
-    fig = forces_figure(plan, at=at, cycle=force_cycle(plan, steps=args.steps), dpi=args.dpi)
+    fig = forces_figure(plan, at=at, cycle=Study(plan, steps=args.steps).force_cycle, dpi=args.dpi)
     return _save_figure(fig, args, ext)
 
 

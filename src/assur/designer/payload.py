@@ -131,71 +131,66 @@ def _cycle_meta(plan, k: int, turn: bool, valid) -> dict:
 
 
 def _cycle_planar(plan, params, meta: dict, arrays: dict, steps: int, exact: bool) -> None:
-    from ..analysis.sampling import Cycle, sweep_inputs
-    from ..analysis.transmission import dead_centres, transmission_angles
-    q, k, turn = sweep_inputs(plan, steps)
-    if turn and plan.n_inputs == 1:
-        cycle = Cycle(plan, params, order=2, steps=steps)
-        _, state = cycle.grid()
-    else:
-        cycle = None
-        from ..engine import solve
-        state = solve(plan, params, q, order=2)
+    """The page's arrays and cycle description from one :class:`~assur.analysis.study.Study` of the document: its
+    run, transmission angles, dead centres, gait and forces (``exact``: dead centres and gait refined to their
+    roots, as ``assur analyze``; else read off the run's samples, for the previews of a drag)."""
+    from ..analysis.study import Study
+    from ..analysis.transmission import dead_centres
+    study = Study(plan, params, steps)
+    k, turn, state = study.moving, study.cyclic, study.state
     valid = np.asarray(state.valid, dtype=bool)
-    arrays.update(q=q[:, k], valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc,
+    arrays.update(q=study.q, valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc,
                   omega=state.body_omega, alpha=state.body_alpha, ic=_instant_centres(plan, state))
-    mu = transmission_angles(plan, state, params)
+    mu = study.transmission
     groups = meta["model"]["groups"]
     arrays["transmission"] = np.stack([mu.get(g["point"], np.full(valid.shape, np.nan)) for g in groups], axis=-1) \
         if groups else np.zeros((len(valid), 0))
     c = meta["cycle"] = _cycle_meta(plan, k, turn, valid)
-    if turn and plan.n_inputs == 1:
-        c["dead_centres"] = [{"q": float(dc.angle), "kind": dc.kind, "link": dc.link}
-                             for dc in dead_centres(plan, params, steps=steps, grid_pos=state.pos)]
+    if study.turn:
+        centres = study.dead_centres if exact else dead_centres(study, refine=False)
+        c["dead_centres"] = [{"q": float(dc.angle), "kind": dc.kind, "link": dc.link, "crank": dc.crank}
+                             for dc in centres]
     if c["assembled"] < len(valid):
         meta["diagnostics"].append(_diagnostic(
             "warning", "unbuildable",
             f"the mechanism cannot be assembled at {len(valid) - c['assembled']} of {len(valid)} samples "
             f"of the input {plan.input_names[k]} (drawn as gaps)", plan.input_names[k]))
-    if cycle is not None and plan.mechanism.gait is not None:
-        _gait(plan, cycle, state, meta, arrays, exact)
+    if study.turn and plan.mechanism.gait is not None:
+        _gait(study, meta, arrays, exact)
     if plan.n_inputs == 1:
-        _forces(plan, params, q, state, turn, meta, arrays)
+        _forces(study, meta, arrays)
 
 
-def _gait(plan, cycle, state, meta, arrays, exact: bool) -> None:
-    """The gait of the foot: refined to its roots (``exact``, as ``assur analyze``) or on the cycle's samples
-    (:func:`~assur.analysis.gait.population_gait`, for previews during a drag). Both give the same keys."""
-    from ..analysis.gait import arc_mask, gait_metrics, population_contact, population_gait
+def _gait(study, meta, arrays, exact: bool) -> None:
+    """The gait of the foot: the Study's exact gait (refined to its roots, as ``assur analyze``) or its sampled one
+    (for previews during a drag). Both give the same keys."""
+    from ..analysis.gait import arc_mask, population_contact
+    plan, state = study.plan, study.state
     g = plan.mechanism.gait
     i = plan.point_index(g.foot)
-    ground, up = g.ground, g.up_vector
     valid = np.asarray(state.valid, dtype=bool)
     if not valid.all():
         meta["diagnostics"].append(_diagnostic("warning", "gait", "no gait: the leg does not assemble over the "
                                                                   "whole turn", g.foot))
         return
     if exact:
-        try:
-            m = gait_metrics(cycle)
-        except AssurError as exc:
-            meta["diagnostics"].append(_diagnostic("warning", "gait", str(exc), g.foot))
+        m = study.gait
+        if m is None:
+            meta["diagnostics"].append(_diagnostic("warning", "gait", study.gait_error or "no gait", g.foot))
             return
         gait = {"step_length": m.step_length, "lift": m.lift, "sag": m.sag, "duty_factor": m.duty_factor,
                 "support_speed_mean": m.support_speed.mean,
                 "support_speed_spread": (m.support_speed.max - m.support_speed.min) / m.support_speed.mean,
                 "support": m.support}
     else:
-        pg = population_gait(state.pos[None, :, i], valid[None], state.dpos_dq[None, :, i, :, 0],
-                             ground=ground, up=up, omega=abs(float(plan.speeds[0])))
-        gait = {"step_length": pg["step"][0], "lift": pg["lift"][0], "sag": pg["sag"][0],
-                "duty_factor": pg["duty"][0], "support_speed_mean": pg["speed_mean"][0],
-                "support_speed_spread": pg["speed_spread"][0], "support": None}
+        pg = study.population_gait
+        gait = {"step_length": pg["step"], "lift": pg["lift"], "sag": pg["sag"], "duty_factor": pg["duty"],
+                "support_speed_mean": pg["speed_mean"], "support_speed_spread": pg["speed_spread"], "support": None}
     meta["cycle"]["gait"] = {k: (float(v) if k != "support" else v) for k, v in gait.items()} | \
         {"foot": g.foot, "exact": bool(exact)}
     if len(g.phases) > 1:
         M = len(valid)
-        start, width = population_contact(state.pos[None, :, i], ground=ground, up=up)
+        start, width = population_contact(state.pos[None, :, i], ground=g.ground, up=g.up_vector)
         contact = arc_mask(start, width, M)[0]
         shifts = np.rint(np.asarray(g.phases) / (2 * math.pi) * M).astype(int)
         feet = sum(np.roll(contact, -k) for k in shifts).astype(float)
@@ -204,13 +199,13 @@ def _gait(plan, cycle, state, meta, arrays, exact: bool) -> None:
                                    "max_feet": int(feet.max())}
 
 
-def _forces(plan, params, q, state, turn, meta, arrays) -> None:
-    from ..kinetostatics.api import forces
-    from ..kinetostatics.overview import has_loads
-    if not has_loads(plan.mechanism):
+def _forces(study, meta, arrays) -> None:
+    """The driving torque and power over the run when the file has masses or loads (the Study's forces)."""
+    plan = study.plan
+    if not study.has_loads:
         return
     try:
-        f = forces(plan, params, q, state=state)
+        f = study.forces
     except AssurError as exc:
         meta["diagnostics"].append(_diagnostic("warning", "forces", str(exc)))
         return
@@ -223,13 +218,12 @@ def _forces(plan, params, q, state, turn, meta, arrays) -> None:
 
 
 def _cycle_spatial(plan, params, meta, arrays, steps: int) -> None:
-    from ..analysis.sampling import sweep_inputs
-    from ..engine import solve
-    q, k, turn = sweep_inputs(plan, steps)
-    state = solve(plan, params, q, order=2)
+    from ..analysis.study import Study
+    study = Study(plan, params, steps)
+    state = study.state
     valid = np.asarray(state.valid, dtype=bool)
-    arrays.update(q=q[:, k], valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc)
-    meta["cycle"] = _cycle_meta(plan, k, turn, valid)
+    arrays.update(q=study.q, valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc)
+    meta["cycle"] = _cycle_meta(plan, study.moving, study.cyclic, valid)
 
 
 def parameter_records(plan, params) -> list[dict]:

@@ -16,6 +16,10 @@ BACKENDS = ("auto", "numpy", "numba")
 #: with backend="auto", batches at least this large use the compiled backend when numba is installed
 AUTO_COMPILED_MIN_SAMPLES = 20_000
 
+#: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
+#: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.
+CYCLE_STEPS = 720
+
 
 def check_options(on_unbuildable: str, method: str, order: int, backend: str = "auto") -> None:
     """SpecError unless the options of a solve (planar or spatial) are known values."""

@@ -93,6 +93,39 @@ class StateBase:
         """The index of a body (into the body axis of ``body_angle`` …)."""
         return self.plan.body_names.index(name)
 
+    def take(self, index) -> "StateBase":
+        """The samples ``index`` (an integer array or a slice) of the first batch axis, as a state of the same kind
+        and order: nothing is solved again (an animation's frames, a table's rows, a leg's phase-shifted turn)."""
+        from dataclasses import fields, replace
+        n0 = self.valid.shape[0] if self.valid.ndim else None
+        if n0 is None:
+            raise ValueError("a state without a batch axis has no samples to take")
+
+        def pick(a):
+            return None if a is None else np.asarray(a)[index]
+
+        def pick_broadcast(a):     # parameters and rates: per sample only when they carry the batch axis
+            a = np.asarray(a)
+            return a[index] if a.ndim > 1 and a.shape[0] == n0 else a
+
+        changes = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ("plan", "_xyz_time", "n_unbuildable"):
+                continue
+            if f.name in ("params", "qdot", "qddot"):
+                changes[f.name] = pick_broadcast(v)
+            elif f.name == "_complete":
+                changes[f.name] = None if v is None else _Once(lambda full=v: full.get().take(index))
+            elif f.name == "_xyz":
+                changes[f.name] = None if v is None else tuple(pick(a) for a in v)
+            elif f.name == "status":
+                changes[f.name] = {k: pick(a) for k, a in v.items()}
+            else:
+                changes[f.name] = pick(v)
+        changes["n_unbuildable"] = int(np.count_nonzero(~np.asarray(changes["valid"], dtype=bool)))
+        return replace(self, **changes)
+
     def _repr_html_(self) -> str:
         """A small table for notebooks: the batch, how much of it assembles, the points and the orders solved."""
         from ..model.display import html_table

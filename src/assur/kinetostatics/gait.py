@@ -24,9 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.gait import arc_mask, gait_metrics, population_contact, resolve_gait
-from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
+from ..kernels.arcs import arc_mask, population_contact
 from .api import forces
 from .result import Forces
 
@@ -57,10 +56,14 @@ def in_contact(metrics, q) -> np.ndarray:
     return ((np.asarray(q, dtype=float) - metrics.contact_start) % TWO_PI) <= width
 
 
-def gait_forces(plan, params=None, *, steps: int = CYCLE_STEPS, weight: float | None = None,
-                friction: float | None = None, joint_friction: bool = False, phases=None) -> GaitForces:
-    """The forces of a walking module carrying its body weight over one turn (the model of the module
-    docstring). ``weight`` (N) and ``friction`` default to the file's ``[gait]``; ``phases`` to its legs."""
+def gait_forces(cycle, metrics, *, weight: float | None = None, friction: float | None = None,
+                joint_friction: bool = False, phases=None) -> GaitForces:
+    """The forces of a walking module carrying its body weight over the turn of ``cycle`` (a Cycle or Study of the
+    leg: its solved run), with the leg's contact arc from ``metrics`` (its
+    :class:`~assur.analysis.gait.GaitMetrics`; the model of the module docstring). ``weight`` (N) and ``friction``
+    default to the file's ``[gait]``; ``phases`` to its legs. A leg whose phase falls on a sample of the run reads
+    the run's State shifted by its phase; otherwise the legs are solved at q + phase (one solve)."""
+    plan = cycle.plan
     m = plan.mechanism
     if m.gait is None:
         raise SpecError([("gait", "the mechanism has no [gait] table: name its foot to carry a weight")])
@@ -68,27 +71,30 @@ def gait_forces(plan, params=None, *, steps: int = CYCLE_STEPS, weight: float | 
     if W is None:
         raise SpecError([("gait.weight", "no body weight given (in the file's [gait] table or as weight=)")])
     mu = m.gait.friction if friction is None else friction
-    foot, ground, up = resolve_gait(plan)
-    metrics = gait_metrics(plan, params, steps=steps)
+    foot, ground, up = m.gait.foot, m.gait.ground, m.gait.up_vector
     ph = np.asarray(m.gait.phases if phases is None else phases, dtype=float)
-    q = np.linspace(0.0, TWO_PI, int(steps), endpoint=False)
+    q, state = cycle.grid()
+    n = len(q)
     qq = q[:, None] + ph[None, :]
+    try:
+        shifts = phase_shifts(ph, n)
+        legs = state.take((np.arange(n)[:, None] + shifts[None, :]) % n)
+    except SpecError:
+        from ..engine import solve
+        legs = solve(plan, cycle.params, qq[..., None], order=2)
     on = in_contact(metrics, qq)
     n_on = on.sum(axis=1, keepdims=True)
     with np.errstate(divide="ignore", invalid="ignore"):
         N = np.where(on, W / np.maximum(n_on, 1), 0.0)
     up_v, ground_v = np.asarray(up, dtype=float), np.asarray(ground, dtype=float)
     load = N[..., None] * up_v
-    params_ = plan.defaults if params is None else np.asarray(params, dtype=float)
     if mu:
-        from ..engine import solve
-        st = solve(plan, params_, qq[..., None], order=1)
-        v = st.point(foot).vel @ ground_v
+        v = legs.point(foot).vel @ ground_v
         mean_support = metrics.support_vx.mean * np.sign(np.nanmean(np.where(on, v, np.nan)))
         slip = v - mean_support
         dead = 1e-9 * max(abs(metrics.support_vx.mean), 1e-300)
         load = load - (mu * N * np.where(np.abs(slip) > dead, np.sign(slip), 0.0))[..., None] * ground_v
-    f = forces(plan, params_, qq[..., None], point_loads=[(foot, load)], friction=joint_friction)
+    f = forces(plan, cycle.params, qq[..., None], point_loads=[(foot, load)], friction=joint_friction, state=legs)
     return GaitForces(q, tuple(float(p) for p in ph), f, on, load, f.driver[..., 0].sum(axis=1), float(W), mu)
 
 

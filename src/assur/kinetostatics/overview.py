@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.sampling import CYCLE_STEPS
+from ..engine.options import CYCLE_STEPS
 from ..errors import SpecError, StructureError
 from .api import forces
 from .design import drive_summary
@@ -61,16 +61,35 @@ class ForceCycle:
     gait: object = None
 
 
-def force_cycle(plan, params=None, *, steps: int = CYCLE_STEPS, friction: bool = False) -> ForceCycle:
-    """The forces over one cycle of a one-driver plan (see the module docstring)."""
-    q, turn = cycle_inputs(plan, steps)
-    f = forces(plan, params, q[:, None], friction=friction)
+def cycle_forces(cycle, *, friction: bool = False):
+    """The :class:`~.result.Forces` over the run of ``cycle`` (a Cycle or Study of a one-driver plan, its State
+    solved with order 2; nothing is solved again): one crank turn, or a linear driver's working stroke."""
+    plan = cycle.plan
+    check_one_driver(plan)
+    d = plan.mechanism.drivers[0]
+    if plan.input_kinds[0] != "rotary" and d.range is None:
+        raise SpecError([(f"drivers.{d.name}.range", "a linear driver needs a working stroke (range = [start, "
+                                                     "stop]) for a force cycle; or give inputs with --at")])
+    q, state = cycle.grid()
+    return forces(plan, cycle.params, q[:, None], friction=friction, state=state)
+
+
+def force_cycle(cycle, *, friction: bool = False, run_forces=None) -> ForceCycle:
+    """The forces over the run of ``cycle`` (:func:`cycle_forces`, or ``run_forces`` when already computed) with
+    the drive summary and, for a walking module with a body weight, the gait forces (from ``cycle.gait``, the exact
+    contact arc of a Study; the legs are the run's samples shifted by their phases)."""
+    plan = cycle.plan
+    f = cycle_forces(cycle, friction=friction) if run_forces is None else run_forces
+    q = cycle.q
+    turn = plan.input_kinds[0] == "rotary"
     drive = drive_summary(f, q, turn=turn)
     g = plan.mechanism.gait
     gait = None
     if plan.dimension == 2 and turn and g is not None and getattr(g, "weight", None) is not None:
         from .gait import gait_forces
-        gait = gait_forces(plan, params, steps=steps, joint_friction=friction)
+        metrics = getattr(cycle, "gait", None)
+        if metrics is not None:
+            gait = gait_forces(cycle, metrics, joint_friction=friction)
     return ForceCycle(q, turn, f, drive, gait)
 
 

@@ -18,25 +18,28 @@ import numpy as np
 from ..analysis.sampling import CYCLE_STEPS, tracked_point
 from ..errors import SpecError
 from .draw import closed, draw_mechanism, file_scale, frame_guides, mpl, set_limits
-from .figures import sample
+from .figures import study_of
 
 
 def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=None, figsize=(6.4, 6.4),
               dpi: int = 100, path=None):
     """A matplotlib FuncAnimation of ``frames`` positions over one turn (or over ``ranges``) with the traced
-    path of the foot (or of the last point). ``path``: the solved run (a :class:`~assur.plot.figures.Sweep`)
-    the path is drawn from, default :data:`~assur.analysis.sampling.CYCLE_STEPS` samples of the same run.
-    Returns ``(figure, animation)``."""
+    path of the foot (or of the last point). ``plan``: a plan, or a Study whose run is drawn: the frames are its
+    samples where they fall on them (:meth:`~assur.analysis.sampling.Cycle.frames`) and the path its whole run.
+    ``path``: the solved run (a :class:`~assur.analysis.study.Sweep`) the path is drawn from, default the
+    Study's run (:data:`~assur.analysis.sampling.CYCLE_STEPS` samples). Returns ``(figure, animation)``."""
     _, plt = mpl()
     from matplotlib.animation import FuncAnimation
-    sw = sample(plan, frames, params, ranges)
+    study = study_of(plan, params, CYCLE_STEPS, ranges)
+    plan, params = study.plan, study.params
+    sw = study.frame_sweep(frames)
     st = sw.state
     k = file_scale(plan)
     unit = plan.mechanism.units.length
     foot = tracked_point(plan)
     fi = plan.point_index(foot)
     # a dense path for the faint full trace
-    dense = path if path is not None else sample(plan, CYCLE_STEPS, params, ranges)
+    dense = path if path is not None else study.sweep
     full = closed(dense.state.pos[:, fi] * k, dense.cyclic)
     fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
     pos_all = np.concatenate([st.pos.reshape(-1, 2), dense.state.pos.reshape(-1, 2)]) * k

@@ -14,56 +14,28 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.sampling import CYCLE_STEPS, sweep_inputs, tracked_point
-from ..engine import solve
+from ..analysis.sampling import CYCLE_STEPS, tracked_point
+from ..analysis.study import Study, Sweep
 from ..errors import SpecError, UnbuildableError
-from ..io.units import LENGTH
 from ..kernels.runs import cyclic_runs
 from .draw import closed, draw_mechanism, file_scale, frame_guides, mpl, set_limits
 
 
 # -- sampling -------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Sweep:
-    """A sampled run of a plan: ``inputs (n, n_inputs)`` (SI), the solved ``state`` (shape (n,)),
-    the x-axis values ``axis`` in display units with its ``axis_label``, and ``cyclic`` (one full
-    turn of a crank, endpoint excluded)."""
-    plan: object
-    inputs: np.ndarray
-    state: object
-    axis: np.ndarray
-    axis_label: str
-    cyclic: bool
-    moving: int            # index of the input shown on the x axis
-
-    @property
-    def n(self) -> int:
-        return len(self.inputs)
-
-    @classmethod
-    def of_cycle(cls, cycle) -> "Sweep":
-        """The uniform grid of a solved :class:`~assur.analysis.sampling.Cycle` as a sweep (no new solve)."""
-        q, state = cycle.grid()
-        return cls(cycle.plan, q[:, None], state, np.degrees(q), f"{cycle.plan.input_names[0]} angle φ [°]", True, 0)
-
-
 def input_unit(plan, k: int) -> str:
     """The display unit of input ``k``: degrees for a crank, the file's length unit for an actuator."""
     return "°" if plan.input_kinds[k] == "rotary" else plan.mechanism.units.length
 
 
+def study_of(source, params=None, steps: int = CYCLE_STEPS, ranges=None) -> Study:
+    """``source`` when it is a Study, else the Study of the plan ``source`` over one turn (or ``ranges``)."""
+    return Study.of(source, params, steps, ranges=ranges)
+
+
 def sample(plan, steps: int = CYCLE_STEPS, params=None, ranges=None) -> Sweep:
-    """Solve a plan over one turn (or over ``ranges``); see :func:`~assur.analysis.sampling.sweep_inputs`."""
-    q, moving, cyclic = sweep_inputs(plan, steps, ranges)
-    state = solve(plan, params, q)
-    unit = input_unit(plan, moving)
-    if plan.input_kinds[moving] == "rotary":
-        axis = np.degrees(q[:, moving])
-        label = f"{plan.input_names[moving]} angle φ [°]"
-    else:
-        axis = q[:, moving] / LENGTH[plan.mechanism.units.length]
-        label = f"{plan.input_names[moving]} length [{unit}]"
-    return Sweep(plan, q, state, axis, label, cyclic, moving)
+    """The run of a plan over one turn (or over ``ranges``) as a :class:`Sweep` (``Study(...).sweep``; see
+    :func:`~assur.analysis.sampling.sweep_inputs`)."""
+    return study_of(plan, params, steps, ranges).sweep
 
 
 def gait_curves_of(sweep, params=None):
@@ -120,10 +92,17 @@ def mechanism_figure(plan, steps: int = CYCLE_STEPS, *, params=None, ranges=None
     (e) the frame pivot's path while the foot is planted. ``sweep``: the solved run to draw (default:
     :func:`sample` of ``steps`` over one turn or ``ranges``); ``gait``: the GaitCurves of that run (default:
     :func:`gait_curves_of`); ``positions``: of the diagram (default :func:`default_positions`); ``units``:
-    'file' (the file's length unit) or 'si'. Returns a matplotlib Figure."""
+    'file' (the file's length unit) or 'si'. ``plan`` may be a Study: its run and gait are drawn (nothing solved).
+    Returns a matplotlib Figure."""
     _, plt = mpl()
     from matplotlib.gridspec import GridSpec
-    sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
+    if sweep is None:
+        study = study_of(plan, params, steps, ranges)
+        sweep = study.sweep
+        if gait is None and study.turn and study.plan.mechanism.gait is not None:
+            gait = study.gait_curves
+    plan = sweep.plan
+    sw = sweep
     st = sw.state
     k, unit = (file_scale(plan), plan.mechanism.units.length) if units != "si" else (1.0, "m")
     positions = default_positions(plan) if positions is None else positions

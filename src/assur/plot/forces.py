@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ..kinetostatics.lever import lever
-from ..kinetostatics.overview import ForceCycle, force_cycle
+from ..kinetostatics.overview import ForceCycle
 from .draw import draw_mechanism, file_scale, length_unit, mpl, set_limits
 
 
@@ -22,10 +22,12 @@ def _input_scale(plan):
     return 1.0 / file_scale(plan), u.length
 
 
-def _cycle(plan_or_cycle, steps) -> ForceCycle:
-    if isinstance(plan_or_cycle, ForceCycle):
-        return plan_or_cycle
-    return force_cycle(plan_or_cycle, steps=steps)
+def _cycle(source, steps) -> ForceCycle:
+    """The ForceCycle of a ForceCycle, a Study (its force cycle) or a plan (a Study of ``steps`` samples)."""
+    if isinstance(source, ForceCycle):
+        return source
+    from ..analysis.study import Study
+    return Study.of(source, steps=steps).force_cycle
 
 
 def draw_torque(ax, cycle: ForceCycle) -> None:

@@ -17,7 +17,7 @@ import numpy as np
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from .draw import closed, file_scale, length_unit, mpl
-from .figures import sample
+from .figures import sample, study_of
 
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
 
@@ -93,7 +93,9 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
     ``sweep``: the solved run the paths and positions come from (default: :func:`~assur.plot.figures.sample`
     of ``steps`` over one turn or ``ranges``)."""
     go = _plotly()
-    sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
+    study = study_of(plan, params, steps, ranges)
+    plan, params = study.plan, study.params
+    sw = sweep if sweep is not None else study.sweep
     st = sw.state
     k = file_scale(plan, units)
     unit = length_unit(plan, units)
@@ -104,7 +106,7 @@ def plotly_figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, frames:
     moving = _moving_points(plan)
     data = []
     # the animated mechanism: trace 0 (replaced by each frame)
-    anim = sample(plan, frames, params, ranges)
+    anim = study.frame_sweep(frames) if sweep is None else sample(plan, frames, params, ranges)
     apos = anim.state.pos * k
 
     def mech_trace(i, name="mechanism"):
@@ -222,7 +224,10 @@ def figure(plan, steps: int = CYCLE_STEPS, *, positions: int = 6, params=None, r
     (default: :func:`~assur.plot.figures.sample` of ``steps`` over one turn or ``ranges``)."""
     _, plt = mpl()
     from ..analysis.spatial import dyads, mu_int, mu_t, rocker_angle
-    sw = sweep if sweep is not None else sample(plan, steps, params, ranges)
+    if sweep is None:
+        study = study_of(plan, params, steps, ranges)
+        plan, params, sweep = study.plan, study.params, study.sweep
+    sw = sweep
     pos = sw.state.pos * file_scale(plan, units)
     if not np.isfinite(pos).any():
         raise SpecError([("mechanism", "no position of the sweep can be assembled: nothing to draw")])
@@ -261,8 +266,10 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     the same run). Returns ``(figure, animation)``."""
     _, plt = mpl()
     from matplotlib.animation import FuncAnimation
-    sw = sample(plan, frames, params, ranges)
-    dense = path if path is not None else sample(plan, CYCLE_STEPS, params, ranges)
+    study = study_of(plan, params, CYCLE_STEPS, ranges)
+    plan, params = study.plan, study.params
+    sw = study.frame_sweep(frames)
+    dense = path if path is not None else study.sweep
     k = file_scale(plan, units)
     pos = dense.state.pos * k
     if not np.isfinite(pos).any():

@@ -150,19 +150,20 @@ def csv_table(f) -> tuple[list[str], list[list]]:
     return header, rows
 
 
-def forces_html(plan, steps: int) -> str:
-    """The report's forces section ('' when the file has no masses or loads, or more than one driver): the
-    summary table and the sheet of force figures."""
+def forces_html(study) -> str:
+    """The report's forces section of a Study ('' when the file has no masses or loads, or more than one driver):
+    the summary table and the sheet of force figures, from the Study's force cycle (no new solve)."""
     from ..errors import AssurError
-    from ..kinetostatics.overview import force_cycle, force_summary, has_loads
     from .page import escape, png_tag, table
-    if not has_loads(plan.mechanism) or plan.n_inputs != 1:
+    plan = study.plan
+    if not study.has_loads or plan.n_inputs != 1:
         return ""
     try:
-        cyc = force_cycle(plan, steps=steps)
+        cyc = study.force_cycle
+        summary = study.force_summary
     except AssurError as exc:
         return f'<p class="note">no force analysis: {escape(exc)}</p>'
-    rows = [(a, f"{b} {c}".strip()) for a, b, c in summary_rows(force_summary(cyc), plan)]
+    rows = [(a, f"{b} {c}".strip()) for a, b, c in summary_rows(summary, plan)]
     out = [table(["forces (SI)", "value"], rows, num_cols=(1,))]
     if plan.dimension == 2:
         from ..plot.draw import close, figure_png

@@ -15,7 +15,7 @@ from functools import partial
 from pathlib import Path
 
 from ..analysis.sampling import CYCLE_STEPS
-from ..analysis.summary import summarize
+from ..analysis.study import Study
 from ..errors import SpecError
 from .page import escape, header, page, png_tag, section, table
 from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, gait_rows, length_display, link_rows,
@@ -176,11 +176,12 @@ def module_html(summary: dict, plan, gait, steps: int) -> str:
     return "\n".join(out)
 
 
-def positions_html(plan, n: int = 12, ranges=None, units: str = "file") -> str:
-    """A table of the positions of every point at ``n`` inputs (12 crank angles: every 30°)."""
-    from ..plot.figures import sample
+def positions_html(study, n: int = 12, units: str = "file") -> str:
+    """A table of the positions of every point at ``n`` inputs of the Study's run (12 crank angles: every 30°,
+    taken from the run's samples)."""
+    plan = study.plan
     try:
-        sw = sample(plan, n, ranges=ranges)
+        sw = study.frame_sweep(n)
     except SpecError as exc:
         return f'<p class="note">{escape(exc)}</p>'
     Lf, Lu = length_display(plan.mechanism.units, units)
@@ -196,15 +197,16 @@ def positions_html(plan, n: int = 12, ranges=None, units: str = "file") -> str:
 
 
 # -- the planar page -------------------------------------------------------------------------------
-def _planar_figures(plan, run, gait, frames: int, ranges, units: str = "file", progress=None) -> tuple[str, str]:
-    """(figure panels, embedded animation) of the solved run ``run`` (``gait``: its GaitCurves) as HTML."""
+def _planar_figures(run: Study, gait, frames: int, units: str = "file", progress=None) -> tuple[str, str]:
+    """(figure panels, embedded animation) of the solved run of ``run`` (``gait``: its GaitCurves) as HTML."""
     from ..plot.animation import animation, jshtml
     from ..plot.draw import close, figure_png
     from ..plot.figures import mechanism_figure
-    fig = mechanism_figure(plan, sweep=run, gait=gait, units=units)
+    plan = run.plan
+    fig = mechanism_figure(plan, sweep=run.sweep, gait=gait, units=units)
     panels = png_tag(figure_png(fig, dpi=90), "paths, kinematic diagram, velocity and acceleration")
     close(fig)
-    fig, anim = animation(plan, frames, fps=12, ranges=ranges, figsize=(5.6, 5.6), dpi=72, path=run)
+    fig, anim = animation(run, frames, fps=12, figsize=(5.6, 5.6), dpi=72)
     import matplotlib
     with matplotlib.rc_context({"animation.embed_limit": 60.0}):
         js = jshtml(anim, fps=12, progress=progress)
@@ -212,20 +214,21 @@ def _planar_figures(plan, run, gait, frames: int, ranges, units: str = "file", p
     return panels, js
 
 
-def _planar_sections(plan, an, panels: str, anim: str, steps: int, ranges, units: str = "file") -> list[str]:
-    summary = an.summary
+def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: str = "file") -> list[str]:
+    plan = study.plan
+    summary = study.as_dict(forces=False)
     out = [section("Structure", structure_html(summary) + "\n" + atlas_html(plan.mechanism)),
            section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
            section("Analysis", analysis_html(summary, plan, units))]
-    mod = module_html(summary, plan, an.gait, steps)
+    mod = module_html(summary, plan, study.gait, study.steps)
     if mod:
         out.append(section("Walking module", mod))
     from .forces import forces_html
-    frc = forces_html(plan, steps)
+    frc = forces_html(study)
     if frc:
         out.append(section("Forces", frc))
     return out + [section("Plots", panels), section("Animation", anim),
-                  section("Positions", positions_html(plan, 12, ranges, units))]
+                  section("Positions", positions_html(run, 12, units))]
 
 
 # -- the spatial page -------------------------------------------------------------------------------
@@ -262,19 +265,20 @@ def dyads_html(summary: dict) -> str:
     return "\n".join(parts)
 
 
-def _spatial_figures(plan, run, gait, frames: int, ranges, units: str = "file") -> tuple[str, str]:
-    """(static figure as PNG, interactive 3D view with its animation) of the solved run ``run`` as HTML."""
+def _spatial_figures(run: Study, gait, frames: int, units: str = "file") -> tuple[str, str]:
+    """(static figure as PNG, interactive 3D view with its animation) of the solved run of ``run`` as HTML."""
     from ..plot import spatial as view
     from ..plot.draw import close, figure_png
-    fig = view.figure(plan, sweep=run, units=units)
+    fig = view.figure(run, units=units)
     panels = png_tag(figure_png(fig, dpi=90), "3D view with paths and projections; rocker and transmission angles")
     close(fig)
-    pfig = view.plotly_figure(plan, frames=frames, ranges=ranges, sweep=run, units=units)
+    pfig = view.plotly_figure(run, frames=frames, units=units)
     return panels, view.html_fragment(pfig, include_plotlyjs=True, div_id="view3d")
 
 
-def _spatial_sections(plan, an, panels: str, view: str, steps: int, ranges, units: str = "file") -> list[str]:
-    summary = an.summary
+def _spatial_sections(study: Study, run: Study, panels: str, view: str, units: str = "file") -> list[str]:
+    plan = study.plan
+    summary = study.as_dict(forces=False)
     return [section("Structure", structure_html(summary) + "\n" + joints_html(plan)),
             section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
             section("Analysis", analysis_html(summary, plan, units) + "\n" + dyads_html(summary)),
@@ -282,7 +286,7 @@ def _spatial_sections(plan, an, panels: str, view: str, steps: int, ranges, unit
                                              "the mechanism. Dotted: the paths projected on the coordinate "
                                              "planes (paper 003, Fig. 2–3).</p>\n" + view),
             section("Plots", panels),
-            section("Positions", positions_html(plan, 12, ranges, units))]
+            section("Positions", positions_html(run, 12, units))]
 
 
 # -- the page ---------------------------------------------------------------------------------------
@@ -294,18 +298,16 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
     accelerations in the file's length unit ('file') or in SI ('si'); ``progress(i, n)``: called per frame of
     a planar animation drawn."""
     from .. import __version__
-    from ..plot.figures import Sweep, sample
     spatial = plan.dimension == 3
-    an = summarize(plan, steps=steps)
-    shared = an.cycle is not None and ranges is None      # the figures draw the analysed turn
+    study = Study(plan, steps=steps)          # the analysis: the natural cycle
+    run = study if ranges is None else Study(plan, steps=steps, ranges=ranges)   # what the figures draw
     try:
-        run = Sweep.of_cycle(an.cycle) if shared else sample(plan, steps, ranges=ranges)
         draw = _spatial_figures if spatial else partial(_planar_figures, progress=progress)
-        figures = draw(plan, run, an.gait_curves if shared else None, frames, ranges, units)
+        figures = draw(run, study.gait_curves if run is study else None, frames, units)
     except SpecError as exc:    # nothing to draw (a linear input without a stroke, no position assembles)
         note = f'<p class="note">no figures: {escape(exc)}</p>'
         figures = (note, note)
-    body = (_spatial_sections if spatial else _planar_sections)(plan, an, *figures, steps, ranges, units)
+    body = (_spatial_sections if spatial else _planar_sections)(study, run, *figures, units)
     m = plan.mechanism
     title = m.name or (Path(source).stem if source else "mechanism")
     kind = " — spatial (dimension = 3)" if spatial else ""

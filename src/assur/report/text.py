@@ -1,6 +1,6 @@
 """Text for people, shared by the terminal and the HTML pages: numbers, angles, speeds, the structure,
 parameters and drivers of a mechanism, and the rows and lines of an analysis summary
-(:func:`assur.analysis.summary.analyze`). Lengths are shown in the file's unit where a factor is given,
+(:meth:`assur.analysis.study.Study.as_dict`). Lengths are shown in the file's unit where a factor is given,
 speeds and accelerations in SI, angles in degrees.
 """
 from __future__ import annotations
