@@ -55,7 +55,7 @@ def rows():
     tilted = assur.compile(assur.load(EX / "rssr_tilted.toml"))
     out = []
     # mobility: two S pairs (coupler spins idly), the paper's guide on the coupler (one freedom less at P2)
-    two_s = assur.analyse(assur.loads((EX / "rssr.toml").read_text(encoding="utf-8").replace(
+    two_s = assur.analyse_structure(assur.loads((EX / "rssr.toml").read_text(encoding="utf-8").replace(
         'P2 = { kind = "universal", axis = [-1, 0, 0] }', 'P2 = "spherical"').replace(
         'coupler = { points = ["P2", "P3", "C"], length = 70 }', 'coupler = { points = ["P2", "P3"], length = 70 }').replace(
         "C = [10, 10, 40]\n", "")))

@@ -45,7 +45,7 @@ def _check_entry(inv, crank, tmp_path):
     path.write_text(dumps(m.document), encoding="utf-8")
     mech = assur.load(path)
     plan = assur.compile(mech)
-    structure = assur.analyse(mech)
+    structure = assur.analyse_structure(mech)
     assert structure.mobility == 1
     ident = identify(mech)
     assert ident is not None
@@ -145,7 +145,7 @@ def test_watt_ii_and_stephenson_iii_group_classes(name):
     inv = invs[0]
     dyads_only = 0
     for p in driver_placements(inv):
-        s = assur.analyse(_entry(inv, p.link).mechanism)
+        s = assur.analyse_structure(_entry(inv, p.link).mechanism)
         classes = [assur.structure.assur.roman(gr.group_class) for gr in s.groups]
         if _dyad_peel(inv, p.link):
             assert classes == ["II", "II"]
@@ -174,5 +174,5 @@ def test_cli_output_is_reproducible(tmp_path):
         assert row["file"] in outs[0] and row["drawing"] in outs[0]
         mech = assur.loads(outs[0][row["file"]].decode("utf-8"), row["file"])
         assert identify(mech).inversion_id == row["inversion"]
-        assert row["structural_formula"] == assur.analyse(mech).structural_formula
+        assert row["structural_formula"] == assur.analyse_structure(mech).structural_formula
         ET.fromstring(outs[0][row["drawing"]])

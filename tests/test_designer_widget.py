@@ -1,4 +1,4 @@
-"""``assur.Designer``: the designer as a Jupyter widget (anywidget), tested without a notebook front end.
+"""``assur.designer.Designer``: the designer as a Jupyter widget (anywidget), tested without a notebook front end.
 
 * the example notebook runs headless (nbclient) and shows the widget (its view mimetype, its ES module in the
   saved widget state);
@@ -85,7 +85,7 @@ def test_import_assur_does_not_import_anywidget():
     code = "import sys, assur; assert 'Designer' in assur.__all__; print('anywidget' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
-    assert assur.Designer is Designer
+    assert assur.designer.Designer is Designer
 
 
 def test_missing_anywidget_gives_the_install_hint(monkeypatch):
@@ -525,7 +525,7 @@ def test_in_a_kernel_replies_and_progress_reach_the_front_end_as_comm_messages()
         "import sys, threading, types", "import assur", "from assur.designer.session import toml_of",
         inspect.getsource(FakeJob),
         "sys.modules['assur.designer.synthesis_job'] = types.SimpleNamespace(SynthesisJob=FakeJob)",
-        f"w = assur.Designer({str(path)!r})", "display(w)",
+        f"w = assur.designer.Designer({str(path)!r})", "display(w)",
         "def front(content):",
         "    w._handle_msg({'content': {'data': {'method': 'custom', 'content': content}}, 'buffers': []})",
         "front({'seq': 1, 'op': 'hello'})",

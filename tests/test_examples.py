@@ -71,7 +71,7 @@ def test_examples_exist():
 
 def test_loads_compiles_and_mobility(example):
     path, m, plan = example
-    s = assur.analyse(m)
+    s = assur.analyse_structure(m)
     assert s.mobility == len(m.drivers) == plan.n_inputs
     assert plan.structure.mobility == s.mobility
     assert m.description.strip(), f"{path.name} needs a description"

@@ -125,8 +125,11 @@ def test_random_composition_matches_central_differences(program, seed):
     np.testing.assert_array_equal(v, f[0])               # the jet's value is the plain value
     scale = 1.0 + np.abs(v) + np.abs(d) + np.abs(dd)
     m = mask
-    assert np.all(np.abs(d - d_fd)[m] <= RTOL * scale[m]), (program, (d - d_fd)[m])
-    assert np.all(np.abs(dd - dd_fd)[m] <= 10 * RTOL * scale[m]), (program, (dd - dd_fd)[m])
+    # the reference's own error: where a random composition has large higher derivatives the differences at H and
+    # H/2 disagree, and their disagreement bounds what Richardson's extrapolation leaves (O(H⁴) ≪ O(H²))
+    d_err, dd_err = np.abs(d_h2 - d_h), np.abs(dd_h2 - dd_h)
+    assert np.all(np.abs(d - d_fd)[m] <= RTOL * scale[m] + d_err[m]), (program, (d - d_fd)[m])
+    assert np.all(np.abs(dd - dd_fd)[m] <= 10 * RTOL * scale[m] + dd_err[m]), (program, (dd - dd_fd)[m])
 
 
 @settings(max_examples=60, deadline=None)

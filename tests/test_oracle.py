@@ -468,7 +468,7 @@ def test_triad_sixbar_solution_satisfies_constraints_and_differences():
 # -- engine bugs found ------------------------------------------------------------------------------------------
 def test_passive_cylinder_is_structurally_an_rpr_dyad():
     m = assur.loads(m_cylinder())
-    assert [g.kind for g in assur.analyse(m).groups] == [GroupKind.RPR]
+    assert [g.kind for g in assur.analyse_structure(m).groups] == [GroupKind.RPR]
 
 
 def test_passive_cylinder_compiles_and_matches_newton():

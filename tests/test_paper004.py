@@ -61,7 +61,7 @@ def half_angle(num, den):
                                               (SIXBAR60, 5, 7, 1)])
 def test_mobility(path, n, p5, W):
     """Printed counts and W = 3n − 2p5 of mechanisms a, b, c (§2, eq. 1)."""
-    s = assur.analyse(assur.load(path))
+    s = assur.analyse_structure(assur.load(path))
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (n, p5, W)
     assert W == 3 * n - 2 * p5
 
@@ -83,15 +83,15 @@ def test_free_foot_adds_one_freedom(path):
     n0, p0 = len(g0.bodies) - 1, len(g0.pairs)
     n1, p1 = len(g1.bodies) - 1, len(g1.pairs)
     assert (n1, p1) == (n0 + 1, p0 + 1)
-    assert mobility_chebyshev(n1, p1) == mobility_chebyshev(n0, p0) + 1 == assur.analyse(m).mobility + 1
+    assert mobility_chebyshev(n1, p1) == mobility_chebyshev(n0, p0) + 1 == assur.analyse_structure(m).mobility + 1
 
 
 def test_analyse_reports_mobility_of_the_free_foot_model():
     m = assur.load(FOURBAR)
-    free = assur.analyse(_with_free_foot(m))
+    free = assur.analyse_structure(_with_free_foot(m))
     assert free.mobility == 2                      # §2: the hinged foot adds one freedom
     assert "foot" in " ".join(free.undetermined)   # ... which no driver determines
-    bare = assur.analyse(dataclasses.replace(m, drivers=()))
+    bare = assur.analyse_structure(dataclasses.replace(m, drivers=()))
     assert bare.mobility == 1 and set(bare.undetermined) == {"coupler", "crank", "rocker"}
     with pytest.raises(assur.StructureError, match=r"= 2 but 1 driver"):
         assur.compile(_with_free_foot(m))

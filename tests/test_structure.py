@@ -70,7 +70,7 @@ TRIAD = mech(dict(O=(0, 0), P1=(3, 0), P2=(0.5, 2.5), A=(0.4, 0), B=(1.4, 0.4), 
     (TRIAD, 5, 7, 1),              # 3·5 − 2·7 = 1
 ], ids=["four-bar", "five-bar", "watt", "stephenson", "slider-crank", "jansen-like", "triad-six-bar"])
 def test_chebyshev_mobility_of_textbook_mechanisms(m, n, p5, W):
-    s = assur.analyse(m)
+    s = assur.analyse_structure(m)
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (n, p5, W)
     assert s.formula_name == "Chebyshev"
     assert W == 3 * n - 2 * p5 == mobility_chebyshev(n, p5)
@@ -78,14 +78,14 @@ def test_chebyshev_mobility_of_textbook_mechanisms(m, n, p5, W):
 
 def test_paper_000_crank_slider_walker():
     # paper 000: crank KC, rod C-B-A, slider block at B on a frame guide: n = 3, p5 = 4, W = 1
-    s = assur.analyse(assur.load(os.path.join(EXAMPLES, "walker_crank_slider.toml")))
+    s = assur.analyse_structure(assur.load(os.path.join(EXAMPLES, "walker_crank_slider.toml")))
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (3, 4, 1)
     assert [g.kind for g in s.groups] == [GroupKind.RRP]
 
 
 def test_paper_004_sixbar_with_a_compound_hinge():
     # paper 004 six-bar with beta1 = 0: B joins the crank and both couplers (a hinge of 3 bodies = 2 pairs)
-    s = assur.analyse(assur.load(os.path.join(EXAMPLES, "walker_sixbar.toml")))
+    s = assur.analyse_structure(assur.load(os.path.join(EXAMPLES, "walker_sixbar.toml")))
     assert (s.n_moving, s.pair_counts["p5"], s.mobility) == (5, 7, 1)
     assert s.structural_formula == "I(frame, crank) → II(coupler_BM, rocker) → II(coupler_NA, lever)"
 
@@ -105,7 +105,7 @@ RSSR = rssr("m", 1.0, driver=True)
 def test_somov_malyshev_for_a_spatial_rssr():
     m = assur.loads(RSSR)
     assert m.dimension == 3 and m.sketch("B") == (0.9, 0.7, 0.5)
-    s = assur.analyse(m)
+    s = assur.analyse_structure(m)
     assert s.formula_name == "Somov–Malyshev"
     assert s.n_moving == 3 and s.pair_counts["p5"] == 2 and s.pair_counts["p3"] == 2
     assert s.mobility == 6 * 3 - 5 * 2 - 3 * 2 == 2
@@ -132,13 +132,13 @@ def test_spatial_joints_need_dimension_three():
 def test_structural_formula(m, named, numbered):
     # the papers' notation: class-I mechanisms (frame + driven link), then the groups in solving order,
     # by name and by body number (frame 0, links in file order)
-    s = assur.analyse(m)
+    s = assur.analyse_structure(m)
     assert s.structural_formula == named
     assert s.structural_formula_numbered == numbered
 
 
 def test_group_details_of_the_four_bar():
-    s = assur.analyse(FOURBAR)
+    s = assur.analyse_structure(FOURBAR)
     (g,) = s.groups
     assert (g.group_class, g.order, g.kind) == (2, 2, GroupKind.RRR)
     assert [s.body_label(b) for b in g.bodies] == ["coupler", "rocker"]
@@ -148,7 +148,7 @@ def test_group_details_of_the_four_bar():
 
 
 def test_the_triad_is_a_class_three_group_of_order_three():
-    (g,) = assur.analyse(TRIAD).groups
+    (g,) = assur.analyse_structure(TRIAD).groups
     assert (g.group_class, g.order, g.kind, len(g.bodies)) == (3, 3, GroupKind.TRIAD, 4)
 
 
@@ -175,7 +175,7 @@ DYADS = {
 
 @pytest.mark.parametrize("kind", list(DYADS), ids=[k.value for k in DYADS])
 def test_every_dyad_kind_is_recognised(kind):
-    s = assur.analyse(DYADS[kind])
+    s = assur.analyse_structure(DYADS[kind])
     assert [g.kind for g in s.groups] == [kind]
     assert s.groups[0].group_class == 2 and s.mobility == 1
     # Artobolevsky's numbering of the dyad kinds: RRR 1, RRP 2, RPR 3, PRP 4, PPR 5
@@ -187,7 +187,7 @@ def test_structure_never_reads_lengths():
     # the same topology with very different coordinates has the same structure
     other = mech(dict(O=(5, -3), O1=(-2, 7), A=(4, 1), B=(-9, 0.5)),
                  dict(frame=("O", "O1"), crank=("O", "A"), coupler=("A", "B"), rocker=("O1", "B")))
-    a, b = assur.analyse(FOURBAR), assur.analyse(other)
+    a, b = assur.analyse_structure(FOURBAR), assur.analyse_structure(other)
     assert a.structural_formula == b.structural_formula and a.describe() == b.describe()
     assert a.mobility == b.mobility
 
@@ -201,14 +201,14 @@ def test_jansen_like_leg_compiles_into_three_dyads():
 def test_missing_driver_leaves_bodies_undetermined():
     m = mech(dict(O=(0, 0), O1=(1, 0), A=(0.3, 0.1), B=(0.9, 0.8)),
              dict(frame=("O", "O1"), crank=("O", "A"), coupler=("A", "B"), rocker=("O1", "B")), drivers=())
-    s = assur.analyse(m)
+    s = assur.analyse_structure(m)
     assert s.mobility == 1 and s.groups == () and set(s.undetermined) == {"crank", "coupler", "rocker"}
 
 
 def test_idle_spin_of_a_binary_link_between_spherical_joints():
     """RSSR: W = 2 by Somov–Malyshev, of which one is the coupler's idle spin about its own axis
     (the S–S link), so the chain has one working freedom — the crank."""
-    s = assur.analyse(assur.loads(RSSR))
+    s = assur.analyse_structure(assur.loads(RSSR))
     assert (s.mobility, s.idle, s.mobility_without_idle) == (2, 1, 1)
-    planar = assur.analyse(assur.load(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml"))
+    planar = assur.analyse_structure(assur.load(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml"))
     assert planar.idle == 0

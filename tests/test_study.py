@@ -150,3 +150,12 @@ def test_a_mechanism_with_two_inputs_gets_its_header_and_a_note():
     plan = assur.compile(assur.load(EXAMPLES / "walker_fourbar_adjustable.toml"))
     d = Study(plan).as_dict()
     assert d["mobility"] == plan.n_inputs and "note" in d and d["unbuildable"] is None
+
+
+def test_the_root_shows_its_public_names_and_warns_on_the_former_ones():
+    assert dir(assur) == sorted(assur.__all__)
+    assert "Study" in dir(assur) and "SolvePlan" not in dir(assur) and "Designer" not in dir(assur)
+    for name, replacement in (("SolvePlan", "PlanarPlan"), ("analyse", "analyse_structure"), ("analyze", "Study"),
+                              ("summarize", "Study"), ("Designer", "assur.designer.Designer")):
+        with pytest.warns(DeprecationWarning, match=replacement):
+            getattr(assur, name)

@@ -17,39 +17,45 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the same names, for type checkers and editors
-    from .engine import PlanarPlan, SolvePlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
+    from .engine import PlanarPlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
     from .errors import (AssurError, SpecError, StructureError, SynthesisError, UnbuildableError,
                          UnbuildableWarning)
-    from .designer.widget import Designer
     from .io.builder import Builder
     from .kinetostatics.api import forces
     from .io.mechanism_file import dump, dumps, load, loads
     from .model.mechanism import Mechanism
-    from .structure.assur import AssurGroup, GroupKind, Structure, analyse
+    from .structure.assur import AssurGroup, GroupKind, Structure
+    from .structure.assur import analyse as analyse_structure
     from .analysis.study import Study
 
-__version__ = "0.1.0"
+from .version import __version__
 
 _LAZY = {
-    **{name: ("assur.engine", name) for name in ("PlanarPlan", "SolvePlan", "SpatialPlan", "SpatialState", "State",
-                                                  "compile", "solve")},
+    **{name: ("assur.engine", name) for name in ("PlanarPlan", "SpatialPlan", "SpatialState", "State", "compile",
+                                                  "solve")},
     **{name: ("assur.errors", name) for name in ("AssurError", "SpecError", "StructureError", "SynthesisError",
                                                   "UnbuildableError", "UnbuildableWarning")},
     **{name: ("assur.io.mechanism_file", name) for name in ("dump", "dumps", "load", "loads")},
     "Builder": ("assur.io.builder", "Builder"),
-    "Designer": ("assur.designer.widget", "Designer"),
     "Mechanism": ("assur.model.mechanism", "Mechanism"),
-    **{name: ("assur.structure.assur", name) for name in ("AssurGroup", "GroupKind", "Structure", "analyse")},
-    #: the structure of a description (mobility, Assur groups); ``analyse`` is its former name
+    **{name: ("assur.structure.assur", name) for name in ("AssurGroup", "GroupKind", "Structure")},
+    #: the structure of a description (mobility, Assur groups)
     "analyse_structure": ("assur.structure.assur", "analyse"),
     "Study": ("assur.analysis.study", "Study"),
-    "summarize": ("assur.analysis.api", "analyze"),    # deprecated: Study(...).as_dict()
-    "analyze": ("assur.analysis.api", "analyze"),      # deprecated: Study(...).as_dict()
     "gait_metrics": ("assur.analysis.api", "gait_metrics"),
     "gait_curves": ("assur.analysis.api", "gait_curves"),
     "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
     "dead_centres": ("assur.analysis.api", "dead_centres"),
     "forces": ("assur.kinetostatics.api", "forces"),
+}
+
+#: former names, still served with a DeprecationWarning naming the replacement: name → (module, attribute, advice)
+_DEPRECATED = {
+    "SolvePlan": ("assur.engine", "PlanarPlan", "use assur.PlanarPlan"),
+    "analyse": ("assur.structure.assur", "analyse", "use assur.analyse_structure"),
+    "analyze": ("assur.analysis.api", "analyze", "use assur.Study(plan).as_dict()"),
+    "summarize": ("assur.analysis.api", "analyze", "use assur.Study(plan) and its fields, or .as_dict()"),
+    "Designer": ("assur.designer.widget", "Designer", "use assur.designer.Designer"),
 }
 
 
@@ -60,6 +66,11 @@ def __getattr__(name):
         value = getattr(importlib.import_module(module), attr)
         globals()[name] = value
         return value
+    if name in _DEPRECATED:
+        module, attr, advice = _DEPRECATED[name]
+        import warnings
+        warnings.warn(f"assur.{name} is deprecated: {advice}", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(module), attr)
     if not name.startswith("_"):
         try:
             return importlib.import_module(f"{__name__}.{name}")
@@ -70,11 +81,10 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted({*globals(), *_LAZY})
+    return sorted(__all__)
 
 
-__all__ = ["AssurError", "AssurGroup", "Builder", "Designer", "GroupKind", "Mechanism", "PlanarPlan", "SolvePlan", "SpatialPlan", "SpecError",
-           "SpatialState", "State", "Structure", "Study", "StructureError", "SynthesisError", "UnbuildableError",
-           "UnbuildableWarning", "analyse", "analyse_structure", "compile", "dump",
-           "dumps", "load", "loads", "solve", "__version__", "summarize", "analyze", "gait_metrics", "gait_curves",
-           "transmission_angles", "dead_centres", "forces"]
+__all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "PlanarPlan", "SpatialPlan", "SpatialState",
+           "SpecError", "State", "Structure", "StructureError", "Study", "SynthesisError", "UnbuildableError",
+           "UnbuildableWarning", "__version__", "analyse_structure", "compile", "dead_centres", "dump", "dumps",
+           "forces", "gait_curves", "gait_metrics", "load", "loads", "solve", "transmission_angles"]

@@ -31,7 +31,7 @@ def build_parser():
     """The parser of every command."""
     import argparse
 
-    from .. import __version__
+    from ..version import __version__
     from . import atlas, codesign, design, forces, gears, mechanism, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")

@@ -175,11 +175,12 @@ def _status(result, written) -> int:
 
 
 def _missing(package: str) -> bool:
+    """Whether an optional package cannot be found (without importing it)."""
+    import importlib.util
     try:
-        __import__(package)
-    except ImportError:
+        return importlib.util.find_spec(package) is None
+    except (ImportError, ValueError):
         return True
-    return False
 
 
 def check_packages(args) -> None:

@@ -1,4 +1,4 @@
-"""The designer in a notebook: ``assur.Designer(mech)`` shows the page of ``assur design`` as a Jupyter widget
+"""The designer in a notebook: ``assur.designer.Designer(mech)`` shows the page of ``assur design`` as a Jupyter widget
 (anywidget), on the same :class:`~assur.designer.session.Session` and the same messages (``docs/designer.md``).
 
 The page's ES module (``static/designer.js``) and style sheet are the widget's ``_esm`` and ``_css``. The front
@@ -11,7 +11,7 @@ widget's ``_plotly_js`` trait carries ``plotly.min.js`` from the plotly Python p
 when ``window.Plotly`` is missing (it is the empty string for a planar document).
 
 This module imports anywidget (the ``widget`` extra: ``pip install 'assur[widget]'``); ``import assur`` does not
-import it: ``assur.Designer`` loads this module on first use.
+import it: ``assur.designer.Designer`` loads this module on first use.
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from pathlib import Path
 from ..errors import require
 from .session import Reply, Session, doc_of_toml, document_of
 
-anywidget = require("anywidget", "assur.Designer", "pip install 'assur[widget]'")
+anywidget = require("anywidget", "assur.designer.Designer", "pip install 'assur[widget]'")
 import traitlets  # noqa: E402  (anywidget's dependency)
 
 #: how often a running synthesis is polled for progress (s)
@@ -51,9 +51,9 @@ def _session_of(source) -> Session:
         return Session(*document_of(source))
     if isinstance(source, str):
         if _is_toml_text(source):
-            return Session(doc_of_toml(source, "the TOML text given to assur.Designer"))
+            return Session(doc_of_toml(source, "the TOML text given to assur.designer.Designer"))
         return Session(*document_of(source))
-    raise TypeError(f"assur.Designer needs a Mechanism, a file path or assur/1 TOML text, not {type(source).__name__}")
+    raise TypeError(f"assur.designer.Designer needs a Mechanism, a file path or assur/1 TOML text, not {type(source).__name__}")
 
 
 class Designer(anywidget.AnyWidget):

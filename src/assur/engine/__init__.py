@@ -5,9 +5,17 @@ states (layer 2; see docs/architecture.md).
 :class:`State` or :class:`SpatialState`.
 """
 from .api import compile, solve  # noqa: A004 - the public verbs
-from .plan import STEP_KINDS, PARAM_KINDS, PlanarPlan, PlanBase, SolvePlan, SpatialPlan
+from .plan import STEP_KINDS, PARAM_KINDS, PlanarPlan, PlanBase, SpatialPlan
 from .planar.geometry import geometry
 from .state import PointView, SpatialState, State
 
-__all__ = ["compile", "solve", "geometry", "PlanBase", "PlanarPlan", "SolvePlan", "SpatialPlan", "State",
+__all__ = ["compile", "solve", "geometry", "PlanBase", "PlanarPlan", "SpatialPlan", "State",
            "SpatialState", "PointView", "STEP_KINDS", "PARAM_KINDS"]
+
+
+def __getattr__(name):
+    if name == "SolvePlan":         # the former name of PlanarPlan
+        import warnings
+        warnings.warn("assur.engine.SolvePlan is deprecated: use PlanarPlan", DeprecationWarning, stacklevel=2)
+        return PlanarPlan
+    raise AttributeError(f"module 'assur.engine' has no attribute {name!r}")

@@ -454,10 +454,6 @@ class PlanarPlan(PlanBase):
         return self.steps_of("crank")
 
 
-#: the former name of :class:`PlanarPlan`
-SolvePlan = PlanarPlan
-
-
 @dataclass(frozen=True, eq=False)
 class SpatialPlan(PlanBase):
     """The compiled plan of a spatial mechanism (``dimension = 3``): a crank followed by R–S–S dyads.

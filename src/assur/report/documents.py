@@ -105,7 +105,7 @@ def _gears_html(s: dict, tmp: Path, rel: str, frames: int) -> str:
 
 
 def build_document_page(design, s: dict, tmp: Path, *, frames: int = 36, source: str = "") -> str:
-    from .. import __version__
+    from ..version import __version__
     from ..gears.design import GearDesign
     title = design.name or Path(source).stem
     body = header(title, f"{escape(source)} — assur {escape(__version__)}", design.description)

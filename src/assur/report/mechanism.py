@@ -297,7 +297,7 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
     animation's path share; ``frames``: positions of the animation; ``units``: lengths, speeds and
     accelerations in the file's length unit ('file') or in SI ('si'); ``progress(i, n)``: called per frame of
     a planar animation drawn."""
-    from .. import __version__
+    from ..version import __version__
     spatial = plan.dimension == 3
     study = Study(plan, steps=steps)          # the analysis: the natural cycle
     run = study if ranges is None else Study(plan, steps=steps, ranges=ranges)   # what the figures draw

@@ -104,7 +104,7 @@ def _gait_html(result) -> str:
 
 def build_synthesis_page(result, *, source: str = "", best_file: str | None = None) -> str:
     """The synthesis page of a :class:`~assur.synthesis.SynthesisResult` as one HTML string."""
-    from .. import __version__
+    from ..version import __version__
     pb = result.problem
     title = pb.name or (Path(source).stem if source else "synthesis")
     meta = f"{escape(source)} — synthesis problem (assur-synth/1) — assur {escape(__version__)}"

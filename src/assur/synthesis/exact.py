@@ -74,7 +74,7 @@ def _check_grashof(grashof):
 @functools.lru_cache(maxsize=4)
 def _template(with_point: bool, side: str):
     """A compiled four-bar template (m, rad) whose branch puts B on ``side`` of A → B0."""
-    from .. import compile as compile_
+    from ..engine import compile as compile_
     from ..io.builder import Builder
     b = (Builder(units="m", angle="rad", name="four-bar template")
          .point("A0", 0, 0).point("B0", 1, 0).point("A", 0, 0.4).point("B", 0.9, 0.9 if side == "left" else -0.9))
@@ -94,7 +94,7 @@ def _side(A, B, B0) -> np.ndarray:
 def _solve(geo: dict, q: np.ndarray) -> dict:
     """Population solve. geo: complex arrays A0, B0, A, B (and P) (k,) in the sketch at q[:, 0]; q (k, M)
     crank angles from the ground line → complex positions (k, M) of A, B, (P) with NaN where unbuildable."""
-    from .. import solve
+    from ..engine import solve
     k, M = q.shape
     with_point = "P" in geo
     out = {n: np.full((k, M), np.nan + 0j) for n in ("A", "B") + (("P",) if with_point else ())}
@@ -315,7 +315,7 @@ def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, 
     and kept only if that stretch assembles without a toggle and no precision point lies nearer the other
     assembly branch (B mirrored about the foot of A on the line) than the sketch's; ranked by the residual (in steps of 1e-9 of the stroke), then by the worst
     transmission angle."""
-    from .. import compile as compile_, solve
+    from ..engine import compile as compile_, solve
     inputs, displacements = _spaced(inputs, displacements, spacing, n, "displacements", "slider position")
     x, y = precision_pairs(inputs, displacements, where=("inputs", "displacements"))
     starts = _starts(starts, "(φ0, s0)")

@@ -128,7 +128,7 @@ class Limit:
 @dataclass(frozen=True, slots=True)
 class Problem:
     """A dimensional-synthesis problem (see the module docstring). Picklable."""
-    plan: object                                  # SolvePlan of the template
+    plan: object                                  # PlanarPlan of the template
     variables: tuple[Variable, ...]
     parameters: tuple[tuple[str, Expression], ...]
     targets: Targets | None = None
@@ -199,7 +199,7 @@ def load_problem(path) -> Problem:
 
 
 def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, mechanism=None) -> Problem:
-    """Build a Problem from a parsed document. ``mechanism`` (a Mechanism or a SolvePlan) replaces
+    """Build a Problem from a parsed document. ``mechanism`` (a Mechanism or a PlanarPlan) replaces
     the document's ``mechanism`` path (the Python route)."""
     P = Problems()
 

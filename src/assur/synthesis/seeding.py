@@ -45,8 +45,8 @@ def seed_rows(problem, solutions, *, tol: float = 1e-6, starts: int = 6, seed: i
     from scipy.optimize import least_squares
     from scipy.stats import qmc
 
-    from .. import compile as compile_
-    from .. import solve
+    from ..engine import compile as compile_
+    from ..engine import solve
     from .evaluate import Evaluator
     roles = _roles(problem.plan.mechanism)
     if roles is None:
