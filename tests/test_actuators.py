@@ -188,7 +188,7 @@ def test_analyze_shows_the_envelope_and_k_omega(capsys):
 
 def test_summary_json_is_strict_and_complete():
     plan = assur.compile(assur.load(EXAMPLE))
-    s = assur.analyze(plan, steps=60)
+    s = assur.Study(plan, steps=60).as_dict()
     act = s["actuators"]
     from assur.analysis.summary import structure_summary
     assert s["pairs"] == structure_summary(plan.mechanism)["pairs"]     # the kinematic pair counts stay untouched
@@ -208,9 +208,9 @@ def test_stroke_summary_without_speed_uses_analogues():
 
 
 def test_report_section_has_the_envelope_and_the_figure():
-    from assur.report.mechanism import analysis_html
+    from assur.report.analysis import analysis_html
     plan = assur.compile(assur.load(EXAMPLE))
-    page = analysis_html(assur.analyze(plan, steps=60), plan)
+    page = analysis_html(assur.Study(plan, steps=60))
     assert "Stroke envelope" in page and "K_ω = ω(driven_rod) / ω(drive_rod)" in page
     assert "Lever manipulator (paper 002 parametrisation)" in page
     assert page.count("data:image/png;base64,") == 1

@@ -30,6 +30,10 @@ CHANGES = [
     ("walker_fourbar_geared", "dead_centres",
      "issue 25 A1: the geared leg's dead centres, in the motor's angle (the old output had none)"),
     ("walker_fourbar_geared", "dead_centres[*]*", "issue 25 A1: as above"),
+    ("*", "four_bars", "issue 25 A6: every four-bar loop's Grashof class and inversion"),
+    ("slider_crank", "output_link", "issue 25 A5: a slider's stroke, extremes and time ratio (the output member was "
+                                    "none: only a rocker hinged to the frame counted)"),
+    ("walker_crank_slider", "output_link", "issue 25 A5: as above"),
 ]
 
 #: relative and absolute tolerance of a number (the old numbers were computed with other operation orders in places:

@@ -45,20 +45,20 @@ def fourbar_extremes(a, b, c, d):
 def test_crank_rocker_output_link_matches_the_closed_form():
     plan = assur.compile(assur.load(CRANK_ROCKER))
     o = output_link(Cycle(plan))
-    assert o["link"] == "rocker"
+    assert o.link == "rocker" and o.motion == "swing"
     (ext, fold), ratio = fourbar_extremes(0.040, 0.120, 0.080, 0.100)
-    got = {e["kind"]: e for e in o["extremes"]}
+    got = {e.kind: e for e in o.extremes}
     # extended: the rocker's extreme nearer the crank pivot's far side; match each closed-form position
     for q, th in (ext, fold):
-        e = min(o["extremes"], key=lambda e: abs(wrap_angle(e["input"] - q)))
-        assert abs(wrap_angle(e["input"] - q)) < 1e-9
-        assert abs(wrap_angle(e["angle"] - th)) < 1e-9
+        e = min(o.extremes, key=lambda e: abs(wrap_angle(e.input - q)))
+        assert abs(wrap_angle(e.input - q)) < 1e-9
+        assert abs(wrap_angle(e.value - th)) < 1e-9
     assert set(got) == {"min", "max"}
-    assert o["swing"] == pytest.approx(abs(ext[1] - fold[1]), abs=1e-9)
-    assert o["time_ratio"] == pytest.approx(ratio, rel=1e-9)
-    assert o["forward_crank_angle"] + o["return_crank_angle"] == pytest.approx(2 * math.pi)
+    assert o.range == pytest.approx(abs(ext[1] - fold[1]), abs=1e-9)
+    assert o.time_ratio == pytest.approx(ratio, rel=1e-9)
+    assert o.forward_crank_angle + o.return_crank_angle == pytest.approx(2 * math.pi)
     # at 60 rpm the turn takes 1 s: the strokes' times are their crank angles / 2π
-    assert o["forward_time"] == pytest.approx(o["forward_crank_angle"] / (2 * math.pi), rel=1e-12)
+    assert o.forward_time == pytest.approx(o.forward_crank_angle / (2 * math.pi), rel=1e-12)
 
 
 def test_link_motions_against_sampled_body_angles():
@@ -69,15 +69,96 @@ def test_link_motions_against_sampled_body_angles():
     st = assur.solve(plan, inputs=q)
     d = st.point("B").pos - st.point("O4").pos
     th = np.arctan2(d[:, 1], d[:, 0])
-    assert mo["rocker"]["angle_min"] == pytest.approx(th.min(), abs=1e-5)
-    assert mo["rocker"]["angle_max"] == pytest.approx(th.max(), abs=1e-5)
-    assert mo["crank"]["turns"] == 1 and mo["crank"]["angle_min"] is None
-    assert mo["crank"]["omega_max"] == pytest.approx(2 * math.pi)       # 60 rpm
+    assert mo["rocker"].angle_min == pytest.approx(th.min(), abs=1e-5)
+    assert mo["rocker"].angle_max == pytest.approx(th.max(), abs=1e-5)
+    assert mo["crank"].turns == 1 and mo["crank"].angle_min is None
+    assert mo["crank"].omega_max == pytest.approx(2 * math.pi)       # 60 rpm
 
 
-def test_no_output_link_without_a_swinging_ground_link():
+def test_an_offset_slider_crank_has_its_sliders_stroke_and_time_ratio():
+    """examples/slider_crank.toml: crank r = 50 mm, rod l = 150 mm, the slide's line 20 mm above the crank pivot.
+    Closed form: the slider's extremes are where crank and rod are collinear, at x = sqrt((l ± r)² − e²), the crank
+    at asin(e/(l + r)) and π + asin(e/(l − r)) (an independent computation)."""
     plan = assur.compile(assur.load(ROOT / "examples" / "slider_crank.toml"))
-    assert output_link(Cycle(plan)) is None
+    o = output_link(Cycle(plan))
+    r, l_, e = 0.050, 0.150, 0.020
+    assert o.link == "slot.block" and o.motion == "slide"
+    x_max, x_min = math.sqrt((l_ + r) ** 2 - e * e), math.sqrt((l_ - r) ** 2 - e * e)
+    assert o.value_max == pytest.approx(x_max, abs=1e-12) and o.value_min == pytest.approx(x_min, abs=1e-12)
+    assert o.range == pytest.approx(x_max - x_min, abs=1e-12)
+    q_ext, q_fold = math.asin(e / (l_ + r)), math.pi + math.asin(e / (l_ - r))
+    ext = next(x for x in o.extremes if x.kind == "max")
+    fold = next(x for x in o.extremes if x.kind == "min")
+    assert abs(wrap_angle(ext.input - q_ext)) < 1e-9 and abs(wrap_angle(fold.input - q_fold)) < 1e-9
+    slow = max(q_fold - q_ext, 2 * math.pi - (q_fold - q_ext))
+    assert o.time_ratio == pytest.approx(slow / (2 * math.pi - slow), rel=1e-9)
+
+
+SHAPER = """
+format = "assur/1"
+name = "quick-return shaper"
+[units]
+length = "mm"
+angle = "deg"
+[points]
+O2 = [0, 200]
+A = [100, 200]
+O4 = [0, 0]
+B = [0, 500]
+C = [100, 520]
+[links]
+frame = ["O2", "O4"]
+crank = ["O2", "A"]
+lever = ["O4", "B"]
+rod = ["B", "C"]
+[[prismatic]]
+name = "slot"
+point = "A"
+guide = "lever"
+through = "O4"
+angle = 0
+[[prismatic]]
+name = "ram"
+point = "C"
+guide = "frame"
+through = "O2"
+angle = 0
+offset = 320
+[[drivers]]
+name = "crank"
+kind = "rotary"
+link = "crank"
+pivot = "O2"
+arm = "A"
+speed = "30 rpm"
+"""
+
+
+def test_a_quick_return_shaper_reports_its_rams_stroke_and_time_ratio(tmp_path):
+    """Crank O2A (r = 100 mm) 200 mm above the lever's pivot O4 (d), A in the lever's slot, lever O4B (500 mm), rod
+    BC (100 mm), the ram C on a horizontal guide 520 mm above O4. Independent closed form: the lever's extremes are
+    where the crank is perpendicular to it, the lever then at ±asin(r/d) from the vertical and the crank angles
+    between them 2·acos(r/d) (return) and 2π − that (forward); the ram there is where the rod from B meets the
+    guide: x = x_B ± sqrt(BC² − (y_guide − y_B)²) on the branch the sketch shows."""
+    path = tmp_path / "shaper.toml"
+    path.write_text(SHAPER, encoding="utf-8")
+    plan = assur.compile(assur.load(path))
+    study = assur.Study(plan)
+    o = study.output_link
+    assert o.link == "ram.block" and o.motion == "slide"
+    r, d, lever, rod, h = 0.100, 0.200, 0.500, 0.100, 0.520
+    ret = 2 * math.acos(r / d)
+    assert o.time_ratio == pytest.approx((2 * math.pi - ret) / ret, rel=1e-9)
+    beta = math.asin(r / d)
+    ends = []
+    for sign in (1, -1):
+        xb, yb = -sign * lever * math.sin(beta), lever * math.cos(beta)
+        ends.append(xb + math.sqrt(rod ** 2 - (h - yb) ** 2))
+    assert o.range == pytest.approx(abs(ends[0] - ends[1]), rel=1e-9)
+    text = run("analyze", path).stdout
+    assert "output slider ram.block: stroke" in text and "time ratio" in text
+    assert "ram.block  0.00°" not in text and "translates (no rotation)" in text
+    assert "transmission angle at A:" not in text       # a pin in a slot: μ is 90° throughout
 
 
 def test_analyze_text_and_json_show_the_output_link():
@@ -89,6 +170,7 @@ def test_analyze_text_and_json_show_the_output_link():
     r = run("analyze", CRANK_ROCKER, "--json")
     data = json.loads(r.stdout)
     assert data["output_link"]["time_ratio"] == pytest.approx(ratio, rel=1e-9)
+    assert data["four_bars"][0]["kind"] == "crank-rocker" and data["four_bars"][0]["grashof"] is True
     assert set(data["links"]) == {"crank", "rocker", "coupler"}
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..engine import solve
 from ..engine.options import CYCLE_STEPS as _CYCLE_STEPS
-from ..errors import SpecError, StructureError
+from ..errors import SpecError
 from ..tolerances import DEFAULT as TOL
 
 TWO_PI = 2.0 * math.pi

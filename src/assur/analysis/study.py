@@ -22,7 +22,8 @@ Fields (None where they do not apply; SI units):
 ``transmission``    {solved point: μ (n,)} transmission angle of every closed-form dyad (planar)
 ``dead_centres``    [:class:`~assur.analysis.transmission.DeadCentre`] in the input's angle (a turn, planar)
 ``links``           per moving link its angle range, turns per input turn, largest |ω| and |α|
-``output_link``     the output link's swing, extremes and time ratio, or None
+``output_link``     the output member: a rocker's swing or a slide's stroke, extremes and time ratio, or None
+``four_bars``       every four-bar loop's Grashof class and inversion
 ``gait``            :class:`~assur.analysis.gait.GaitMetrics` of a walking leg; ``gait_curves``, ``gait_error``
 ``module``          :class:`~assur.analysis.gait.ModuleMetrics` of a walking module of several legs
 ``population_gait`` the sampled gait (no refinement: what a drag previews and synthesis optimises)
@@ -157,19 +158,30 @@ class Study(Cycle):
 
     @cached_property
     def links(self) -> dict | None:
-        """Per moving link: angle range, turns per input turn, largest |ω| and |α| (a turn)."""
+        """{link: :class:`~assur.analysis.links.LinkMotion`}: angle range, turns per input turn, largest |ω| and |α|
+        (a turn)."""
         if not self.turn:
             return None
         from .links import link_motions
         return link_motions(self)
 
     @cached_property
-    def output_link(self) -> dict | None:
-        """The output link's swing, extremes and time ratio (a planar turn), or None."""
+    def output_link(self):
+        """The :class:`~assur.analysis.links.OutputMember` (a rocker's swing or a slide's stroke, its extremes and
+        the time ratio; a planar turn), or None."""
         if not self._planar_turn():
             return None
         from .links import output_link
         return output_link(self)
+
+    @cached_property
+    def four_bars(self) -> list:
+        """The :class:`~assur.analysis.fourbar.FourBarLoop` of every four-bar loop (planar): Grashof class and
+        inversion, from the design's lengths."""
+        if self.plan.dimension != 2:
+            return []
+        from .fourbar import four_bar_loops
+        return four_bar_loops(self.plan, self.params)
 
     @cached_property
     def _gait(self):

@@ -25,7 +25,7 @@ def summary_dict(study) -> dict:
         if study.turn:
             from .spatial import spatial_summary
             spatial_summary(study, out)
-            out["links"] = study.links
+            out["links"] = {k: v.as_dict() for k, v in study.links.items()}
         return out
     if not study.turn:
         act = study.actuators
@@ -43,8 +43,9 @@ def summary_dict(study) -> dict:
         for k, v in study.transmission.items()}
     out["dead_centres"] = [{"angle": d.angle, "kind": d.kind, "link": d.link, "crank": d.crank}
                            for d in study.dead_centres]
-    out["links"] = study.links
-    out["output_link"] = study.output_link
+    out["links"] = {k: v.as_dict() for k, v in study.links.items()}
+    out["output_link"] = None if study.output_link is None else study.output_link.as_dict()
+    out["four_bars"] = [loop.as_dict() for loop in study.four_bars]
     if plan.mechanism.gait is None:
         return out
     if study.gait is None:

@@ -126,6 +126,8 @@ def cmd_info(args) -> int:
            if m.gears else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
                            "or a body is joined to nothing)"])
     plan = compile_(m)
+    from ..analysis.fourbar import four_bar_loops
+    _emit([loop.describe() for loop in four_bar_loops(plan)])
     _emit(text.parameter_lines(plan) + text.gait_lines(m))
     return 0
 
@@ -160,14 +162,15 @@ def cmd_analyze(args) -> int:
     """``assur analyze FILE``: the analysis summary of the file's Study as text or ``--json``."""
     from ..analysis.study import Study
     from ..io.output import json_text
-    from ..report.text import analysis_lines
+    from ..report.analysis import analysis_lines
     m, plan = compile_file(args.file)
-    summary = Study(plan, steps=args.steps).as_dict()
+    study = Study(plan, steps=args.steps)
+    summary = study.as_dict()
     if args.json:
         print(json_text({"file": str(args.file), **summary}))
         return 0
     print(f"{_title(m, args.file)}  [{args.file}]" + (" (spatial)" if plan.dimension == 3 else ""))
-    _emit(analysis_lines(summary, m.units, args.units))
+    _emit(analysis_lines(study, args.units))
     if "forces" in summary:
         from ..report.forces import summary_lines
         print("Forces (N, N·m, W, J):")

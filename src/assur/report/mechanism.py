@@ -18,8 +18,9 @@ from ..analysis.sampling import CYCLE_STEPS
 from ..analysis.study import Study
 from ..errors import SpecError
 from .page import escape, header, page, png_tag, section, table
-from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, gait_rows, length_display, link_rows,
-                   on_arc, output_link_lines, parameter_rows, phases_text, roman, speed_text)
+from .analysis import analysis_html
+from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, length_display, on_arc, parameter_rows,
+                   phases_text, roman, speed_text)
 
 __all__ = ["build_report", "write_report"]
 
@@ -75,63 +76,7 @@ def drivers_html(plan) -> str:
     return table(["driver", "kind", "", "speed"], rows)
 
 
-def analysis_html(summary: dict, plan, units: str = "file") -> str:
-    """The analysis of a summary: a stroke, or buildability, transmission angles, dead centres, the links'
-    motion, the output link and gait; lengths, speeds and accelerations in the file's unit (``units`` 'file')
-    or in SI ('si')."""
-    s = summary
-    Lf, Lu = length_display(plan.mechanism.units, units)
-    kL = 1.0 / Lf
-    parts = []
-    if s.get("note"):
-        parts.append(f'<p class="note">{escape(s["note"])}</p>')
-    act = s.get("actuators")
-    if act:   # a linear driver's working stroke
-        return "\n".join(parts + _stroke_html(act, plan, 1.0 / kL, Lu))
-    if s.get("unbuildable") is None:
-        return "\n".join(parts)
-    steps = s.get("steps")
-    if s.get("full_rotation"):
-        parts.append(f'<p>Buildability: <span class="ok">the crank turns fully</span> '
-                     f'(0 of {steps} positions unbuildable).</p>')
-    else:
-        rng = ", ".join(f"{deg_text(r['start'], 1)} … {deg_text(r['end'], 1)}" for r in s.get("buildable_ranges", []))
-        parts.append(f'<p>Buildability: <span class="bad">the crank cannot turn fully</span>: '
-                     f'{s["unbuildable"]} of {steps} positions cannot be assembled (unbuildable: {s["unbuildable"]}). '
-                     + (f"Buildable ranges: {escape(rng)}." if rng else "No position can be assembled.") + "</p>")
-    ta = s.get("transmission_angles") or {}
-    if ta:
-        rows = [(k, deg_text(t["min"]), deg_text(t["max"]), deg_text(t["worst_deviation_from_90"]))
-                for k, t in ta.items()]
-        parts.append("<h3>Transmission angles</h3>")
-        parts.append(table(["dyad (solved point)", "min μ", "max μ", "worst deviation from 90°"], rows,
-                           num_cols=(1, 2, 3)))
-    dc = s.get("dead_centres") or []
-    parts.append("<h3>Dead centres</h3>")
-    if dc:
-        parts.append(table(["crank angle", "kind", "link"], [(deg_text(d["angle"]), d["kind"], d["link"]) for d in dc],
-                           num_cols=(0,)))
-    else:
-        parts.append('<p class="note">none found</p>')
-    lr = link_rows(s)
-    if lr:
-        parts.append("<h3>Links</h3>")
-        parts.append(table(["link", "angle over the turn", "swing", "largest |ω| [rad/s]", "largest |α| [rad/s²]"],
-                           lr, num_cols=(2, 3, 4)))
-    ol = output_link_lines(s)
-    if ol:
-        parts.append(f"<h3>Output link {escape(s['output_link']['link'])}</h3>")
-        parts.append("<ul>" + "".join(f"<li>{escape(line.strip())}</li>" for line in ol) + "</ul>")
-    g = s.get("gait")
-    if g:
-        parts.append(f"<h3>Gait of foot {escape(g['foot'])}</h3>")
-        parts.append(table(["quantity", "value", "unit"], gait_rows(g, 1.0 / kL, Lu), num_cols=(1,)))
-    elif s.get("gait_error"):
-        parts.append(f'<h3>Gait</h3><p class="note">not available: {escape(s["gait_error"])}</p>')
-    return "\n".join(parts)
-
-
-def _stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list[str]:
+def stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list[str]:
     """A linear driver's working stroke: the envelope tables and the actuator figure."""
     rows = actuator_rows(act, length_factor, length_unit)
     parts = [f"<p>{escape(line)}</p>" for line in rows["stroke"]]
@@ -219,7 +164,7 @@ def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: st
     summary = study.as_dict(forces=False)
     out = [section("Structure", structure_html(summary) + "\n" + atlas_html(plan.mechanism)),
            section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
-           section("Analysis", analysis_html(summary, plan, units))]
+           section("Analysis", analysis_html(study, units))]
     mod = module_html(summary, plan, study.gait, study.steps)
     if mod:
         out.append(section("Walking module", mod))
@@ -241,26 +186,24 @@ def joints_html(plan) -> str:
     return table(["point", "joint", "axis (revolute; pin of a universal joint)"], rows)
 
 
-def dyads_html(summary: dict) -> str:
+def dyads_html(study) -> str:
     """Each R–S–S dyad's branch, swing, transmission angles and dead centres."""
     parts = []
-    for s in summary.get("dyads", []):
-        w = ", ".join(f"{v:+.0f}" for v in s["paper_w"]) or "undefined (V3_X = 0)"
-        rows = [("assembly branch s = sign det[A − D, e, B − D]", f"{s['branch_s']:+d}"),
+    for s in study.spatial or []:
+        w = ", ".join(f"{v:+.0f}" for v in s.paper_w) or "undefined (V3_X = 0)"
+        rows = [("assembly branch s = sign det[A − D, e, B − D]", f"{s.branch_s:+d}"),
                 ("the paper's W of eq. (21) (= s·sign V3_X)", w),
-                ("V3_X changes sign over the turn (a fixed W would jump)", "yes" if s["v3x_changes_sign"] else "no"),
-                ("rocker angle θ4 min", deg_text(s["rocker_angle_min"], 4)),
-                ("rocker angle θ4 max", deg_text(s["rocker_angle_max"], 4)),
-                ("rocker swing", deg_text(s["swing"], 4)),
-                ("transmission angle μ_int min … max",
-                 f"{deg_text(s['mu_int_min'], 3)} … {deg_text(s['mu_int_max'], 3)}"),
+                ("V3_X changes sign over the turn (a fixed W would jump)", "yes" if s.v3x_changes_sign else "no"),
+                ("rocker angle θ4 min", deg_text(s.rocker_angle_min, 4)),
+                ("rocker angle θ4 max", deg_text(s.rocker_angle_max, 4)),
+                ("rocker swing", deg_text(s.swing, 4)),
+                ("transmission angle μ_int min … max", f"{deg_text(s.mu_int_min, 3)} … {deg_text(s.mu_int_max, 3)}"),
                 ("effective transmission angle μ_T min … max",
-                 f"{deg_text(s['mu_t_min'], 3)} … {deg_text(s['mu_t_max'], 3)}")]
-        rows += [(f"dead centre ({c['kind']})", f"crank {deg_text(c['angle'], 6)}, θ4 = "
-                  f"{deg_text(on_arc(c['rocker_angle'], s['rocker_angle_min']), 4)}")
-                 for c in s["dead_centres"]]
-        parts.append(f"<h3>Dyad solving {escape(s['point'])} (rocker {escape(s['rocker'])}, coupler "
-                     f"{escape(s['coupler'])})</h3>")
+                 f"{deg_text(s.mu_t_min, 3)} … {deg_text(s.mu_t_max, 3)}")]
+        rows += [(f"dead centre ({c.kind})", f"crank {deg_text(c.angle, 6)}, θ4 = "
+                  f"{deg_text(on_arc(c.rocker_angle, s.rocker_angle_min), 4)}") for c in s.dead_centres]
+        parts.append(f"<h3>Dyad solving {escape(s.point)} (rocker {escape(s.rocker)}, coupler "
+                     f"{escape(s.coupler)})</h3>")
         parts.append(table(["quantity", "value"], rows, num_cols=(1,)))
     return "\n".join(parts)
 
@@ -281,7 +224,7 @@ def _spatial_sections(study: Study, run: Study, panels: str, view: str, units: s
     summary = study.as_dict(forces=False)
     return [section("Structure", structure_html(summary) + "\n" + joints_html(plan)),
             section("Parameters", parameters_html(plan) + "\n" + drivers_html(plan)),
-            section("Analysis", analysis_html(summary, plan, units) + "\n" + dyads_html(summary)),
+            section("Analysis", analysis_html(study, units) + "\n" + dyads_html(study)),
             section("3D view and animation", '<p class="note">Drag to rotate, scroll to zoom; ▶ play animates '
                                              "the mechanism. Dotted: the paths projected on the coordinate "
                                              "planes (paper 003, Fig. 2–3).</p>\n" + view),
