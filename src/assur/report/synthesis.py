@@ -73,7 +73,7 @@ def result_html(result) -> str:
     return "\n".join(parts)
 
 
-def _figures(result) -> str:
+def _figures(result, study) -> str:
     from ..plot.draw import close, figure_png
     from ..plot.figures import mechanism_figure
     from ..plot.synthesis import synthesis_figure
@@ -83,7 +83,7 @@ def _figures(result) -> str:
     plan = result.problem.plan
     if plan.dimension == 2:
         try:
-            fig = mechanism_figure(plan, params=result.params())
+            fig = mechanism_figure(study)
             out.append(png_tag(figure_png(fig, dpi=80), "the best design: paths, kinematic diagram, velocity and "
                                                         "acceleration"))
             close(fig)
@@ -92,10 +92,14 @@ def _figures(result) -> str:
     return "\n".join(out)
 
 
-def _gait_html(result) -> str:
+def _gait_html(result, study) -> str:
+    from ..errors import AssurError
     from ..io.units import LENGTH
     from .text import gait_rows
-    g = result.gait()
+    try:
+        g = study.gait if result.problem.plan.mechanism.gait is not None else None
+    except AssurError:
+        g = None
     if g is None:
         return ""
     u = result.problem.length_unit
@@ -114,8 +118,9 @@ def build_synthesis_page(result, *, source: str = "", best_file: str | None = No
     if best_file:
         best += f'\n<p>The best design as a mechanism file: <a href="{escape(best_file)}">{escape(best_file)}</a>.</p>'
     body.append(section("Best design", best))
-    body.append(section("Figures", _figures(result)))
-    gait = _gait_html(result)
+    study = result.study()       # the best design's turn: the figure and the gait read one solve
+    body.append(section("Figures", _figures(result, study)))
+    gait = _gait_html(result, study)
     if gait:
         body.append(section("Gait of the best design (exact)", gait))
     return page(title, body)

@@ -207,7 +207,7 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     ``key``, ``objective`` (None when no design was feasible), ``feasible``, ``violation``, ``variables`` (file units), ``starts`` (each start's
     penalised best), ``evaluations``, ``seconds``, ``metrics`` (the exact gait of the best design, None when it
     cannot walk) and ``mechanism`` (its file text)."""
-    from ..analysis.gait import gait_metrics
+    from ..analysis.study import Study
     from ..errors import AssurError
     from ..io.mechanism_writer import dumps
     from .optimize import synthesize
@@ -222,12 +222,13 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     metrics = None
     params = res.params()
     try:
-        g = gait_metrics(problem.plan, params)
+        g = Study(problem.plan, params).gait
+    except AssurError:
+        g = None
+    if g is not None:
         metrics = {"step": g.step_length * 1000, "lift": g.lift * 1000, "sag": g.sag * 1000, "duty": g.duty_factor,
                    "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
                    "speed_spread": (g.support_speed.max - g.support_speed.min) / g.support_speed.mean}
-    except AssurError:
-        pass
     q = res.details.get("quantities", {})
     if metrics is not None and q.get("transmission.min") is not None:
         metrics["transmission_min"] = float(q["transmission.min"])

@@ -131,14 +131,18 @@ class SynthesisResult:
         return mechanism_with_params(self.problem.plan, self.params(), name=f"{base.name} (synthesised)",
                                      description=(base.description.rstrip() + "\n\n" + note).lstrip())
 
+    def study(self):
+        """The :class:`~assur.analysis.study.Study` of the best design (one turn, solved on first use)."""
+        from ..analysis.study import Study
+        return Study(self.problem.plan, self.params())
+
     def gait(self):
         """Exact gait metrics of the best design (None if the template has no [gait] or it cannot walk)."""
-        from ..analysis.gait import gait_metrics
         from ..errors import AssurError
         if self.problem.plan.mechanism.gait is None:
             return None
         try:
-            return gait_metrics(self.problem.plan, self.params())
+            return self.study().gait
         except AssurError:
             return None
 
