@@ -1,7 +1,7 @@
 """The ``assur`` command line: the parser and the dispatch to the commands of
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
 (forces), :mod:`assur.cli.synth`
-(synth) and :mod:`assur.cli.gears` (gears, wheelstep).
+(synth), :mod:`assur.cli.gears` (gears, wheelstep) and :mod:`assur.cli.exchange` (import, export).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
 invalid file, a structure that cannot be solved, a missing file or optional package, an output that cannot be
@@ -32,7 +32,7 @@ def build_parser():
     import argparse
 
     from ..version import __version__
-    from . import atlas, codesign, design, forces, gears, mechanism, synth
+    from . import atlas, codesign, design, exchange, forces, gears, mechanism, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -43,6 +43,7 @@ def build_parser():
     codesign.register(sub)
     design.register(sub)
     atlas.register(sub)
+    exchange.register(sub)   # `assur import` and `assur export`
     return p
 
 

@@ -1,0 +1,83 @@
+"""``assur import`` and ``assur export``: moving a design between assur and pylinkage, PMKS+, Pyslvs and four-bar-rs
+(docs/interop.md).
+
+``assur export`` is a table: ``WRITERS`` maps each ``--to`` format onto the module and function that write it,
+``writer(mechanism, path) -> str | None`` (the file written atomically; the returned line, e.g. a PMKS+ link, is
+printed). Another format registers with one line, e.g. ``WRITERS["mjcf"] = ("assur.dynamics.mjcf", "write")``;
+its module is imported only when that format is asked for.
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+import warnings
+
+from .args import load_mechanism, output_path, path_arg
+
+#: --to FORMAT → (module, function): the exporters of ``assur export``
+WRITERS: dict[str, tuple[str, str]] = {
+    "pylinkage": ("assur.interop.pylinkage_write", "write"),
+    "pmks": ("assur.interop.pmks", "write"),
+    "pyslvs": ("assur.interop.pyslvs", "write"),
+    "fourbar": ("assur.interop.fourbar", "write"),
+}
+#: --format FORMAT of ``assur import`` (told from the content when not given)
+READERS = ("pylinkage", "pmks", "pyslvs", "fourbar")
+LENGTH_UNITS = ("m", "mm", "cm", "dm", "km", "in", "ft")
+
+
+def register(sub) -> None:
+    """Add ``import`` and ``export`` to the argparse sub-parsers ``sub``."""
+    h = ("read a pylinkage JSON, a PMKS+ link or .pmks file, a Pyslvs project or expression, or a four-bar-rs RON "
+         "file into an assur/1 mechanism file")
+    sp = sub.add_parser("import", help=h, description=h)
+    sp.add_argument("source", metavar="SOURCE",
+                    help="a file, '-' for standard input, or the text itself (a PMKS+ link, a Pyslvs expression)")
+    sp.add_argument("-o", "--output", type=output_path((".toml",)), required=True, metavar="FILE.toml",
+                    help="the mechanism file to write")
+    sp.add_argument("--format", choices=READERS, help="the source's format (default: told from its content)")
+    sp.add_argument("--units", choices=LENGTH_UNITS,
+                    help="length unit of a unitless source (pylinkage, Pyslvs, four-bar-rs; default m)")
+    sp.set_defaults(func=cmd_import)
+    h = "write a mechanism file for another tool: pylinkage JSON, PMKS+ (.pmks and its link), Pyslvs, four-bar-rs"
+    sp = sub.add_parser("export", help=h, description=h)
+    sp.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
+    sp.add_argument("--to", required=True, choices=tuple(WRITERS), help="the format to write")
+    sp.add_argument("output", type=path_arg, metavar="OUT", help="the file to write ('-': standard output)")
+    sp.set_defaults(func=cmd_export)
+
+
+def _warnings(caught) -> None:
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+
+
+def cmd_import(args) -> int:
+    from ..interop import import_mechanism
+    from ..io.mechanism_writer import dump
+    source = args.source
+    if source == "-":
+        source = sys.stdin.read(16 * 2 ** 20 + 1)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        m = import_mechanism(source, format=args.format, units=args.units)
+    _warnings(caught)
+    dump(m, args.output)
+    print(f"wrote {args.output}: {len(m.points)} points, {len(m.links)} links, {len(m.drivers)} driver(s)")
+    return 0
+
+
+def cmd_export(args) -> int:
+    module, function = WRITERS[args.to]
+    m = load_mechanism(args.file)
+    writer = getattr(importlib.import_module(module), function)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        message = writer(m, args.output)
+    _warnings(caught)
+    if message:
+        print(message)
+    return 0
+
+
+__all__ = ["READERS", "WRITERS", "cmd_export", "cmd_import", "register"]
