@@ -31,6 +31,8 @@ EXPORTERS = {
     "pyslvs": ("assur.interop.pyslvs", "write", ".pyslvs"),
     "fourbar": ("assur.interop.fourbar", "write", ".ron"),
 }
+_LABELS = {"pylinkage": "pylinkage JSON", "pmks": "PMKS+ link", "pyslvs": "Pyslvs expression",
+           "fourbar": "four-bar-rs RON"}
 _SUFFIX = {".json": "pylinkage", ".pmks": "pmks", ".yml": "pyslvs", ".yaml": "pyslvs", ".pyslvs": "pyslvs",
            ".ron": "fourbar"}
 _PMKS_BODY = re.compile(r"^[0-9A-Za-z_-]{1,4}\.[0-9A-Za-z_,-]*\.[0-9A-Za-z_,-]+\.[0-9]{0,8}\.")
@@ -95,6 +97,8 @@ def draft_of(source, format: str | None = None, units: str | None = None):  # no
         raise SpecError([("", f"a dict that is not a pylinkage mechanism (keys: {', '.join(map(str, source))[:200]})")])
     text, suffix, label = _text(source)
     fmt = format or detect_format(text, suffix)
+    if label == "the given text":
+        label = _LABELS[fmt]
     try:
         if fmt == "pylinkage":
             try:

@@ -149,7 +149,7 @@ class Draft:
             self.ground.append(pid)
 
     # -- building -------------------------------------------------------------------------------------------
-    def _names(self):
+    def names(self):
         taken_p, taken_l = set(), set()
         pname = {pid: safe_name(self.labels.get(("p", pid), pid), taken_p, "point", self.warn) for pid in self.points}
         lname = {lid: safe_name(self.labels.get(("l", lid), lid), taken_l, "link", self.warn) for lid in self.links}
@@ -162,7 +162,7 @@ class Draft:
             raise SpecError([("", f"the {self.source} holds no points")])
         if not self.ground:
             raise SpecError([("", f"the {self.source} has no point fixed to the ground (no frame to build on)")])
-        pname, lname = self._names()
+        pname, lname = self.names()
         used = set(self.ground) | {s.point for s in self.slots if s.point is not None}
         for lid, pts in self.links.items():
             if len(pts) < 2:

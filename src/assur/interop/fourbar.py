@@ -142,20 +142,26 @@ def positions(v: dict, stat: str, b: float):
     return [p1, p2, p3, p4, p5]
 
 
+def _height(v: dict, b: float) -> float:
+    """How far P4 stands off the line P3 → P2 at input ``b`` (0 where the loop folds flat, -1 where it is open)."""
+    p1 = (v["p1x"], v["p1y"])
+    p2 = (p1[0] + v["l1"] * math.cos(v["a"]), p1[1] + v["l1"] * math.sin(v["a"]))
+    p3 = (p1[0] + v["l2"] * math.cos(v["a"] + b), p1[1] + v["l2"] * math.sin(v["a"] + b))
+    r = math.dist(p2, p3)
+    if r == 0 or r > v["l3"] + v["l4"] or r < abs(v["l3"] - v["l4"]):
+        return -1.0
+    c = (v["l3"] ** 2 - v["l4"] ** 2 + r * r) / (2 * r)
+    return math.sqrt(max(v["l3"] ** 2 - c * c, 0.0))
+
+
 def _sketch_input(v: dict, stat: str) -> float:
-    """b = 0 when the loop closes there, else the middle of the closing inputs (a fine scan of one turn)."""
-    if positions(v, stat, 0.0) is not None:
+    """b = 0 when the loop closes there well clear of a fold, else the input where P4 stands farthest off the line
+    P3 → P2 (a scan of one turn): a sketch that tells the assembly."""
+    clear = 0.05 * min(v["l3"], v["l4"])
+    if _height(v, 0.0) >= clear:
         return 0.0
-    ok = [k for k in range(3600) if positions(v, stat, k * math.tau / 3600) is not None]
-    if not ok:
-        return 0.0
-    runs, start = [], ok[0]
-    for a, b in zip(ok, ok[1:] + [None]):
-        if b != a + 1:
-            runs.append((start, a))
-            start = b
-    s, e = max(runs, key=lambda r: r[1] - r[0])
-    return (s + e) / 2 * math.tau / 3600
+    best = max(range(720), key=lambda k: _height(v, k * math.tau / 720))
+    return best * math.tau / 720
 
 
 # -- writing ----------------------------------------------------------------------------------------------------

@@ -161,6 +161,13 @@ def read(text: str, units: str | None = None) -> Draft:
             guide = next((lid for lid, pts in bodies.items() if j["slot_a"] in pts and j["slot_b"] in pts), None)
             d.slots.append(Slot(angle=math.atan2(b["y"] - a["y"], b["x"] - a["x"]), at=(j["x"], j["y"]), point=pin,
                                 guide=guide, name=f"{jid}_slot"))
+        elif j["grounded"] and j["welded"]:   # the block welded to its link: the link translates on the guide
+            owners = [lid for lid, pts in d.links.items() if pin in pts]
+            if len(owners) != 1:
+                raise SpecError([(j["where"], f"a welded slider (joint {jid!r}) must carry exactly one link")])
+            pts = d.links[owners[0]]
+            pts.insert(0, pts.pop(pts.index(pin)))
+            d.slots.append(Slot(angle=j["angle"], at=(j["x"], j["y"]), link=owners[0], name=f"{jid}_slot"))
         elif j["grounded"]:
             d.slots.append(Slot(angle=j["angle"], at=(j["x"], j["y"]), point=pin, name=f"{jid}_slot"))
         else:

@@ -8,9 +8,12 @@
   ``Fixed``, ``Revolute`` (``Pivot``), ``Prismatic`` (``Linear``) with their dimensions; ``x``, ``y`` are only
   the initial guess, so the joints are assembled here the way pylinkage does it: the intersection nearest the
   guess.
-- **Hypergraph JSON** (``{"graph": graph_to_dict(...), "dimensions": Dimensions.to_dict()}``) and live
-  ``pylinkage.simulation.Linkage`` / ``pylinkage.mechanism.Mechanism`` objects: converted by pylinkage's own
-  ``to_mechanism`` / ``mechanism_to_dict`` (pylinkage must be installed) and read as Mechanism JSON.
+- **Hypergraph JSON** (``{"graph": graph_to_dict(...), "dimensions": Dimensions.to_dict()}``): converted by
+  pylinkage's own ``to_mechanism`` (pylinkage must be installed) and read as Mechanism JSON.
+- Live objects: a ``pylinkage.mechanism.Mechanism`` (through ``mechanism_to_dict``) and a
+  ``pylinkage.simulation.Linkage``, read component by component (Ground, Crank, ArcCrank, RRRDyad, RRPDyad,
+  FixedDyad, PointTracker) from their dimensions; a component's current position is only the hint of its
+  assembly, as in pylinkage (its own ``to_hypergraph`` conversion keeps unassembled positions as dimensions).
 
 pylinkage has no units and no time: lengths are read in ``units`` (default m) and an ``angular_velocity`` (rad per
 simulation step) as rad/s. A mechanism exported by assur carries its units in an ``assur`` block, read back here.
@@ -334,25 +337,111 @@ def read_hypergraph(data: dict, units: str | None = None) -> Draft:
 
 def is_live(obj) -> bool:
     """Whether ``obj`` is a pylinkage Linkage or Mechanism object."""
-    return type(obj).__module__.startswith("pylinkage.") and hasattr(obj, "joints" if hasattr(obj, "links")
-                                                                        else "components")
+    return type(obj).__module__.startswith("pylinkage.") and (hasattr(obj, "components") or hasattr(obj, "links"))
 
 
 def read_live(obj, units: str | None = None) -> Draft:
-    """A Draft of a live ``pylinkage.mechanism.Mechanism`` or ``pylinkage.simulation.Linkage``."""
+    """A Draft of a live ``pylinkage.mechanism.Mechanism`` (through its dict) or ``pylinkage.simulation.Linkage``
+    (its components, each assembled from its dimensions the way pylinkage builds it: the intersection nearest the
+    component's current position)."""
     _pylinkage()
     from pylinkage.mechanism import Mechanism, mechanism_to_dict
     if isinstance(obj, Mechanism):
         return read_modern(mechanism_to_dict(obj), units)
-    from pylinkage.hypergraph.mechanism_conversion import to_mechanism
-    try:
-        graph, dims = obj.to_hypergraph()
-        mech = to_mechanism(graph, dims)
-    except Exception as exc:   # noqa: BLE001 - any failure of pylinkage's own conversion names what it met
-        kinds = sorted({type(c).__name__ for c in getattr(obj, "components", ())})
-        raise SpecError([("", f"pylinkage cannot convert this linkage ({', '.join(kinds)}) to its links-and-joints "
-                              f"model: {exc}")]) from None
-    return read_modern(mechanism_to_dict(mech), units)
+    return read_components(obj, units)
 
 
-__all__ = ["is_live", "kind_of", "read_hypergraph", "read_legacy", "read_live", "read_modern"]
+def read_components(linkage, units: str | None = None) -> Draft:
+    """A Draft of a ``pylinkage.simulation.Linkage``: Ground, Crank, ArcCrank, RRRDyad, RRPDyad, FixedDyad and
+    PointTracker components (others are refused by name)."""
+    d = Draft("pylinkage linkage", length_unit=units or "m", name=str(getattr(linkage, "name", "") or ""))
+    comps = list(linkage.components)
+    count_limit(comps, "components", "components")
+    ids, owner = {}, {}
+    for k, c in enumerate(comps):
+        name = str(c.name) if getattr(c, "name", None) else f"component{k}"
+        if name in ids.values():
+            raise SpecError([(f"components[{k}]", f"the name {name!r} is used twice")])
+        ids[id(c)] = name
+        out = getattr(c, "output", None)
+        if out is not None:
+            owner[id(out)] = c
+
+    def pid(anchor):
+        return ids.get(id(owner.get(id(anchor), anchor)))
+    pending = list(enumerate(comps))
+    while pending:
+        rest = []
+        for k, c in pending:
+            if not _component(d, k, c, ids[id(c)], pid):
+                rest.append((k, c))
+        if len(rest) == len(pending):
+            k, c = rest[0]
+            raise SpecError([(f"components[{k}]", f"{type(c).__name__} {ids[id(c)]!r} hangs on components that "
+                                                 "never get placed")])
+        pending = rest
+    return d
+
+
+def _component(d: Draft, k: int, c, name: str, pid) -> bool:
+    """Add one component when its anchors are placed; False to try again later."""
+    kind = type(c).__name__
+    where = f"components[{k}] ({kind} {name!r})"
+    here = (c.x, c.y) if c.x is not None and c.y is not None else None
+    if kind == "Ground":
+        d.point(name, finite(c.x, f"{where}.x"), finite(c.y, f"{where}.y"), where)
+        d.fix(name)
+        return True
+    anchors = [getattr(c, a) for a in ("anchor", "anchor1", "anchor2", "revolute_anchor", "line_anchor1",
+                                       "line_anchor2") if getattr(c, a, None) is not None]
+    refs = [pid(a) for a in anchors]
+    if kind not in ("Crank", "ArcCrank", "RRRDyad", "RRPDyad", "FixedDyad", "PointTracker"):
+        raise SpecError([(where, f"a {kind} is not representable in assur (it reads Ground, Crank, ArcCrank, "
+                                 "RRRDyad, RRPDyad, FixedDyad and PointTracker)")])
+    if any(r is None or r not in d.points for r in refs):
+        return False
+    if kind in ("Crank", "ArcCrank"):
+        a = refs[0]
+        if a not in d.ground:
+            raise SpecError([(where, f"a crank turns about a Ground: {a!r}")])
+        ax, ay = d.points[a]
+        r = finite(c.radius, f"{where}.radius")
+        th = math.atan2(here[1] - ay, here[0] - ax) if here else finite(c.initial_angle or 0.0, where)
+        d.point(name, ax + r * math.cos(th), ay + r * math.sin(th), where)
+        d.link(f"{name}_crank", [a, name], where)
+        omega = finite(c.angular_velocity, f"{where}.angular_velocity")
+        d.cranks.append(Crank(f"{name}_crank", a, name, omega, name=name))
+        if kind == "ArcCrank":
+            d.warn(f"ArcCrank {name!r} oscillates between {c.arc_start!r} and {c.arc_end!r} rad; assur reads it as a "
+                   "crank: give that range with --range")
+    elif kind == "RRRDyad":
+        a0, a1 = refs
+        hint = here or d.points[a0]
+        xy = _circles(d.points[a0], finite(c.distance1, where), d.points[a1], finite(c.distance2, where), hint, where)
+        d.point(name, *xy, where)
+        d.link(f"{a0}_{name}", [a0, name], where)
+        d.link(f"{a1}_{name}", [a1, name], where)
+    elif kind == "RRPDyad":
+        a0, l1, l2 = refs
+        p1, p2 = d.points[l1], d.points[l2]
+        d.point(name, *_circle_line(d.points[a0], finite(c.distance, where), p1, p2, here or d.points[a0], where),
+                where)
+        d.link(f"{a0}_{name}", [a0, name], where)
+        guide = None
+        if not (l1 in d.ground and l2 in d.ground):
+            guide = next((lid for lid, pts in d.links.items() if l1 in pts and l2 in pts), None)
+            if guide is None:
+                raise SpecError([(where, f"the slide line {l1!r} → {l2!r} is on no one link")])
+        d.slots.append(Slot(angle=math.atan2(p2[1] - p1[1], p2[0] - p1[0]), at=p1, point=name, guide=guide,
+                            name=f"{name}_slide"))
+    else:   # FixedDyad, PointTracker: polar from anchor1 along anchor1 → anchor2
+        a0, a1 = refs
+        (x0, y0), (x1, y1) = d.points[a0], d.points[a1]
+        base = math.atan2(y1 - y0, x1 - x0) + finite(c.angle, f"{where}.angle")
+        r = finite(c.distance, f"{where}.distance")
+        d.point(name, x0 + r * math.cos(base), y0 + r * math.sin(base), where)
+        _rigid(d, name, a0, a1)
+    return True
+
+
+__all__ = ["is_live", "kind_of", "read_components", "read_hypergraph", "read_legacy", "read_live", "read_modern"]
