@@ -15,10 +15,12 @@ import numpy as np
 from ..model.mechanism import FRAME, Mechanism
 
 
-def differences(a: Mechanism, b: Mechanism, *, tol: float = 1e-9, samples: int = 72, names: bool = True) -> list[str]:
+def differences(a: Mechanism, b: Mechanism, *, tol: float = 1e-9, samples: int = 72, names: bool = True,
+                speeds: bool = True) -> list[str]:
     """What differs between ``a`` and ``b`` (empty: the same mechanism). ``tol`` is relative to the mechanism's
     size for lengths and positions, absolute (rad) for angles and relative for speeds. ``names=False`` compares
-    points and links by their order instead of their names (a format that does not keep names)."""
+    points and links by their order instead of their names (a format that does not keep names); ``speeds=False``
+    leaves the drivers' speeds out (a format that rounds them)."""
     out: list[str] = []
     scale = max(a.length_scale, b.length_scale)
     atol = tol * scale
@@ -58,7 +60,7 @@ def differences(a: Mechanism, b: Mechanism, *, tol: float = 1e-9, samples: int =
             other = key.get(rename.get(pr.point) if pr.point else lrename.get(pr.link))
             if other is None or lrename.get(pr.guide, pr.guide) != other.guide:
                 out.append(f"prismatic {pr.name}: no matching pair")
-    da = [d for d in a.drivers]
+    da = list(a.drivers)
     db = {(d.link if d.kind == "rotary" else d.actuator): d for d in b.drivers}
     for d in da:
         other = db.get(lrename.get(d.link) if d.kind == "rotary" else d.actuator)
@@ -68,7 +70,7 @@ def differences(a: Mechanism, b: Mechanism, *, tol: float = 1e-9, samples: int =
         if d.kind == "rotary":
             if (rename[d.pivot], rename[d.arm]) != (other.pivot, other.arm):
                 out.append(f"driver {d.name}: pivot/arm {d.pivot}/{d.arm} vs {other.pivot}/{other.arm}")
-            if abs(d.sense * d.speed - other.sense * other.speed) > tol * max(abs(d.speed), 1e-300):
+            if speeds and abs(d.sense * d.speed - other.sense * other.speed) > tol * max(abs(d.speed), 1e-300):
                 out.append(f"driver {d.name}: speed {d.sense * d.speed!r} vs {other.sense * other.speed!r} rad/s")
     if len(b.drivers) != len(a.drivers):
         out.append(f"{len(a.drivers)} vs {len(b.drivers)} drivers")

@@ -229,9 +229,7 @@ def _unit(m: Mechanism) -> tuple[int, float]:
     L = U.LENGTH[m.units.length]
     if m.units.length in ("in", "ft"):
         return 0, L / U.LENGTH["in"]
-    if m.units.length in ("mm", "cm"):
-        return 1, L / U.LENGTH["cm"]
-    return 2, L
+    return 1, L / U.LENGTH["cm"]   # every metric unit: thousandths of a cm (10 µm) are the link's finest metric step
 
 
 def encode(m: Mechanism) -> str:

@@ -145,7 +145,11 @@ def read(text: str, units: str | None = None) -> Draft:
     for pid, j in zip(ids, joints):   # a slot link carries the slot: give it a second point when it has none
         slot = j["links"][0] if j["type"] != "R" else GROUND
         if slot != GROUND and len(members.get(slot, [])) < 2:
-            d.point(f"{pid}_slot", j["x"], j["y"], j["where"])
+            # the slot's node on its link, one link length along the slot from the pin (Pyslvs keeps it there)
+            other = members.get(slot, [])
+            reach = math.dist(d.points[other[0]], (j["x"], j["y"])) if other else 1.0
+            a = math.radians(j["angle"])
+            d.point(f"{pid}_slot", j["x"] + reach * math.cos(a), j["y"] + reach * math.sin(a), j["where"])
             members.setdefault(slot, []).append(f"{pid}_slot")
     order = meta.get("links") if isinstance(meta.get("links"), list) else []
     for ln in sorted(members, key=lambda n: order.index(n) if n in order else len(order)):
