@@ -386,10 +386,10 @@ NOTES = {
     "triad": "pylinkage's own solver refuses this mechanism (its triad solver takes Assur triads of two inner "
              "joints only; this one is a three-joint triad), so there are no pylinkage numbers; assur solves it.",
     "watt2.toml": "pylinkage's error: the rocker O4–B–C has its three joints on one line, so pylinkage places C by "
-                  "intersecting two circles that touch (about O4 and about B), where a rounding error of ε in the "
-                  "radii moves C by about √ε × size; assur places C rigidly on its link. tests/crosscheck shows the "
-                  "pylinkage positions violate the rocker's own rigidity by that amount while assur's keep it to "
-                  "1e-13.",
+                  "intersecting two circles (about O4 and about B) that touch; a rounding error of ε in their "
+                  "distance opens two intersections √ε·size off the line, and C leaves it: pylinkage bends the rigid "
+                  "rocker by about the disagreement, while assur keeps C on the line to 1e-12 (checked in "
+                  "tests/crosscheck/test_crosscheck.py).",
     "pmks rounding": "The share link stores coordinates in thousandths of its length unit, so a coordinate of the "
                      "verification set with more digits moves (TeachingLab four-bar: H (0.7598, 1.0278) is "
                      "(0.760, 1.028) in the link); the same mechanism at the verification set's own coordinates "
