@@ -139,3 +139,70 @@ def test_mutants_are_accepted_or_refused_with_an_assur_error(path):
             failures.append(f"mutant {k}: {type(exc).__name__}: {exc}\n--- diff: "
                             + "; ".join(sorted(set(mutant.splitlines()) - set(text.splitlines())))[:300])
     assert not failures, "\n".join(failures)
+
+
+# -- the readers of other tools' files (assur import) -------------------------------------------------------------
+CROSS = ROOT / "tests" / "crosscheck" / "data"
+
+
+def foreign_documents():
+    """(id, format, text) of the peers' fixtures: PMKS+ links, four-bar-rs RON, Pyslvs projects, pylinkage JSON."""
+    import json
+
+    import yaml
+    out = []
+    for line in (CROSS / "pmks_fixture_urls.tsv").read_text(encoding="utf-8").splitlines()[3:12]:
+        if line.strip() and not line.startswith("#"):
+            name, gallery, link = line.split("\t")
+            out.append((f"pmks:{name}:{gallery}", "pmks", link))
+    for path in sorted((CROSS / "fourbar").glob("*.ron")):
+        out.append((f"fourbar:{path.name}", "fourbar", path.read_text(encoding="utf-8")))
+    examples = yaml.safe_load((CROSS / "pyslvs" / "examples.yaml").read_text(encoding="utf-8"))
+    for name in ("Crank slider (RP joint)", "Inverted slider", "Jansen's linkage (Single)"):
+        out.append((f"pyslvs:{name}", "pyslvs", yaml.safe_dump(examples[name])))
+    from assur.interop.pylinkage_write import to_dict
+    for name in ("crank_rocker.toml", "slider_crank.toml"):
+        out.append((f"pylinkage:{name}", "pylinkage",
+                    json.dumps(to_dict(assur.load(ROOT / "examples" / name)), indent=1)))
+    return out
+
+
+def mutate_line(text: str, rng: random.Random) -> str:
+    """One seeded mutation of a one-line document: a character replaced, deleted or inserted, a stretch cut out or
+    repeated, or the end cut off."""
+    i = rng.randrange(len(text))
+    kind = rng.randrange(5)
+    if kind == 0:
+        return text[:i] + rng.choice("0aZ_-.,*~%?") + text[i + 1:]
+    if kind == 1:
+        return text[:i] + text[i + 1:]
+    if kind == 2:
+        return text[:i] + rng.choice(".,0") + text[i:]
+    if kind == 3:
+        j = min(len(text), i + rng.randrange(1, 40))
+        return text[:i] + text[i:j] * rng.randrange(0, 3) + text[j:]
+    return text[:i]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name,fmt,text", foreign_documents(), ids=lambda x: str(x)[:40])
+def test_foreign_mutants_are_imported_or_refused_with_an_assur_error(name, fmt, text):
+    import warnings
+
+    from assur.interop import import_mechanism
+    rng = random.Random(f"fuzz:{name}")
+    failures = []
+    for k in range(MUTANTS_PER_FILE):
+        mutant = mutate_line(text, rng) if "\n" not in text.strip() else mutate(text, rng)
+        for given in (fmt, None):                  # named, and told from the content
+            try:
+                with time_limit(60), warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    plan = assur.compile(import_mechanism(mutant, format=given))
+                    st = assur.solve(plan, inputs=plan.sketch_inputs, order=1)
+                    assert not np.isfinite(st.pos[~st.valid]).any()
+            except AssurError:
+                pass
+            except Exception as exc:               # noqa: BLE001 - any other exception is the finding
+                failures.append(f"mutant {k} ({given}): {type(exc).__name__}: {exc}")
+    assert not failures, "\n".join(failures[:10])

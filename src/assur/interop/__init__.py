@@ -74,6 +74,9 @@ def _text(source) -> tuple[str, str, str]:
                                     and os.path.exists(source)):
         return read_text(source), Path(source).suffix, str(source)
     if isinstance(source, str):
+        if ("\n" not in source and len(source) < 4096 and Path(source).suffix.lower() in {*_SUFFIX, ".toml", ".txt"}
+                and not source.startswith(("http://", "https://"))):
+            raise SpecError([("", f"no such file: {source}")])
         if len(source) > 16 * 2 ** 20:
             raise SpecError([("", "a document larger than 16 MiB is not a mechanism drawing")])
         return source, "", "the given text"
