@@ -75,6 +75,8 @@ def cmd_export(args) -> int:
         warnings.simplefilter("always")
         message = writer(m, args.output)
     _warnings(caught)
+    if str(args.output) != "-":
+        print(f"wrote {args.output} ({args.to})")
     if message:
         print(message)
     return 0

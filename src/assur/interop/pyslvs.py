@@ -274,7 +274,7 @@ def write(m: Mechanism, path) -> str | None:
     import yaml
 
     from ..io.output import atomic_file
-    text = yaml.safe_dump(to_project(m), sort_keys=False, allow_unicode=True)
+    text = yaml.safe_dump(to_project(m), sort_keys=False, allow_unicode=True, width=2 ** 20)
     with atomic_file(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return None
