@@ -353,3 +353,12 @@ def test_errors_are_assur_errors():
     for bad in ("", "https://app.pmksplus.com/?", "(", "M[", "{}", b"\xff\xfe", 42):
         with pytest.raises(AssurError):
             import_mechanism(bad)
+
+
+def test_the_io_layer_offers_import_and_export():
+    import assur.io
+    from assur import interop
+    assert assur.io.import_mechanism is interop.import_mechanism
+    assert assur.io.export_mechanism is interop.export_mechanism
+    with pytest.raises(AttributeError):
+        assur.io.no_such_thing  # noqa: B018
