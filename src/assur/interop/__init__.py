@@ -42,7 +42,7 @@ def detect_format(text: str, suffix: str = "") -> str:
     """The format of a document's text (``suffix`` of its file decides only where the content does not).
     SpecError when neither tells."""
     t = text.lstrip("\ufeff").strip()
-    if t.startswith(("http://", "https://")) or t.startswith("pmks2:") or _PMKS_BODY.match(t):
+    if t.startswith(("http://", "https://", "pmks2:", "j=")) or _PMKS_BODY.match(t):
         return "pmks"
     if t.startswith("M["):
         return "pyslvs"

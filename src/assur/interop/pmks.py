@@ -1,6 +1,8 @@
 """PMKS+ share links and ``.pmks`` files (https://app.pmksplus.com): reading both the production and the current
 encoding, writing the production one (:mod:`.pmks_codec` has the text layer).
 
+The previous (2023) encoding ``?j=…&l=…&f=…&s=…`` is read too (:func:`decode_2023`).
+
 **Joints** are ``FLAGS id,name,x,y,angle[,carrier,slotA,slotB[,driveSpeed[,…]]]`` with the flags (prismatic,
 input, grounded, welded, show curve, sealed); coordinates in the drawing's length unit, the angle (a slider's
 slide direction) in radians. **Links** are ``ROOT TYPE id,name,mass,inertia,xCoM,yCoM,color,joint,…,,subset,…``:
@@ -80,8 +82,63 @@ def _link(text: str, k: int) -> dict:
             "subset": subset, "where": where}
 
 
+def decode_2023(text: str) -> dict:
+    """The records of a link in the previous encoding (2023): ``?j=JOINTS&l=LINKS&f=FORCES&s=SETTINGS``, one record
+    a line; a joint ``id,x,y,link|link,R|P,ground t|f,angle (rad) or Null,input t|f``, a link ``id,R|P,mass,inertia,
+    xCoM,yCoM,joint|joint,…``, the settings ``rpm,clockwise,gravity,unit``."""
+    from urllib.parse import unquote
+    query = unquote(text.strip().split("?", 1)[-1])
+    parts = {}
+    for key, nxt in (("j=", "&l="), ("&l=", "&f="), ("&f=", "&s="), ("&s=", None)):
+        i = query.find(key)
+        if i < 0:
+            raise SpecError([("", f"the PMKS+ link lacks its {key.strip('&=')} section (truncated?)")])
+        j = query.find(nxt, i) if nxt else len(query)
+        parts[key.strip("&=")] = query[i + len(key): j if j >= 0 else len(query)]
+    joints, links = [], []
+    for k, line in enumerate(x for x in parts["j"].split("\n") if x.strip()):
+        f = line.split(",")
+        where = f"joints[{k}]"
+        if len(f) < 8 or f[4] not in ("R", "P"):
+            raise SpecError([(where, f"must be id,x,y,links,R|P,ground,angle,input: {line[:60]!r}")])
+        joints.append({"id": f[0], "name": f[0], "prismatic": f[4] == "P", "input": f[7] == "t", "grounded": f[5] == "t",
+                       "welded": False, "where": where, "x": _float(f[1], f"{where}.x"), "y": _float(f[2], f"{where}.y"),
+                       "angle": 0.0 if f[6] in ("Null", "") else _float(f[6], f"{where}.angle"), "carrier": "",
+                       "slot_a": "", "slot_b": "", "speed": 0.0})
+    for k, line in enumerate(x for x in parts["l"].split("\n") if x.strip()):
+        f = line.split(",")
+        where = f"links[{k}]"
+        if len(f) < 7 or f[1] not in ("R", "P"):
+            raise SpecError([(where, f"must be id,R|P,mass,inertia,xCoM,yCoM,joints,…: {line[:60]!r}")])
+        links.append({"id": f[0], "name": f[0], "root": True, "piston": f[1] == "P", "joints": f[6].split("|"),
+                      "subset": [], "where": where})
+    settings = parts["s"].split(",")
+    rpm = _float(settings[0], "settings.speed") if settings and settings[0] else 0.0
+    unit = {"in": "in", "inch": "in", "m": "m", "cm": "cm", "mm": "mm"}.get(settings[3] if len(settings) > 3 else "cm",
+                                                                           "cm")
+    return {"cw": len(settings) < 2 or settings[1] != "false", "scale": 1.0, "rpm": rpm, "length": unit,
+            "angle": "deg", "joints": joints, "links": links,
+            "forces": sum(1 for x in parts["f"].split("\n") if x.strip())}
+
+
+def _float(text: str, where: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise SpecError([(where, f"must be a number: {text!r}")]) from None
+    if not math.isfinite(v) or abs(v) >= 1e9:
+        raise SpecError([(where, f"must be a finite number below 1e9: {text!r}")])
+    return v
+
+
 def decode(text: str) -> dict:
-    """The records of a link or ``.pmks`` body: settings, joints, links, the number of forces."""
+    """The records of a link or ``.pmks`` body: settings, joints, links, the number of forces (the 2023 encoding
+    ``?j=…&l=…`` too)."""
+    from urllib.parse import unquote
+    if len(text) > 1024 * 1024:
+        raise SpecError([("", "a PMKS+ link longer than 1048576 characters is not read")])
+    if unquote(text.strip().split("?", 1)[-1]).startswith("j="):
+        return decode_2023(text)
     body = unwrap(text)
     t = Tokens(body)
     sections = [t.token(".") for _ in range(4)]
