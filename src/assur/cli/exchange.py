@@ -1,10 +1,11 @@
 """``assur import`` and ``assur export``: moving a design between assur and pylinkage, PMKS+, Pyslvs and four-bar-rs
 (docs/interop.md).
 
-``assur export`` is a table: ``WRITERS`` maps each ``--to`` format onto the module and function that write it,
-``writer(mechanism, path) -> str | None`` (the file written atomically; the returned line, e.g. a PMKS+ link, is
-printed). Another format registers with one line, e.g. ``WRITERS["mjcf"] = ("assur.dynamics.mjcf", "write")``;
-its module is imported only when that format is asked for.
+``assur export`` is a table: ``WRITERS`` maps each ``--to`` format onto its writer, loaded on first use (a literal
+import), ``write(mechanism, path) -> str | None`` (the file written atomically; the returned line, e.g. a PMKS+
+link, is printed). Another format registers with one line::
+
+    WRITERS["mjcf"] = lambda: importlib.import_module("assur.dynamics.mjcf").write
 """
 from __future__ import annotations
 
@@ -14,12 +15,12 @@ import warnings
 
 from .args import load_mechanism, output_path, path_arg
 
-#: --to FORMAT → (module, function): the exporters of ``assur export``
-WRITERS: dict[str, tuple[str, str]] = {
-    "pylinkage": ("assur.interop.pylinkage_write", "write"),
-    "pmks": ("assur.interop.pmks", "write"),
-    "pyslvs": ("assur.interop.pyslvs", "write"),
-    "fourbar": ("assur.interop.fourbar", "write"),
+#: --to FORMAT → its writer, loaded on first use: the exporters of ``assur export``
+WRITERS = {
+    "pylinkage": lambda: importlib.import_module("assur.interop.pylinkage_write").write,
+    "pmks": lambda: importlib.import_module("assur.interop.pmks").write,
+    "pyslvs": lambda: importlib.import_module("assur.interop.pyslvs").write,
+    "fourbar": lambda: importlib.import_module("assur.interop.fourbar").write,
 }
 #: --format FORMAT of ``assur import`` (told from the content when not given)
 READERS = ("pylinkage", "pmks", "pyslvs", "fourbar")
@@ -68,9 +69,8 @@ def cmd_import(args) -> int:
 
 
 def cmd_export(args) -> int:
-    module, function = WRITERS[args.to]
     m = load_mechanism(args.file)
-    writer = getattr(importlib.import_module(module), function)
+    writer = WRITERS[args.to]()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         message = writer(m, args.output)

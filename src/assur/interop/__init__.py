@@ -8,6 +8,7 @@ assur :class:`~assur.model.mechanism.Mechanism` (the format is told from the con
 """
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import re
@@ -16,20 +17,20 @@ from pathlib import Path
 from ..errors import SpecError
 from .draft import InteropWarning
 
-#: format → (module, reader function, what it reads)
+#: format → what it reads (its reader: :func:`_reader`)
 IMPORTERS = {
-    "pylinkage": ("assur.interop.pylinkage_read", "pylinkage JSON (Mechanism, legacy joints, hypergraph) or object"),
-    "pmks": ("assur.interop.pmks", "PMKS+ share link or .pmks file"),
-    "pyslvs": ("assur.interop.pyslvs", "Pyslvs YAML project or expression"),
-    "fourbar": ("assur.interop.fourbar", "four-bar-rs RON four-bar"),
+    "pylinkage": "pylinkage JSON (Mechanism, legacy joints, hypergraph) or object",
+    "pmks": "PMKS+ share link or .pmks file",
+    "pyslvs": "Pyslvs YAML project or expression",
+    "fourbar": "four-bar-rs RON four-bar",
 }
-#: format → (module, writer function, usual file suffix): the writer is ``write(mechanism, path) -> str | None``
-#: (a line to print, e.g. the PMKS+ link). Another format registers with one line here.
+#: format → (the writer, loaded on first use, and the usual file suffix); a writer is ``write(mechanism, path) ->
+#: str | None`` (a line to print, e.g. the PMKS+ link). Another format registers with one line here.
 EXPORTERS = {
-    "pylinkage": ("assur.interop.pylinkage_write", "write", ".json"),
-    "pmks": ("assur.interop.pmks", "write", ".pmks"),
-    "pyslvs": ("assur.interop.pyslvs", "write", ".pyslvs"),
-    "fourbar": ("assur.interop.fourbar", "write", ".ron"),
+    "pylinkage": (lambda: importlib.import_module("assur.interop.pylinkage_write").write, ".json"),
+    "pmks": (lambda: importlib.import_module("assur.interop.pmks").write, ".pmks"),
+    "pyslvs": (lambda: importlib.import_module("assur.interop.pyslvs").write, ".pyslvs"),
+    "fourbar": (lambda: importlib.import_module("assur.interop.fourbar").write, ".ron"),
 }
 _LABELS = {"pylinkage": "pylinkage JSON", "pmks": "PMKS+ link", "pyslvs": "Pyslvs expression",
            "fourbar": "four-bar-rs RON"}
@@ -109,12 +110,22 @@ def draft_of(source, format: str | None = None, units: str | None = None):  # no
             except ValueError as exc:
                 raise SpecError([("", f"not JSON: {exc}")]) from None
             return _pylinkage_dict(data, units)
-        import importlib
-        return importlib.import_module(IMPORTERS[fmt][0]).read(text, units)
+        return _reader(fmt)(text, units)
     except SpecError as exc:
         if exc.source is None:
             raise SpecError(exc.problems, label) from None
         raise
+
+
+def _reader(fmt: str):
+    """The ``read(text, units) -> Draft`` of a text format."""
+    if fmt == "pmks":
+        from .pmks import read
+    elif fmt == "pyslvs":
+        from .pyslvs import read
+    else:
+        from .fourbar import read
+    return read
 
 
 def _pylinkage_dict(data, units):
@@ -136,11 +147,9 @@ def import_mechanism(source, format: str | None = None, units: str | None = None
 
 def export_mechanism(mechanism, format: str, path):  # noqa: A002
     """Write ``mechanism`` in ``format`` (a key of :data:`EXPORTERS`) to ``path``; returns the writer's message."""
-    import importlib
     if format not in EXPORTERS:
         raise SpecError([("--to", f"must be one of {', '.join(EXPORTERS)}: {format!r}")])
-    module, func, _ = EXPORTERS[format]
-    return getattr(importlib.import_module(module), func)(mechanism, path)
+    return EXPORTERS[format][0]()(mechanism, path)
 
 
 __all__ = ["EXPORTERS", "IMPORTERS", "InteropWarning", "detect_format", "draft_of", "export_mechanism",
