@@ -7,8 +7,59 @@ Markers (registered in pyproject.toml): ``slow`` marks the seeded optimiser thre
 and headless-Chromium tests, the reproduction page and anything else over about 5 s; the quick loop is
 ``pytest -m "not slow"``, ``make test`` runs everything.
 """
+from pathlib import Path
+
 import pytest
 from assur.synthesis import InProcess
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+#: the canonical mechanisms, one shipped file each (compiled on first use by their fixtures, never at import)
+CANONICAL = {"fourbar": "crank_rocker.toml", "walking_fourbar": "walker_fourbar.toml",
+             "slider_crank": "slider_crank.toml", "rssr": "rssr.toml", "triad_sixbar": "triad_sixbar.toml",
+             "geared_leg": "walker_fourbar_geared.toml"}
+
+
+def compiled_example(name: str):
+    """The plan of a shipped example file (``examples/<name>``)."""
+    import assur
+    return assur.compile(assur.load(EXAMPLES / name))
+
+
+@pytest.fixture(scope="session")
+def fourbar_plan():
+    """A Grashof crank-rocker four-bar (examples/crank_rocker.toml)."""
+    return compiled_example(CANONICAL["fourbar"])
+
+
+@pytest.fixture(scope="session")
+def walking_fourbar_plan():
+    """The four-bar walking leg of paper 004 with its masses (examples/walker_fourbar.toml)."""
+    return compiled_example(CANONICAL["walking_fourbar"])
+
+
+@pytest.fixture(scope="session")
+def slider_crank_plan():
+    """An offset slider-crank with masses and a load (examples/slider_crank.toml)."""
+    return compiled_example(CANONICAL["slider_crank"])
+
+
+@pytest.fixture(scope="session")
+def rssr_plan():
+    """The spatial RSSR crank-rocker of paper 003 (examples/rssr.toml)."""
+    return compiled_example(CANONICAL["rssr"])
+
+
+@pytest.fixture(scope="session")
+def triad_sixbar_plan():
+    """A six-bar with a class-III triad, solved by Newton (examples/triad_sixbar.toml)."""
+    return compiled_example(CANONICAL["triad_sixbar"])
+
+
+@pytest.fixture(scope="session")
+def geared_leg_plan():
+    """The four-bar leg driven through a co-designed non-circular gear pair (examples/walker_fourbar_geared.toml)."""
+    return compiled_example(CANONICAL["geared_leg"])
 
 _RSSR_POINTS = {"A0": (0, 0, 0), "D0": (1, 0, 0.3), "A": (0.2, 0.1, 0), "B": (0.9, 0.7, 0.5)}
 

@@ -40,9 +40,8 @@ def runs_and_refinements(sizes, steps: int = 720):
     return [n for n in sizes if n >= steps], sum(n for n in sizes if n < steps)
 
 
-def test_the_summary_of_a_walking_leg_solves_its_turn_once_and_its_contact_arc_once(solves):
-    plan = assur.compile(assur.load(EXAMPLES / "walker_fourbar.toml"))
-    Study(plan).as_dict()
+def test_the_summary_of_a_walking_leg_solves_its_turn_once_and_its_contact_arc_once(walking_fourbar_plan, solves):
+    Study(walking_fourbar_plan).as_dict()
     runs, refined = runs_and_refinements(solves)
     assert runs == [720, 720]       # the turn, then the contact arc at 720 samples (the gait's time means)
     assert refined < 400
@@ -91,12 +90,11 @@ def test_a_taken_state_is_the_state_of_its_inputs():
     assert np.array_equal(legs.body_omega, ref.body_omega)
 
 
-def test_a_geared_leg_has_its_four_bars_dead_centres_in_the_motors_angle():
+def test_a_geared_leg_has_its_four_bars_dead_centres_in_the_motors_angle(geared_leg_plan, walking_fourbar_plan):
     """The geared leg's crank turns through the gear law; its dead centres, found in the motor's angle, are where
     the crank reaches the plain four-bar's dead-centre angles (the same four-bar: walker_fourbar.toml, crank zero 0,
     counter-clockwise), and the crank and coupler are collinear there (an independent check in the test)."""
-    geared = assur.compile(assur.load(EXAMPLES / "walker_fourbar_geared.toml"))
-    plain = assur.compile(assur.load(EXAMPLES / "walker_fourbar.toml"))
+    geared, plain = geared_leg_plan, walking_fourbar_plan
     g, p = Study(geared).dead_centres, Study(plain).dead_centres
     assert [d.kind for d in g] == [d.kind for d in p] == ["extended", "folded"]
     assert all(d.crank == "crank" and d.link == "coupler" and d.driver == "motor" for d in g)
