@@ -29,15 +29,17 @@ def as_plan(source) -> PlanBase:
 
 
 def mechanism(source, steps: int = CYCLE_STEPS, *, params=None, ranges=None, positions: int = 6, dpi: int = 100):
-    """The figure of one turn (or of ``ranges``) of ``source`` (a plan, a Mechanism or a file path), as a
-    matplotlib Figure: what ``assur plot FILE -o OUT.png`` writes. ``params``: a design (default: the file's)."""
+    """The figure of one turn (or of ``ranges``) of ``source`` (a Study: its run, nothing solved again; a plan, a
+    Mechanism or a file path), as a matplotlib Figure: what ``assur plot FILE -o OUT.png`` writes. ``params``: a
+    design (default: the file's)."""
+    from ..analysis.study import Study
     from .draw import close
-    plan = as_plan(source)
-    if plan.dimension == 3:
+    study = source if isinstance(source, Study) else Study(as_plan(source), params, steps, ranges=ranges)
+    if study.plan.dimension == 3:
         from .spatial import figure
-        fig = figure(plan, steps, positions=positions, params=params, ranges=ranges, dpi=dpi)
+        fig = figure(study, positions=positions, dpi=dpi)
     else:
         from .figures import mechanism_figure
-        fig = mechanism_figure(plan, steps, params=params, ranges=ranges, positions=positions, dpi=dpi)
+        fig = mechanism_figure(study, positions=positions, dpi=dpi)
     close(fig)   # pyplot lets it go: the caller owns it (a notebook shows it once, as the cell's value)
     return fig
