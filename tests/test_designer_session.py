@@ -172,7 +172,8 @@ def test_bad_requests_are_refused_with_a_reason():
              ({"op": "undo"}, "nothing to undo"),
              ({"op": "load", "toml": "format = 'assur-gears/1'"}, "not an assur/1"),
              ({"op": "load", "toml": "= ="}, "not valid TOML"),
-             ({"op": "set_params", "params": {"x": "a"}}, "not a number")]
+             ({"op": "set_params", "params": {"crank.length": "a"}}, "not a number"),
+             ({"op": "set_params", "params": {"x": 1.0}}, "no such parameter")]
     for request, words in cases:
         msg, blob = reply(s, **request)
         assert msg["type"] == "refused" and words in msg["message"], (request, msg)
@@ -185,7 +186,7 @@ def test_save_round_trips_with_load_and_dump(tmp_path):
     s = session_of("walker_fourbar.toml", tmp_path)
     reply(s, op="commit", edits=[{"kind": "move_point", "point": "O1", "to": [0.58, 0.62]}])
     msg, _ = reply(s, op="save")
-    assert msg == {"type": "saved", "seq": 1, "path": str(tmp_path / "walker_fourbar.toml")}
+    assert msg["type"] == "saved" and msg["written"] and msg["path"] == str(tmp_path / "walker_fourbar.toml")
     saved = assur.load(tmp_path / "walker_fourbar.toml")
     assert assur.dumps(saved) == assur.dumps(assur.io.mechanism_file.from_dict(s.doc))
     assert dict(saved.points)["O1"] == pytest.approx((0.58, 0.62), abs=0)
@@ -205,10 +206,12 @@ def test_save_writes_through_a_special_file_never_replacing_it(tmp_path):
     got = {}
     reader = threading.Thread(target=lambda: got.setdefault("text", fifo.read_text()))
     reader.start()
+    reply(s, op="commit", edits=[{"kind": "move_point", "point": "O1", "to": [0.58, 0.62]}])   # something to save
     msg, _ = reply(s, op="save")
     reader.join(10)
     assert msg["type"] == "saved" and fifo.is_fifo()
     assert assur.loads(got["text"]).name.startswith("Four-bar walking leg")
+    assert dict(assur.loads(got["text"]).points)["O1"] == (0.58, 0.62)
 
 
 # ---------------------------------------------------------------------------------------------------------------

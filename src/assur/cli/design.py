@@ -24,10 +24,10 @@ def cmd_design(args) -> int:
     for package in ("starlette", "uvicorn", "websockets"):
         require(package, "assur design", "pip install 'assur[web]'")
     from ..designer.server import serve
-    from ..designer.session import Session, document_of
-    doc, path = document_of(args.file)
+    from ..designer.session import Session
+    session = Session.of_file(args.file)
     try:
-        serve(Session(doc, path), port=args.port, open_browser=not args.no_browser,
+        serve(session, port=args.port, open_browser=not args.no_browser,
               announce=lambda line: print(line, flush=True))
     except KeyboardInterrupt:      # Ctrl-C is how a server is stopped: not an error
         print("assur design: stopped", flush=True)

@@ -78,6 +78,53 @@ def _xy(v, what: str) -> tuple[float, float]:
     return x, y
 
 
+def _quantity(value, kind: str, what: str, doc: dict) -> float:
+    """An edit's number in SI: a JSON number (m, rad, rad/s or m/s as the protocol says) or a string with a unit
+    as the file format reads it (``"60 rpm"``, ``"30 deg"``, ``"12 mm"``); refused, naming ``what``, otherwise."""
+    from ..errors import SpecError
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise EditRefused(f"{what} must be a number (SI) or a string with a unit such as "
+                          f"'{_EXAMPLES[kind]}': {value!r}", what)
+    if isinstance(value, str):
+        units = _units(doc)
+        try:
+            v = U.parse_speed(value, kind, units) if kind in ("rotary", "linear") else \
+                U.parse_quantity(value, kind, units)
+        except SpecError as exc:
+            raise EditRefused(f"{what} {exc}", what) from None
+    else:
+        v = float(value)
+    if not math.isfinite(v) or abs(v) >= 1e9:
+        raise EditRefused(f"{what} must be finite and below 1e9 (SI): {value!r}", what)
+    return v
+
+
+_EXAMPLES = {"length": "12 mm", "angle": "30 deg", "rotary": "60 rpm", "linear": "0.1 m/s"}
+
+
+def _units(doc: dict):
+    """The document's units (its defaults where the table is missing or broken)."""
+    from ..model.mechanism import Units
+    t = doc.get("units", {})
+    t = {k: v for k, v in t.items() if k in ("length", "angle") and v in (U.LENGTH if k == "length" else U.ANGLE)} \
+        if isinstance(t, dict) else {}
+    return Units(**t)
+
+
+def _name_or_none(value, what: str) -> str | None:
+    """An optional name of an edit: None or a string (the file reader judges the spelling)."""
+    if value is not None and not isinstance(value, str):
+        raise EditRefused(f"{what} must be a name (a string): {value!r}", what)
+    return value
+
+
+def _flag(value, what: str) -> bool:
+    """A JSON true or false (never a string or a number taken as one)."""
+    if not isinstance(value, bool):
+        raise EditRefused(f"{what} must be true or false: {value!r}", what)
+    return value
+
+
 def _need(edit: dict, key: str):
     if key not in edit:
         raise EditRefused(f"edit '{edit.get('kind')}' needs '{key}'", key)
@@ -168,7 +215,7 @@ def move_point(doc: dict, name: str, to) -> dict:
 def add_point(doc: dict, at, link: str = "frame", name: str | None = None) -> dict:
     new = copy.deepcopy(doc)
     x, y = _xy(at, "the new point")
-    name = name or _fresh(new.get("points", {}), "P")
+    name = _name_or_none(name, "name") or _fresh(new.get("points", {}), "P")
     if name in new.get("points", {}):
         raise EditRefused(f"a point named {name} exists already", name)
     fL = length_factor(new)
@@ -243,17 +290,20 @@ def delete_point(doc: dict, name: str) -> dict:
 def add_link(doc: dict, points, new_points=None, name: str | None = None) -> dict:
     new = copy.deepcopy(doc)
     fL = length_factor(new)
+    if new_points is not None and not isinstance(new_points, dict):
+        raise EditRefused(f"new_points must be a table of name = [x, y] (m): {new_points!r}", "new_points")
     for p, xy in (new_points or {}).items():
         if p in new.get("points", {}):
             raise EditRefused(f"a point named {p} exists already", p)
         x, y = _xy(xy, f"the new point {p}")
         new.setdefault("points", {})[p] = [x / fL, y / fL]
-    points = list(points or [])
+    if not isinstance(points, list) or not all(isinstance(p, str) for p in points):
+        raise EditRefused(f"points must be a list of point names: {points!r}", "points")
     if len(points) < 2 or len(set(points)) != len(points):
         raise EditRefused(f"a link needs two or more different points: {points}", "points")
     for p in points:
         _point(new, p)
-    name = name or _fresh(new.get("links", {}), "link")
+    name = _name_or_none(name, "name") or _fresh(new.get("links", {}), "link")
     if name in new.get("links", {}):
         raise EditRefused(f"a link named {name} exists already", name)
     new.setdefault("links", {})[name] = points
@@ -274,36 +324,39 @@ def add_slider(doc: dict, point: str, through: str | None = None, angle: float =
     point = _point(doc, point)
     guide = _link(doc, guide)
     through = _point(doc, through) if through is not None else link_points(doc["links"][guide])[0]
+    angle = _quantity(angle, "angle", "angle", doc)
+    offset = _quantity(offset, "length", "offset", doc)
     new = copy.deepcopy(doc)
-    name = name or _fresh({s.get("name") for s in new.get("prismatic", [])}, "slot")
+    name = _name_or_none(name, "name") or _fresh({s.get("name") for s in new.get("prismatic", [])}, "slot")
     new.setdefault("prismatic", []).append({"name": name, "guide": guide, "through": through,
-                                            "angle": float(angle) / angle_factor(new),
-                                            "offset": float(offset) / length_factor(new), "point": point})
+                                            "angle": angle / angle_factor(new),
+                                            "offset": offset / length_factor(new), "point": point})
     return new
 
 
 def delete_slider(doc: dict, name: str) -> dict:
-    if name not in {s.get("name") for s in doc.get("prismatic", [])}:
+    if not isinstance(name, str) or name not in {s.get("name") for s in doc.get("prismatic", [])}:
         raise EditRefused(f"no slider named {name!r}", str(name))
     new = copy.deepcopy(doc)
     new["prismatic"] = [s for s in new["prismatic"] if s.get("name") != name]
     return _tidy(new)
 
 
-def _speed_text(kind: str, speed) -> str:
-    v = float(speed)
-    if not math.isfinite(v) or abs(v) >= 1e9:
-        raise EditRefused(f"the speed must be finite and below 1e9: {speed!r}", "speed")
-    return f"{v!r} {'rad/s' if kind == 'rotary' else 'm/s'}"
+def _speed_text(doc: dict, kind: str, speed) -> str:
+    """A driver speed (rad/s or m/s, or a string with a unit as the file format reads it: "60 rpm") as the file
+    writer spells it (:func:`assur.io.units.format_speed`)."""
+    if kind not in ("rotary", "linear"):
+        raise EditRefused(f"the driver's kind must be 'rotary' or 'linear': {kind!r}", "kind")
+    return U.format_speed(_quantity(speed, kind, "speed", doc), kind, _units(doc))
 
 
 def add_driver(doc: dict, link: str, pivot: str, arm: str, speed: float = 1.0, name: str | None = None) -> dict:
     link, pivot, arm = _link(doc, link), _point(doc, pivot), _point(doc, arm)
+    speed = _speed_text(doc, "rotary", speed)
     new = copy.deepcopy(doc)
-    name = name or _fresh({d.get("name") for d in new.get("drivers", [])}, "driver")
+    name = _name_or_none(name, "name") or _fresh({d.get("name") for d in new.get("drivers", [])}, "driver")
     new.setdefault("drivers", []).append({"name": name, "kind": "rotary", "link": link, "pivot": pivot,
-                                          "arm": arm, "zero": 0, "sense": "ccw",
-                                          "speed": _speed_text("rotary", speed)})
+                                          "arm": arm, "zero": 0, "sense": "ccw", "speed": speed})
     return new
 
 
@@ -323,14 +376,15 @@ def delete_driver(doc: dict, name: str) -> dict:
 
 def set_speed(doc: dict, driver: str, speed: float) -> dict:
     k = _driver(doc, driver)
+    text = _speed_text(doc, doc["drivers"][k].get("kind", "rotary"), speed)
     new = copy.deepcopy(doc)
-    d = new["drivers"][k]
-    d["speed"] = _speed_text(d.get("kind", "rotary"), speed)
+    new["drivers"][k]["speed"] = text
     return new
 
 
 def _lock(doc: dict, which: int, name: str, locked: bool) -> dict:
     """``doc`` with ``name`` added to (or removed from) the locked points (``which`` 0) or links (1)."""
+    locked = _flag(locked, "locked")
     new = copy.deepcopy(doc)
     lists = list(locks(new))
     lists[which] = sorted(set(lists[which]) | {name}) if locked else [x for x in lists[which] if x != name]
@@ -362,6 +416,6 @@ EDITS = {
                                           e.get("speed", 1.0), e.get("name")),
     "delete_driver": lambda d, e: delete_driver(d, _need(e, "name")),
     "set_speed": lambda d, e: set_speed(d, _need(e, "driver"), _need(e, "speed")),
-    "lock_point": lambda d, e: lock_point(d, _need(e, "point"), bool(e.get("locked", True))),
-    "lock_link": lambda d, e: lock_link(d, _need(e, "link"), bool(e.get("locked", True))),
+    "lock_point": lambda d, e: lock_point(d, _need(e, "point"), e.get("locked", True)),
+    "lock_link": lambda d, e: lock_link(d, _need(e, "link"), e.get("locked", True)),
 }

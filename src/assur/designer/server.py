@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
-from .session import Session
+from .session import Session, parse_request
 
 COOKIE = "assur_token"
 ALLOWED_HOSTS = ["127.0.0.1", "localhost"]
@@ -104,6 +104,8 @@ def create_app(session: Session, token: str):
             return
         await ws.accept()
         sending = asyncio.Lock()
+        with lock:
+            session.clients += 1
 
         async def stream_synthesis():
             while True:
@@ -117,11 +119,11 @@ def create_app(session: Session, token: str):
         streamer = asyncio.create_task(stream_synthesis())
         try:
             while True:
-                text = await ws.receive_text()
-                try:
-                    request = json.loads(text)
-                except json.JSONDecodeError as exc:
-                    request = {"op": None, "error": str(exc)}
+                message = await ws.receive()
+                if message["type"] == "websocket.disconnect":
+                    break
+                text = message.get("text")
+                request = parse_request(text if text is not None else message.get("bytes"))
                 replies = await asyncio.to_thread(solve, request)
                 async with sending:
                     await send(ws, replies)
@@ -129,6 +131,14 @@ def create_app(session: Session, token: str):
             pass
         finally:
             streamer.cancel()
+            await asyncio.to_thread(leave)
+
+    def leave():
+        """A page closed: when it was the last, its running synthesis stops (nobody would see or insert it)."""
+        with lock:
+            session.clients -= 1
+            if session.clients <= 0 and session.job is not None and session.job.running:
+                session.job.cancel()
 
     routes = [Route("/", page), Route("/static/{name}", static_file), WebSocketRoute("/ws", socket_endpoint)]
     return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=ALLOWED_HOSTS)])

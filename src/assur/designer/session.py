@@ -8,16 +8,25 @@ with the reason and changes nothing.
 from __future__ import annotations
 
 import copy
+import json
 import math
+import os
+import stat
+import sys
 import time
+import traceback
 from dataclasses import dataclass
 
 from ..errors import AssurError
 from . import document as D
-from .payload import Description, branched_steps, compile_document, describe, pack
+from .compiled import Compiled, StructureCache, compile_doc
+from .payload import Description, branched_steps, describe, pack
 
 #: the largest history a session keeps (older entries are dropped)
 HISTORY_LIMIT = 500
+#: a flip rewrites the sketch of the points it moves by more than this times the mechanism's size (the others
+#: keep their coordinates exactly, so the file changes where the flip changed it only)
+ROUND_OFF = 1e-12
 
 
 @dataclass
@@ -35,6 +44,19 @@ def document_of(mechanism_or_path) -> tuple[dict, str | None]:
     from ..io.toml_reader import read_text
     path = str(mechanism_or_path)
     return doc_of_toml(read_text(path), path), path
+
+
+def _regular_file_text(path) -> str | None:
+    """The text of the regular file ``path`` (None for no path, a special file, or one that cannot be read)."""
+    if path is None:
+        return None
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return None
+        from ..io.toml_reader import read_text
+        return read_text(path)
+    except (OSError, AssurError):
+        return None
 
 
 def toml_of(doc: dict) -> str:
@@ -59,11 +81,59 @@ def doc_of_toml(text: str, where: str = "the document") -> dict:
     return doc
 
 
+#: the deepest nesting of a request (a list in a table in a list …): requests nest four levels at most
+MAX_REQUEST_NESTING = 32
+#: the largest request text accepted (bytes; a share link's document is at most the file reader's 16 MiB)
+MAX_REQUEST_BYTES = 24 * 2 ** 20
+
+
+def _too_deep(x, limit: int) -> bool:
+    """Whether ``x`` nests dicts and lists deeper than ``limit`` levels (iterative: any depth is safe)."""
+    stack = [(x, 1)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, (dict, list, tuple)):
+            if d > limit:
+                return True
+            stack.extend((c, d + 1) for c in (v.values() if isinstance(v, dict) else v))
+    return False
+
+
+def parse_request(data) -> dict:
+    """A request of the page from a WebSocket frame's payload (text): the JSON object, or a request that
+    :meth:`Session.handle` refuses with the reason (a binary frame, text that is not JSON, too long or nested
+    too deep). Never raises."""
+    if not isinstance(data, str):
+        return {"op": None, "_refuse": ("a request must be a text frame holding a JSON object (the designer sends "
+                                        "binary frames, never receives them)", "frame")}
+    if len(data) > MAX_REQUEST_BYTES:
+        return {"op": None, "_refuse": (f"a request must be at most {MAX_REQUEST_BYTES // 2 ** 20} MiB", "frame")}
+    try:
+        return json.loads(data)
+    except RecursionError:
+        return {"op": None, "_refuse": (f"a request must not nest deeper than {MAX_REQUEST_NESTING} levels",
+                                        "request")}
+    except ValueError as exc:
+        return {"op": None, "_refuse": (f"a request must be a JSON object: {exc}", "request")}
+
+
+def _seq(value):
+    """A request's ``seq`` as echoed back: a number or a short string, else None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int) and abs(value) < 2 ** 53 or isinstance(value, float) and math.isfinite(value):
+        return value
+    return value if isinstance(value, str) and len(value) <= 64 else None
+
+
 class Session:
     """The state behind one page: ``history`` (documents; ``position`` the committed one), the file ``path`` (or
-    None), the parameter ``overrides`` of the spatial view and the running synthesis ``job``."""
+    None), the parameter ``overrides`` of the spatial view and the running synthesis ``job``.
 
-    def __init__(self, doc: dict, path: str | None = None):
+    ``text``: the file's text as read (when None and ``path`` is a regular file, it is read now): Save writes the
+    edits into it and keeps the rest (:mod:`.saving`)."""
+
+    def __init__(self, doc: dict, path: str | None = None, text: str | None = None):
         self.history = [copy.deepcopy(doc)]
         self.position = 0
         self.saved_position = 0
@@ -71,8 +141,19 @@ class Session:
         self.overrides: dict = {}
         self.job = None
         self.best_toml: str | None = None
+        self.clients = 0
         self._texts: dict = {}        # id(doc) → (doc, its TOML text): history documents are never changed
-        self._compiled: dict = {}     # TOML text → compile_document(doc) or the AssurError it raised
+        self._compiled: dict = {}     # id(doc) → (doc, Compiled): likewise
+        self._structures = StructureCache()
+        self.file_doc = self.history[0]     # the document the file on disk loads to
+        self.file_text = text if text is not None else _regular_file_text(path)
+
+    @classmethod
+    def of_file(cls, path) -> "Session":
+        """A session on a mechanism file (read once: the document and the text Save keeps)."""
+        from ..io.toml_reader import read_text
+        text = read_text(path)
+        return cls(doc_of_toml(text, str(path)), str(path), text)
 
     # -- the document ------------------------------------------------------------------------------------------
     @property
@@ -93,17 +174,19 @@ class Session:
             hit = self._texts[id(doc)] = (doc, toml_of(doc))
         return hit[1]
 
+    def entry(self, doc: dict) -> Compiled:
+        """The document validated and compiled once (:func:`.compiled.compile_doc`), kept while it lives."""
+        hit = self._compiled.get(id(doc))
+        if hit is None or hit[0] is not doc:
+            if len(self._compiled) > 64:
+                keep = {id(d) for d in self.history[max(0, self.position - 8):self.position + 9]}
+                self._compiled = {k: v for k, v in self._compiled.items() if k in keep}
+            hit = self._compiled[id(doc)] = (doc, compile_doc(doc, self._structures))
+        return hit[1]
+
     def compiled(self, doc: dict):
-        """:func:`~.payload.compile_document` of ``doc`` (or the AssurError it raised), kept by its text."""
-        key = self.text(doc)
-        if key not in self._compiled:
-            if len(self._compiled) > 32:
-                self._compiled.clear()
-            try:
-                self._compiled[key] = compile_document(doc)
-            except AssurError as exc:
-                self._compiled[key] = exc
-        return self._compiled[key]
+        """``(mechanism, structure, plan, warnings)`` of ``doc``, or the AssurError that stops it."""
+        return self.entry(doc).described()
 
     def _push(self, doc: dict) -> None:
         del self.history[self.position + 1:]
@@ -115,42 +198,42 @@ class Session:
 
     # -- edits -------------------------------------------------------------------------------------------------
     def apply(self, edits) -> dict:
-        """The committed document with ``edits`` applied (refused: :class:`~.document.EditRefused`)."""
+        """The committed document with ``edits`` applied, validated by the file's own rules and checked for
+        branch flips (refused: :class:`~.document.EditRefused`, located)."""
         if not isinstance(edits, list) or not all(isinstance(e, dict) for e in edits):
             raise D.EditRefused("edits must be a list of tables with a 'kind'", "edits")
         doc, flipped = self.doc, set()
-        for e in edits:
+        for i, e in enumerate(edits):
             kind = e.get("kind")
             if int(doc.get("dimension", 2)) != 2 and kind not in ("lock_point", "lock_link"):
-                raise D.EditRefused("a spatial mechanism is shown, not edited: use the parameter sliders", kind or "")
-            if kind == "flip":
-                doc, point = self.flipped(doc, e.get("group"))
-                flipped.add(point)
-            elif kind in D.EDITS:
-                doc = D.EDITS[kind](doc, e)
-            else:
-                raise D.EditRefused(f"unknown edit {kind!r}; the edits are {', '.join(sorted([*D.EDITS, 'flip']))}",
-                                    str(kind))
+                raise D.EditRefused("a spatial mechanism is shown, not edited: use the parameter sliders", str(kind))
+            try:
+                if kind == "flip":
+                    doc, point = self.flipped(doc, e.get("group"))
+                    flipped.add(point)
+                elif isinstance(kind, str) and kind in D.EDITS:
+                    doc = D.EDITS[kind](doc, e)
+                else:
+                    raise D.EditRefused(f"unknown edit {kind!r}; the edits are "
+                                        f"{', '.join(sorted([*D.EDITS, 'flip']))}", f"edits[{i}].kind")
+            except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError) as exc:
+                if isinstance(exc, AssurError):
+                    raise
+                raise D.EditRefused(f"edit {i} ({kind}) is malformed: {exc}", f"edits[{i}]") from None
+        if doc is self.doc:
+            return doc
+        bad = self.entry(doc).invalid
+        if bad is not None:
+            where, message = bad.problems[0] if bad.problems else ("", str(bad))
+            more = f" (and {len(bad.problems) - 1} more)" if len(bad.problems) > 1 else ""
+            raise D.EditRefused(f"refused: the file would not load: {where}: {message}{more}", where)
         self.check_branches(self.doc, doc, flipped)
         return doc
 
     def _signature(self, doc: dict) -> dict:
-        """The branch sign of every branched step as the sketch shows it (the ``[branches]`` hints set aside),
-        keyed by (point, kind), or {} when the document does not compile."""
-        sketch_only = {k: v for k, v in doc.items() if k != "branches"} if "branches" in doc else doc
-        c = self.compiled(sketch_only)
-        if isinstance(c, AssurError) and sketch_only is not doc:
-            c = self.compiled(doc)
-        if isinstance(c, AssurError):
-            return {}
-        plan = c[2]
-        sig = {(st.key_point, st.kind): (int(st.branch), st.points_in()) for _, st in branched_steps(plan)}
-        if plan.dimension == 2 and any(st.kind == "newton" for st in plan.steps):
-            from ..engine.planar.compile import newton_branch_signs
-            for i, sign in newton_branch_signs(plan).items():
-                names = tuple(plan.body_names[b] for b in plan.steps[i].bodies)
-                sig[(", ".join(names), "newton")] = (sign, names)
-        return sig
+        """The branch of every branched group as the sketch shows it (see :func:`.compiled.branch_signs`), or {}
+        when the document does not compile."""
+        return self.entry(doc).signs
 
     def check_branches(self, before: dict, after: dict, flipped=()) -> None:
         """Refuse a new sketch that shows a group on its other branch: only ``flip`` changes a branch (the points
@@ -174,14 +257,14 @@ class Session:
     def flipped(self, doc: dict, index) -> tuple[dict, str]:
         """(``doc`` with group ``index`` assembled on its other branch: the sketch of the group and of everything it
         carries is re-solved at the sketch inputs on the new branch, and a ``[branches]`` hint of its point flips; the
-        group's point)."""
+        group's point). Points the flip does not move (beyond round-off) keep their sketch exactly."""
         from ..engine import solve
         c = self.compiled(doc)
         if isinstance(c, AssurError):
             raise D.EditRefused(f"nothing to flip: the document is not a mechanism yet ({c})", "flip")
         plan = c[2]
         steps = branched_steps(plan)
-        if not isinstance(index, int) or not 0 <= index < len(steps):
+        if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < len(steps):
             raise D.EditRefused(f"no group {index!r} to flip (the mechanism has {len(steps)} branched groups)", "flip")
         i, st = steps[index]
         flipped_steps = list(plan.steps)
@@ -194,9 +277,12 @@ class Session:
         new = copy.deepcopy(doc)
         fL = D.length_factor(new)
         frame = set(D.link_points(new["links"].get("frame", [])))
+        noise = ROUND_OFF * float(plan.length_scale)
         for k, name in enumerate(plan.point_names):
             if name in new["points"] and name not in frame:
-                new["points"][name] = [float(c) / fL for c in pos[k]]
+                old = [c * fL for c in new["points"][name]]
+                if math.hypot(pos[k][0] - old[0], pos[k][1] - old[1]) > noise:
+                    new["points"][name] = [float(c) / fL for c in pos[k]]
         hint = new.get("branches", {}).get(st.key_point)
         if isinstance(hint, dict) and hint.get("side") in ("left", "right"):
             hint["side"] = "left" if hint["side"] == "right" else "right"
@@ -218,22 +304,33 @@ class Session:
         return Reply(_json_safe(msg), blob)
 
     def refused(self, seq, exc: D.EditRefused | AssurError) -> Reply:
-        return Reply({"type": "refused", "seq": seq, "message": str(exc), "where": getattr(exc, "where", "")})
+        return Reply({"type": "refused", "seq": _seq(seq), "message": str(exc), "where": getattr(exc, "where", "")})
 
     def handle(self, request: dict) -> list[Reply]:
-        """The replies to one request of the page (see the module docstring)."""
+        """The replies to one request of the page (see the module docstring). Never raises: a request that cannot
+        be carried out (malformed, nested too deep, refused by the file's rules, or failing inside) answers
+        ``refused`` with the reason and where, and the session goes on."""
         if not isinstance(request, dict):
             return [Reply({"type": "refused", "seq": None, "message": "a request must be a JSON object", "where": ""})]
-        seq, op = request.get("seq"), request.get("op")
+        seq, op = _seq(request.get("seq")), request.get("op")
         try:
+            if "_refuse" in request:
+                raise D.EditRefused(*request["_refuse"])
+            if _too_deep(request, MAX_REQUEST_NESTING):
+                raise D.EditRefused(f"a request must not nest deeper than {MAX_REQUEST_NESTING} levels", "request")
             handler = getattr(self, f"op_{op}", None) if isinstance(op, str) else None
             if handler is None:
-                raise D.EditRefused(f"unknown request {op!r}", str(op))
+                raise D.EditRefused(f"unknown request {op!r}", "op")
             return handler(seq, request)
-        except D.EditRefused as exc:
-            return [self.refused(seq, exc)]
         except AssurError as exc:
             return [self.refused(seq, exc)]
+        except RecursionError:
+            return [self.refused(seq, D.EditRefused("the request is nested too deep", "request"))]
+        except Exception as exc:   # noqa: BLE001 - a defect must not drop the page's session: say it and go on
+            traceback.print_exc(file=sys.stderr)
+            return [self.refused(seq, D.EditRefused(
+                f"the designer could not carry out '{op}' ({type(exc).__name__}: {exc}); the document is "
+                f"unchanged", str(op)))]
 
     def op_hello(self, seq, req):
         return [self.result(seq)]
@@ -267,32 +364,70 @@ class Session:
         return [self.result(seq)]
 
     def op_save(self, seq, req):
+        """Write the committed document into the file: only the values the edits changed (:mod:`.saving`), nothing
+        at all when the document is the file's; refused when the file changed on disk since it was read (Save would
+        lose those changes) or when the document would not pass ``assur validate``."""
         from ..io.output import atomic_file
+        from .saving import canonical, updated_text
         if self.path is None:
             raise D.EditRefused("this designer was opened on a mechanism, not a file: there is no file to save to; "
                                 "copy the document (Share) instead", "save")
-        text = self.text(self.doc)
+        c = self.entry(self.doc)
+        stop = c.invalid or c.error
+        if stop is not None:
+            raise D.EditRefused(f"not saved: {self.path} would not pass `assur validate` ({stop}); finish the "
+                                f"mechanism first, or keep this draft with Share link", "save")
+        if canonical(self.doc) == canonical(self.file_doc):
+            self.saved_position = self.position
+            return [Reply({"type": "saved", "seq": seq, "path": self.path, "written": False,
+                           "message": f"{self.path} already holds this design: nothing written"})]
+        if self.file_text is not None:
+            on_disk = _regular_file_text(self.path)
+            if on_disk is not None and on_disk != self.file_text:
+                raise D.EditRefused(f"not saved: {self.path} changed on disk since the designer read it; Save would "
+                                    f"overwrite those changes (keep this design with Share link, or reopen the "
+                                    f"file)", self.path)
+            text = updated_text(self.file_text, self.file_doc, self.doc)
+        else:
+            text = self.text(self.doc)
         try:
             with atomic_file(self.path) as tmp:
                 tmp.write_text(text, encoding="utf-8")
         except (OSError, AssurError) as exc:
             raise D.EditRefused(f"cannot save {self.path}: {exc}", self.path) from None
         self.saved_position = self.position
-        return [Reply({"type": "saved", "seq": seq, "path": self.path})]
+        self.file_doc = self.doc
+        self.file_text = text if _regular_file_text(self.path) is not None else None
+        return [Reply({"type": "saved", "seq": seq, "path": self.path, "written": True,
+                       "message": f"saved {self.path}"})]
 
     def op_set_params(self, seq, req):
+        """Parameter overrides of the spatial view's sliders, each checked as the file reader checks the value it
+        stands for: a known parameter of the compiled plan, a finite number below 1e9, a length positive and a
+        coupler point's distance non-negative."""
         params = req.get("params")
         if not isinstance(params, dict):
             raise D.EditRefused("set_params needs params: {name: value}", "params")
+        c = self.compiled(self.doc)
+        if isinstance(c, AssurError):
+            raise D.EditRefused(f"no parameters: the document is not a mechanism yet ({c})", "params")
+        plan = c[2]
         new = dict(self.overrides)
         for name, value in params.items():
-            try:
-                v = float(value)
-            except (TypeError, ValueError):
-                raise D.EditRefused(f"parameter {name}: not a number: {value!r}", str(name)) from None
-            if not math.isfinite(v):
-                raise D.EditRefused(f"parameter {name}: not finite", str(name))
-            new[str(name)] = v
+            where = f"params.{name}"
+            if name not in plan.param_names:
+                shown = ", ".join(plan.param_names[:12]) + (", …" if len(plan.param_names) > 12 else "")
+                raise D.EditRefused(f"parameter {name!r}: no such parameter (known: {shown})", where)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise D.EditRefused(f"parameter {name}: not a number: {value!r}", where)
+            v = float(value)
+            if not math.isfinite(v) or abs(v) >= 1e9:
+                raise D.EditRefused(f"parameter {name}: must be finite and below 1e9 in magnitude: {value!r}", where)
+            if name.endswith(".length") and v <= 0:
+                raise D.EditRefused(f"parameter {name}: a length must be positive: {value!r}", where)
+            if name.endswith(".distance") and v < 0:
+                raise D.EditRefused(f"parameter {name}: a distance must not be negative: {value!r}", where)
+            new[name] = v
         self.overrides = new
         return [self.result(seq)]
 

@@ -47,12 +47,14 @@ def _session_of(source) -> Session:
     from ..model.mechanism import Mechanism
     if isinstance(source, Session):
         return source
-    if isinstance(source, Mechanism) or isinstance(source, Path):
+    if isinstance(source, Mechanism):
         return Session(*document_of(source))
+    if isinstance(source, Path):
+        return Session.of_file(source)
     if isinstance(source, str):
         if _is_toml_text(source):
             return Session(doc_of_toml(source, "the TOML text given to assur.designer.Designer"))
-        return Session(*document_of(source))
+        return Session.of_file(source)
     raise TypeError(f"assur.designer.Designer needs a Mechanism, a file path or assur/1 TOML text, not {type(source).__name__}")
 
 

@@ -20,9 +20,12 @@ from .spatial.numpy_backend import solve_spatial
 COMPILERS = {2: compile_planar, 3: compile_spatial}
 
 
-def compile(m: Mechanism, *, tolerances=DEFAULT):  # noqa: A001 - the public verb
+def compile(m: Mechanism, *, tolerances=DEFAULT, structure=None):  # noqa: A001 - the public verb
     """Compile a mechanism into a solve plan (:class:`PlanarPlan` or :class:`SpatialPlan`, by its
-    ``dimension``). Raises StructureError / SpecError with the location of every problem."""
+    ``dimension``). Raises StructureError / SpecError with the location of every problem. ``structure``: the
+    mechanism's ``assur.structure.assur.analyse(m)`` when the caller has it already (planar only)."""
+    if structure is not None and m.dimension == 2:
+        return compile_planar(m, tolerances=tolerances, structure=structure)
     return COMPILERS[m.dimension](m, tolerances=tolerances)
 
 

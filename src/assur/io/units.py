@@ -55,10 +55,12 @@ def _quantity(text, table: dict[str, float], bare: float, example: str) -> float
 
 def parse_quantity(text, kind: str, units=None) -> float:
     """A mass (kg), moment of inertia (kg·m²), force (N), torque (N·m) or, with the file's ``units``, a length
-    (m) from ``"<number> <unit>"`` or a bare number (SI; a length in the file's unit). Raises SpecError on a
+    (m) or an angle (rad) from ``"<number> <unit>"`` or a bare number (SI; a length or angle in the file's unit). Raises SpecError on a
     bad unit or a value that is not finite or not below :data:`MAX_QUANTITY` (a length: 1e9 m)."""
     if kind == "length":
         table, example, bare, limit = LENGTH, f"1 {units.length}", LENGTH[units.length], 1e9
+    elif kind == "angle":
+        table, example, bare, limit = ANGLE, f"30 {units.angle}", ANGLE[units.angle], 1e9
     else:
         (table, example), bare, limit = QUANTITIES[kind], 1.0, MAX_QUANTITY
     value = _quantity(text, table, bare, example)

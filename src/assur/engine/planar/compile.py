@@ -127,15 +127,19 @@ class _Builder:
                 self.param(f"{d.name}.zero", d.zero, "angle")
 
 
-def compile_planar(m: Mechanism, *, tolerances=DEFAULT) -> PlanarPlan:
-    """Compile a planar mechanism into a solve plan. Raises StructureError / SpecError."""
+def compile_planar(m: Mechanism, *, tolerances=DEFAULT, structure: Structure | None = None) -> PlanarPlan:
+    """Compile a planar mechanism into a solve plan. Raises StructureError / SpecError.
+
+    ``structure``: ``analyse(m)`` when the caller already has it (it depends on the topology only: names, links'
+    points, pairs and drivers, never a number), so that a caller compiling many drawings of one topology (the
+    designer during a drag) decomposes it once."""
     frame_points = set(m.frame.points)
     for k, d in enumerate(m.drivers):
         ac = next((a for a in m.actuators if a.name == d.actuator), None) if d.kind == "linear" else None
         if ac is not None and set(ac.between) <= frame_points:
             raise SpecError([(f"drivers[{k}].actuator", f"the driven actuator {ac.name} joins two frame points "
                                                         f"({', '.join(ac.between)}): its length cannot change")])
-    s = analyse(m)
+    s = analyse(m) if structure is None else structure
     n_drivers = len(m.drivers)
     if s.mobility != n_drivers:
         p4 = s.pair_counts["p4"]
@@ -335,6 +339,54 @@ def _inner_point(g, grp, sa, sb) -> str:
     raise StructureError("dyad without an inner revolute")
 
 
+def _sketch_deviations(plan: PlanarPlan, st, candidates, sketch_e) -> list[float]:
+    """How far each candidate assembly ``(sign, pos, poses, valid)`` of step ``st`` lies from the sketch: the sum
+    of its points' distances to their sketch positions plus the size times its bodies' turns off the sketch."""
+    m, scale = plan.mechanism, plan.length_scale
+    group_points = {p for b in st.bodies for p in plan.structure.graph.bodies[b].points}
+    return [sum(abs(c[1][p] - _c(m.sketch(p))) for p in group_points)
+            + scale * sum(abs(c[2][b] - sketch_e[b]) for b in st.bodies) for c in candidates]
+
+
+def sketch_branch_signs(plan: PlanarPlan, tolerances=DEFAULT) -> dict[int, int | None]:
+    """The branch of each closed-form branched step as the sketch draws it, ``[branches]`` hints set aside:
+    {step index: the sign of the assembly nearest the sketch (the rule compilation uses without a hint), or None
+    where the sketch does not tell (both assemblies as near, or neither assembles)}. Later steps are placed on
+    the branches the sketch shows for the earlier ones. One solve of the sketch input per sign and step, no
+    compilation: what the designer compares before and after a drag."""
+    tol = tolerances
+    steps = list(plan.steps)
+    sketch_e = [cmath.exp(1j * th) for _, _, th in _sketch_poses_of(plan)]
+    out: dict[int, int | None] = {}
+    for i, st in enumerate(steps):
+        if st.kind not in BRANCHED:
+            continue
+        cands = []
+        for sign in (1, -1):
+            trial = steps[:i] + [st.with_branch(sign)]
+            pos, poses, valid = run_steps(plan, trial, plan.defaults, plan.sketch_inputs, order=0, upto=i + 1,
+                                          tol=tol)
+            if bool(np.all(valid)):
+                cands.append((sign, pos, poses, True))
+        if len(cands) == 1:
+            out[i] = cands[0][0]
+        elif cands:
+            dev = _sketch_deviations(plan, st, cands, sketch_e)
+            out[i] = None if abs(dev[0] - dev[1]) <= tol.branch_separation * plan.length_scale \
+                else cands[int(np.argmin(dev))][0]
+        else:
+            out[i] = None
+        steps[i] = st.with_branch(out[i] if out[i] is not None else st.branch)
+    return out
+
+
+def _sketch_poses_of(plan: PlanarPlan) -> tuple:
+    """(x, y, θ) of every body's local frame as drawn in the sketch (``_sketch_frames`` of the plan's own
+    mechanism; ``plan.sketch_poses`` may hold the assembled seeds instead)."""
+    B = _Builder(plan.mechanism, plan.structure)
+    return _sketch_frames(B, plan.structure.graph)
+
+
 def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
     """Choose each branched step's sign once, at compile time, at the sketch input.
 
@@ -396,9 +448,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
             chosen = allowed[0][0]
         else:
             _check_key_point_drawn_apart(plan, st, tol)
-            group_points = {p for b in st.bodies for p in plan.structure.graph.bodies[b].points}
-            dev = [sum(abs(c[1][p] - _c(m.sketch(p))) for p in group_points)
-                   + scale * sum(abs(c[2][b] - sketch_e[b]) for b in st.bodies) for c in allowed]
+            dev = _sketch_deviations(plan, st, allowed, sketch_e)
             if abs(dev[0] - dev[1]) <= tol.branch_separation * scale:
                 raise SpecError([(f"points.{st.key_point}",
                                   f"the sketch does not tell the assembly branch of '{st.key_point}' (both branches "
