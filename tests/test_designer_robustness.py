@@ -280,3 +280,27 @@ def test_a_preview_does_one_validation_one_compile_and_at_most_one_serialisation
     counts.clear()
     msg = reply(s, op="preview", edits=[{"kind": "move_point", "point": "L", "to": mirror}])
     assert msg["type"] == "refused" and msg["where"] == "L" and counts.get("compile") == 1, (msg, counts)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# B4: a synthesis started from the page stops when the last page leaves
+
+@pytest.mark.slow
+def test_a_synthesis_stops_when_the_last_page_closes(server_on):
+    import time
+    srv = server_on(Session.of_file(EX / "crank_rocker.toml"))
+    plan = assur.compile(assur.load(EX / "crank_rocker.toml"))
+    path = assur.solve(plan, inputs=[0.0, 2.0, 4.0], order=0).point("P").pos.reshape(-1, 2) * 1.05
+    with socket_of(srv) as first, socket_of(srv) as second:
+        msg = ask(first, {"seq": 1, "op": "synth_start", "point": "P", "targets": path.tolist(), "budget": 10 ** 6,
+                          "seed": 1})
+        assert msg["type"] == "synth_started", msg
+        job = srv.session.job
+        first.close()                                   # another page is still open: the run goes on
+        time.sleep(1.0)
+        assert not job._cancel.is_set() and job._process.is_alive()
+        assert ask(second, {"seq": 2, "op": "hello"})["type"] in ("result", "synth_progress")
+    deadline = time.monotonic() + 30
+    while job._process.is_alive() and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert job._cancel.is_set() and not job._process.is_alive()

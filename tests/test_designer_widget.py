@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 
 import assur
+from assur.designer.assembly import module_text
 from assur.designer.session import Session, document_of, toml_of
 
 pytest.importorskip("anywidget")
@@ -98,7 +99,7 @@ def test_missing_anywidget_gives_the_install_hint(monkeypatch):
 
 def test_the_widget_carries_the_page_module_and_style():
     w = Designer(EX / "walker_fourbar.toml")
-    assert w._esm == (STATIC / "designer.js").read_text(encoding="utf-8")
+    assert w._esm == module_text()
     assert w._css == (STATIC / "designer.css").read_text(encoding="utf-8")
     state = w.get_state()
     assert state["_esm"] == w._esm and state["_css"] == w._css
@@ -297,7 +298,7 @@ def test_the_example_notebook_shows_the_widget():
     state = nb.metadata["widgets"][WIDGET_STATE]["state"]
     model = state[views[0]["model_id"]]
     assert model["model_name"] == "AnyModel" and model["model_module"] == "anywidget"
-    assert model["state"]["_esm"] == (STATIC / "designer.js").read_text(encoding="utf-8")
+    assert model["state"]["_esm"] == module_text()
     assert model["state"]["_css"] == (STATIC / "designer.css").read_text(encoding="utf-8")
     # the step length the notebook reads back from the widget is the engine's
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
@@ -363,8 +364,8 @@ def served(tmp_path):
     """designer.js and designer.css next to the mock page, served on 127.0.0.1."""
     root = tmp_path / "www"
     root.mkdir()
-    for name in ("designer.js", "designer.css"):
-        shutil.copy(STATIC / name, root / name)
+    (root / "designer.js").write_text(module_text(), encoding="utf-8")
+    shutil.copy(STATIC / "designer.css", root / "designer.css")
     (root / "index.html").write_text(PAGE, encoding="utf-8")
 
     class Quiet(http.server.SimpleHTTPRequestHandler):

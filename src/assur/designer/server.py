@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from .assembly import module_text
 from .session import Session, parse_request
 
 COOKIE = "assur_token"
@@ -45,7 +46,7 @@ def create_app(session: Session, token: str):
     from starlette.applications import Starlette
     from starlette.middleware import Middleware
     from starlette.middleware.trustedhost import TrustedHostMiddleware
-    from starlette.responses import FileResponse, HTMLResponse, PlainTextResponse
+    from starlette.responses import FileResponse, HTMLResponse, PlainTextResponse, Response
     from starlette.routing import Route, WebSocketRoute
     from starlette.websockets import WebSocketDisconnect
 
@@ -74,6 +75,8 @@ def create_app(session: Session, token: str):
         if not _token_ok(request, token):
             return refused("missing or wrong token")
         name = request.path_params["name"]
+        if name == "designer.js":       # the page's module, joined from static/parts (assembly.py)
+            return Response(module_text(), media_type="text/javascript", headers=headers)
         path = files.get(name)
         if path is None:
             return PlainTextResponse("not found\n", status_code=404)

@@ -311,7 +311,8 @@ class Session:
         be carried out (malformed, nested too deep, refused by the file's rules, or failing inside) answers
         ``refused`` with the reason and where, and the session goes on."""
         if not isinstance(request, dict):
-            return [Reply({"type": "refused", "seq": None, "message": "a request must be a JSON object", "where": ""})]
+            return [Reply({"type": "refused", "seq": None, "message": "a request must be a JSON object",
+                           "where": "request"})]
         seq, op = _seq(request.get("seq")), request.get("op")
         try:
             if "_refuse" in request:

@@ -1,7 +1,8 @@
 """The designer in a notebook: ``assur.designer.Designer(mech)`` shows the page of ``assur design`` as a Jupyter widget
 (anywidget), on the same :class:`~assur.designer.session.Session` and the same messages (``docs/designer.md``).
 
-The page's ES module (``static/designer.js``) and style sheet are the widget's ``_esm`` and ``_css``. The front
+The page's ES module (joined from ``static/parts`` by :mod:`.assembly`) and style sheet are the widget's ``_esm``
+and ``_css``. The front
 end sends each request with ``model.send(request)``; the widget answers with ``self.send(message,
 buffers=[blob])`` (a message with ``"binary": true`` carries its float64 arrays in its first buffer). While a
 synthesis runs, a daemon thread polls :meth:`Session.poll_synthesis` and sends its progress as it comes.
@@ -20,6 +21,7 @@ import threading
 from pathlib import Path
 
 from ..errors import require
+from .assembly import module_text
 from .session import Reply, Session, doc_of_toml, document_of
 
 anywidget = require("anywidget", "assur.designer.Designer", "pip install 'assur[widget]'")
@@ -66,7 +68,7 @@ class Designer(anywidget.AnyWidget):
     :attr:`document`, :attr:`toml` and :attr:`mechanism`, and the page's numbers with :meth:`result`.
     """
 
-    _esm = _STATIC / "designer.js"
+    _esm = module_text()
     _css = _STATIC / "designer.css"
     #: plotly.js for the 3D view of a spatial document ("" for a planar one)
     _plotly_js = traitlets.Unicode("").tag(sync=True)

@@ -1,0 +1,570 @@
+// The 2D canvas of the designer: view, drawing, pointer gestures and the tools' clicks, and the 3D view of a
+// spatial file. Methods of the Designer (mixed in by designer.js; one part of designer.js: see assembly.py).
+
+import { DRAG_THRESHOLD_PX, svg, setText, entriesOf, bounds, brokenPath, preferReadbackCanvases } from "./util.js";
+
+export class CanvasPart {
+  buildCanvas() {
+    const id = (name) => `asd-${name}-${this.uid}`;
+    const arrow = (name) => svg("marker", {
+      id: id(name), viewBox: "0 0 10 10", refX: 9, refY: 5, markerWidth: 7, markerHeight: 7, orient: "auto-start-reverse",
+    }, svg("path", { d: "M0,0 L10,5 L0,10 z", class: `asd-arrow-${name}` }));
+    const hatch = svg("pattern", { id: id("hatch"), width: 6, height: 6, patternUnits: "userSpaceOnUse", patternTransform: "rotate(45)" },
+      svg("line", { x1: 0, y1: 0, x2: 0, y2: 6, class: "asd-hatch-line" }));
+    const root = svg("svg", { class: "asd-canvas", testid: "canvas", role: "img", "aria-label": "mechanism" },
+      svg("defs", {}, arrow("vel"), arrow("acc"), hatch));
+    const layer = (name) => { const g = svg("g", { class: `asd-layer-${name}` }); root.append(g); return g; };
+    const canvas = { root, ids: { vel: id("vel"), acc: id("acc"), hatch: id("hatch") } };
+    canvas.background = svg("rect", { class: "asd-background", x: 0, y: 0, width: "100%", height: "100%" });
+    root.append(canvas.background);
+    for (const name of ["paths", "guides", "links", "ground", "vectors", "ics", "points", "targets", "pending"]) canvas[name] = layer(name);
+    return canvas;
+  }
+
+  // ---- the 2D canvas: view ------------------------------------------------------------------------------
+  onResize() {
+    const rect = this.ui.canvas.root.getBoundingClientRect();
+    if (rect.width < 10 || rect.height < 10) return;
+    const first = !this.sized;
+    this.sized = true;
+    this.size = { width: rect.width, height: rect.height };
+    this.ui.canvas.root.setAttribute("viewBox", `0 0 ${rect.width} ${rect.height}`);
+    if (this.snapshot && this.snapshot.dimension !== 3) {
+      if (first) this.fitView();
+      this.drawScene();
+    }
+  }
+
+  fitView() {
+    const snapshot = this.snapshot;
+    if (!snapshot || snapshot.dimension === 3) return;
+    const rect = this.ui.canvas.root.getBoundingClientRect();
+    if (rect.width >= 10 && rect.height >= 10) {
+      this.size = { width: rect.width, height: rect.height };
+      this.ui.canvas.root.setAttribute("viewBox", `0 0 ${rect.width} ${rect.height}`);
+    }
+    const box = this.drawingBounds(snapshot) || { minX: -1, minY: -1, maxX: 1, maxY: 1 };
+    const spanX = Math.max(box.maxX - box.minX, 1e-6);
+    const spanY = Math.max(box.maxY - box.minY, 1e-6);
+    const span = Math.max(spanX, spanY);
+    const marginFactor = 1.25;
+    const scale = Math.min(this.size.width / (Math.max(spanX, span * 0.2) * marginFactor), this.size.height / (Math.max(spanY, span * 0.2) * marginFactor));
+    this.view = { cx: (box.minX + box.maxX) / 2, cy: (box.minY + box.maxY) / 2, scale };
+    this.extent = span;
+  }
+
+  // the bounding box of the sketch and of every point's path (world coordinates), or null
+  drawingBounds(snapshot) {
+    const samples = [];
+    for (let p = 0; p < snapshot.pointNames.length; p += 1) {
+      const sketch = snapshot.sketchOf(p);
+      if (sketch) samples.push(sketch);
+      for (let k = 0; k < snapshot.n; k += 1) if (snapshot.isValid(k)) samples.push(snapshot.vector("pos", k, p));
+    }
+    return bounds(samples);
+  }
+
+  // whether the whole drawing of a result lies inside the canvas at the current view
+  fitsView(snapshot) {
+    if (!this.view || snapshot.dimension === 3) return true;
+    const box = this.drawingBounds(snapshot);
+    if (!box) return true;
+    const [x0, y0] = this.toScreen([box.minX, box.maxY]);
+    const [x1, y1] = this.toScreen([box.maxX, box.minY]);
+    return x0 >= 0 && y0 >= 0 && x1 <= this.size.width && y1 <= this.size.height;
+  }
+
+  toScreen([x, y]) {
+    const { cx, cy, scale } = this.view;
+    return [this.size.width / 2 + (x - cx) * scale, this.size.height / 2 - (y - cy) * scale];
+  }
+
+  toWorld(event) {
+    const rect = this.ui.canvas.root.getBoundingClientRect();
+    const sx = event.clientX - rect.left; const sy = event.clientY - rect.top;
+    const { cx, cy, scale } = this.view;
+    return [cx + (sx - this.size.width / 2) / scale, cy - (sy - this.size.height / 2) / scale];
+  }
+
+  onWheel(event) {
+    if (!this.view || !this.snapshot || this.snapshot.dimension === 3) return;
+    event.preventDefault();
+    const before = this.toWorld(event);
+    this.view.scale *= Math.exp(-event.deltaY * 0.0015);
+    const after = this.toWorld(event);
+    this.view.cx += before[0] - after[0];
+    this.view.cy += before[1] - after[1];
+    this.drawScene();
+  }
+
+  // ---- the 2D canvas: drawing ---------------------------------------------------------------------------
+  drawScene() {
+    if (!this.snapshot || !this.view || this.snapshot.dimension === 3) return;
+    this.drawPaths();
+    this.drawPose();
+    this.drawTargets();
+    this.drawPending();
+  }
+
+  // which pose is on display: the sketch while editing, otherwise the cycle at the current sample
+  displayedPose() {
+    const snapshot = this.snapshot;
+    if (this.dragging) return { kind: "sketch", note: "" };
+    if (this.tool !== "select") return { kind: "sketch", note: "editing the sketch pose" };
+    if (!snapshot.cycle || !snapshot.arrays.pos) return { kind: "sketch", note: "not a mechanism yet: showing the sketch" };
+    if (!snapshot.isValid(this.sample)) return { kind: "invalid", note: "the mechanism does not assemble at this input: showing the sketch" };
+    return { kind: "cycle", note: "" };
+  }
+
+  drawPaths() {
+    const snapshot = this.snapshot;
+    const layer = this.ui.canvas.paths;
+    const children = [];
+    if (snapshot.arrays.pos) {
+      for (const name of snapshot.movingPoints) {
+        const p = snapshot.pointIndex.get(name);
+        const samples = Array.from({ length: snapshot.n }, (_, k) => (snapshot.isValid(k) ? this.toScreen(snapshot.vector("pos", k, p)) : null));
+        const { d, runs } = brokenPath(samples);
+        children.push(svg("path", { class: "asd-path", testid: `path-${name}`, "data-runs": runs, d }));
+      }
+    }
+    layer.replaceChildren(...children);
+  }
+
+  drawPose() {
+    const snapshot = this.snapshot;
+    if (!snapshot || !this.view || snapshot.dimension === 3) return;
+    const display = this.displayedPose();
+    const pose = snapshot.pose(display.kind === "cycle" ? "cycle" : "sketch", this.sample);
+    const at = (name) => pose[snapshot.pointIndex.get(name)];
+    const root = this.ui.canvas.root;
+    root.classList.toggle("asd-greyed", display.kind === "invalid");
+    root.dataset.pose = display.kind;
+    setText(this.ui.note, display.note);
+    this.ui.note.hidden = !display.note;
+    this.drawLinks(snapshot, at);
+    this.drawGuides(snapshot, at);
+    this.drawGround(snapshot, at);
+    this.drawVectors(snapshot, display.kind === "cycle");
+    this.drawInstantCentres(snapshot, display.kind === "cycle");
+    this.drawPoints(snapshot, at);
+  }
+
+  drawLinks(snapshot, at) {
+    const children = [];
+    for (const link of snapshot.links) {
+      if (link.name === "frame") continue;
+      const corners = link.points.map(at).filter(Boolean).map((xy) => this.toScreen(xy));
+      if (corners.length < 2) continue;
+      const points = corners.map(([x, y]) => `${x.toFixed(2)},${y.toFixed(2)}`).join(" ");
+      const tag = corners.length > 2 ? "polygon" : "polyline";
+      children.push(svg(tag, {
+        class: `asd-link${link.name === this.selectedLink ? " asd-selected" : ""}`, testid: `link-${link.name}`,
+        "data-link": link.name, points,
+      }));
+    }
+    // gear pairs: both pitch curves, turned with their links (pivot → arm now against the sketch)
+    for (const gear of snapshot.model.gears || []) {
+      gear.curves.forEach((curve, i) => {
+        const p = at(curve.pivot);
+        const q = at(curve.arm);
+        if (!p || !q) return;
+        const turn = Math.atan2(q[1] - p[1], q[0] - p[0]) - curve.angle0;
+        const c = Math.cos(turn);
+        const s = Math.sin(turn);
+        const points = curve.xy.map(([x, y]) => this.toScreen([p[0] + c * x - s * y, p[1] + s * x + c * y]))
+          .map(([x, y]) => `${x.toFixed(2)},${y.toFixed(2)}`).join(" ");
+        children.push(svg("polygon", { class: "asd-gear", testid: `gear-${gear.name}-${i ? "b" : "a"}`, points }));
+      });
+    }
+    this.ui.canvas.links.replaceChildren(...children);
+  }
+
+  // sliders (a block on a dashed guide line) and actuators (cylinder and rod)
+  drawGuides(snapshot, at) {
+    const children = [];
+    for (const slider of entriesOf(snapshot.model.sliders)) {
+      const name = slider.point || slider.link;
+      const point = slider.point ? at(slider.point) : (snapshot.links.find((link) => link.name === slider.link) || { points: [] }).points.map(at)[0];
+      if (!point) continue;
+      let angle = this.sliderAngle(slider);
+      if (slider.guide && slider.guide !== "frame") {
+        const guide = snapshot.links.find((link) => link.name === slider.guide);
+        const [a, b] = guide ? guide.points.map(at) : [];
+        if (a && b) angle += Math.atan2(b[1] - a[1], b[0] - a[0]);
+      }
+      const reach = (this.extent || 1) * 0.6;
+      const start = this.toScreen([point[0] - reach * Math.cos(angle), point[1] - reach * Math.sin(angle)]);
+      const end = this.toScreen([point[0] + reach * Math.cos(angle), point[1] + reach * Math.sin(angle)]);
+      const [sx, sy] = this.toScreen(point);
+      const degrees = (-angle * 180) / Math.PI;
+      children.push(svg("line", { class: "asd-guide", x1: start[0], y1: start[1], x2: end[0], y2: end[1] }));
+      children.push(svg("rect", {
+        class: "asd-slider", testid: `slider-${slider.name || name}`, "data-slider": slider.name || name,
+        x: sx - 11, y: sy - 7, width: 22, height: 14, transform: `rotate(${degrees.toFixed(2)} ${sx.toFixed(2)} ${sy.toFixed(2)})`,
+      }));
+    }
+    for (const actuator of entriesOf(snapshot.model.actuators)) {
+      const [a, b] = (actuator.between || []).map(at);
+      if (!a || !b) continue;
+      const [ax, ay] = this.toScreen(a); const [bx, by] = this.toScreen(b);
+      const mx = (ax + bx) / 2; const my = (ay + by) / 2;
+      children.push(svg("line", { class: "asd-cylinder", testid: `actuator-${actuator.name}`, x1: ax, y1: ay, x2: mx + (bx - ax) * 0.1, y2: my + (by - ay) * 0.1 }));
+      children.push(svg("line", { class: "asd-rod", x1: mx - (bx - ax) * 0.1, y1: my - (by - ay) * 0.1, x2: bx, y2: by }));
+    }
+    this.ui.canvas.guides.replaceChildren(...children);
+  }
+
+  // a slider's line direction (rad), as the server read it from the document
+  sliderAngle(slider) {
+    return Number.isFinite(slider.angle_si) ? slider.angle_si : 0;
+  }
+
+  drawGround(snapshot, at) {
+    const children = [];
+    for (const name of snapshot.framePoints) {
+      const xy = at(name);
+      if (!xy) continue;
+      const [x, y] = this.toScreen(xy);
+      children.push(svg("path", { class: "asd-ground", d: `M${x},${y} L${x - 10},${y + 14} L${x + 10},${y + 14} Z` }));
+      children.push(svg("rect", { class: "asd-hatch", x: x - 14, y: y + 14, width: 28, height: 7, fill: `url(#${this.ui.canvas.ids.hatch})` }));
+    }
+    for (const driver of entriesOf(snapshot.model.drivers)) {
+      const xy = driver.pivot ? at(driver.pivot) : null;
+      if (!xy) continue;
+      const [x, y] = this.toScreen(xy);
+      children.push(svg("circle", { class: "asd-driver", testid: `driver-${driver.name}`, cx: x, cy: y, r: 12 }));
+    }
+    this.ui.canvas.ground.replaceChildren(...children);
+  }
+
+  vectorScales(snapshot) {
+    if (snapshot.__vectorScales) return snapshot.__vectorScales;
+    const largest = (name) => {
+      const array = snapshot.arrays[name];
+      if (!array) return 0;
+      let best = 0;
+      snapshot.movingPoints.forEach((pointName) => {
+        const p = snapshot.pointIndex.get(pointName);
+        for (let k = 0; k < snapshot.n; k += 1) {
+          if (!snapshot.isValid(k)) continue;
+          const vector = snapshot.vector(name, k, p);
+          const size = Math.hypot(vector[0], vector[1]);
+          if (Number.isFinite(size) && size > best) best = size;
+        }
+      });
+      return best;
+    };
+    snapshot.__vectorScales = { vel: largest("vel"), acc: largest("acc") };
+    return snapshot.__vectorScales;
+  }
+
+  drawVectors(snapshot, visible) {
+    const children = [];
+    if (visible) {
+      const scales = this.vectorScales(snapshot);
+      const screenLength = 0.2 * Math.min(this.size.width, this.size.height);
+      for (const kind of ["vel", "acc"]) {
+        if (!this.showVectors[kind] || !snapshot.arrays[kind] || !(scales[kind] > 0)) continue;
+        for (const name of snapshot.movingPoints) {
+          const p = snapshot.pointIndex.get(name);
+          const origin = snapshot.vector("pos", this.sample, p);
+          const vector = snapshot.vector(kind, this.sample, p);
+          if (!vector.every(Number.isFinite)) continue;
+          const [x1, y1] = this.toScreen(origin);
+          const factor = screenLength / scales[kind];
+          children.push(svg("line", {
+            class: `asd-vector asd-${kind}`, testid: `${kind}-${name}`, x1, y1,
+            x2: x1 + vector[0] * factor, y2: y1 - vector[1] * factor, "data-vx": vector[0], "data-vy": vector[1],
+            "marker-end": `url(#${this.ui.canvas.ids[kind]})`,
+          }));
+        }
+      }
+    }
+    this.ui.canvas.vectors.replaceChildren(...children);
+  }
+
+  drawInstantCentres(snapshot, visible) {
+    const children = [];
+    if (visible && this.showVectors.ic && snapshot.arrays.ic) {
+      snapshot.bodyNames.forEach((name, b) => {
+        const centre = snapshot.vector("ic", this.sample, b);
+        if (!centre || !centre.every(Number.isFinite)) return;
+        const [x, y] = this.toScreen(centre);
+        if (Math.abs(x) > 1e6 || Math.abs(y) > 1e6) return;
+        children.push(svg("g", { class: "asd-ic", testid: `ic-${name}`, "data-x": centre[0], "data-y": centre[1] },
+          svg("circle", { cx: x, cy: y, r: 4 }),
+          // below and right of the centre: a point's label sits above and right of it, and a crank's or a rocker's
+          // centre is its pivot
+          svg("text", { class: "asd-ic-label", testid: `ic-label-${name}`, x: x + 6, y: y + 16, text: `I ${name}` })));
+      });
+    }
+    this.ui.canvas.ics.replaceChildren(...children);
+  }
+
+  drawPoints(snapshot, at) {
+    const children = [];
+    const locks = this.locks();
+    for (const name of snapshot.pointNames) {
+      const xy = at(name);
+      if (!xy || !xy.every(Number.isFinite)) continue;
+      const [x, y] = this.toScreen(xy);
+      const classes = ["asd-point"];
+      if (snapshot.framePoints.has(name)) classes.push("asd-frame-point");
+      if (name === this.selectedPoint) classes.push("asd-selected");
+      if (locks.points.has(name)) classes.push("asd-locked");
+      if (this.dragging && this.dragging.point === name) classes.push("asd-dragged");
+      children.push(svg("g", { class: "asd-point-group" },
+        svg("circle", { class: classes.join(" "), testid: `point-${name}`, "data-point": name, "data-x": xy[0], "data-y": xy[1], cx: x, cy: y, r: 6 }),
+        svg("text", { class: "asd-point-label", testid: `label-${name}`, x: x + 8, y: y - 8, text: name })));
+    }
+    this.ui.canvas.points.replaceChildren(...children);
+  }
+
+  // the marks of a tool waiting for its next click
+  drawPending() {
+    if (!this.snapshot || !this.view) return;
+    const children = [];
+    const sketch = (name) => this.snapshot.sketchOf(this.snapshot.pointIndex.get(name));
+    for (const item of this.pendingLinkPoints) {
+      const xy = item.new ? item.at : sketch(item.name);
+      if (!xy) continue;
+      const [x, y] = this.toScreen(xy);
+      children.push(svg("circle", { class: "asd-pending", cx: x, cy: y, r: 9 }));
+    }
+    if (this.pendingDriverPivot) {
+      const xy = sketch(this.pendingDriverPivot);
+      if (xy) { const [x, y] = this.toScreen(xy); children.push(svg("circle", { class: "asd-pending", cx: x, cy: y, r: 9 })); }
+    }
+    this.ui.canvas.pending.replaceChildren(...children);
+  }
+
+  // ---- the 2D canvas: pointer gestures ------------------------------------------------------------------
+  onPointerDown(event) {
+    if (!this.snapshot || !this.view || this.snapshot.dimension === 3 || event.button !== 0) return;
+    const target = event.target;
+    const point = target.getAttribute && target.getAttribute("data-point");
+    const link = target.getAttribute && target.getAttribute("data-link");
+    const slider = target.getAttribute && target.getAttribute("data-slider");
+    this.gesture = { pointerId: event.pointerId, startX: event.clientX, startY: event.clientY, moved: false, point, link, slider, startView: { ...this.view } };
+    this.ui.canvas.root.setPointerCapture(event.pointerId);
+    event.preventDefault();
+  }
+
+  onPointerMove(event) {
+    const gesture = this.gesture;
+    if (!gesture || gesture.pointerId !== event.pointerId) return;
+    const distance = Math.hypot(event.clientX - gesture.startX, event.clientY - gesture.startY);
+    if (!gesture.moved && distance < DRAG_THRESHOLD_PX) return;
+    if (!gesture.moved) {
+      gesture.moved = true;
+      gesture.kind = gesture.point && this.tool === "select" && !this.ui.synthAddTargets.checked ? "drag" : "pan";
+      if (gesture.kind === "drag") this.startDrag(gesture.point);
+    }
+    if (gesture.kind === "drag") this.previewDrag(event);
+    else this.pan(event, gesture);
+  }
+
+  onPointerUp(event) {
+    const gesture = this.gesture;
+    if (!gesture || gesture.pointerId !== event.pointerId) return;
+    this.gesture = null;
+    if (this.ui.canvas.root.hasPointerCapture(event.pointerId)) this.ui.canvas.root.releasePointerCapture(event.pointerId);
+    if (gesture.kind === "drag") this.endDrag();
+    else if (!gesture.moved) this.onClick(event, gesture);
+  }
+
+  pan(event, gesture) {
+    this.view.cx = gesture.startView.cx - (event.clientX - gesture.startX) / this.view.scale;
+    this.view.cy = gesture.startView.cy + (event.clientY - gesture.startY) / this.view.scale;
+    this.drawScene();
+  }
+
+  startDrag(point) {
+    this.selectedPoint = point;
+    this.selectedLink = null;
+    this.dragging = { point, to: null };
+    if (this.ui.plotPoint.value !== point) this.ui.plotPoint.value = point;
+    this.drawPose();
+    this.drawReadouts();
+  }
+
+  previewDrag(event) {
+    const to = this.toWorld(event);
+    this.dragging.to = to;
+    this.request("preview", { edits: this.dragEdits() }, performance.now());
+  }
+
+  dragEdits() {
+    return [{ kind: "move_point", point: this.dragging.point, to: this.dragging.to }];
+  }
+
+  endDrag() {
+    const drag = this.dragging;
+    if (!drag) return;
+    if (drag.to) this.commit(this.dragEdits());
+    else this.dragging = null;
+    // the display stays on the sketch until the commit's answer arrives
+  }
+
+  // Esc during a gesture: the committed document comes back
+  cancelGesture(sendCancel = false) {
+    const wasDragging = Boolean(this.dragging);
+    if (this.gesture) {
+      const { pointerId } = this.gesture;
+      if (this.ui.canvas.root.hasPointerCapture(pointerId)) this.ui.canvas.root.releasePointerCapture(pointerId);
+    }
+    this.gesture = null;
+    this.dragging = null;
+    if (wasDragging) {
+      if (sendCancel) this.request("cancel");
+      if (this.committed) this.showSnapshot(this.committed, this.snapshot);
+    }
+  }
+
+  onClick(event, gesture) {
+    const at = this.toWorld(event);
+    if (this.ui.synthAddTargets.checked) {
+      this.synth.targets.push(at);
+      this.drawTargets();
+      return;
+    }
+    const handlers = {
+      select: () => this.clickSelect(gesture),
+      "add-point": () => this.clickAddPoint(gesture, at),
+      "add-link": () => this.clickAddLink(gesture, at),
+      "add-slider": () => this.clickAddSlider(gesture),
+      "add-driver": () => this.clickAddDriver(gesture),
+      delete: () => this.clickDelete(gesture),
+    };
+    handlers[this.tool]();
+  }
+
+  clickSelect(gesture) {
+    if (gesture.point) this.selectPoint(gesture.point);
+    else if (gesture.link) this.selectLink(gesture.link);
+  }
+
+  clickAddPoint(gesture, at) {
+    this.commit([{ kind: "add_point", at, link: gesture.link || "frame" }]);
+  }
+
+  newPointName(taken) {
+    let index = 1;
+    while (taken.has(`P${index}`)) index += 1;
+    taken.add(`P${index}`);
+    return `P${index}`;
+  }
+
+  clickAddLink(gesture, at) {
+    const taken = new Set([...this.snapshot.pointNames, ...this.pendingLinkPoints.map((item) => item.name)]);
+    const item = gesture.point ? { name: gesture.point } : { name: this.newPointName(taken), at, new: true };
+    this.pendingLinkPoints.push(item);
+    if (this.pendingLinkPoints.length >= 2) {
+      const items = this.pendingLinkPoints;
+      this.pendingLinkPoints = [];
+      const newPoints = Object.fromEntries(items.filter((i) => i.new).map((i) => [i.name, i.at]));
+      const edit = { kind: "add_link", points: items.map((i) => i.name) };
+      if (Object.keys(newPoints).length) edit.new_points = newPoints;
+      this.commit([edit]);
+    }
+    this.drawPending();
+  }
+
+  clickAddSlider(gesture) {
+    if (!gesture.point) return;
+    const snapshot = this.snapshot;
+    const pin = snapshot.sketchOf(snapshot.pointIndex.get(gesture.point));
+    // a horizontal line through the clicked point, given by the nearest frame point and an offset to its left
+    let through = null; let best = Infinity;
+    for (const name of snapshot.framePoints) {
+      const xy = snapshot.sketchOf(snapshot.pointIndex.get(name));
+      const distance = Math.hypot(xy[0] - pin[0], xy[1] - pin[1]);
+      if (name !== gesture.point && distance < best) { best = distance; through = name; }
+    }
+    if (!through) { this.setRefusal("a slider needs a frame point for its guide line"); return; }
+    const origin = snapshot.sketchOf(snapshot.pointIndex.get(through));
+    this.commit([{ kind: "add_slider", point: gesture.point, guide: "frame", through, angle: 0, offset: pin[1] - origin[1] }]);
+  }
+
+  clickAddDriver(gesture) {
+    if (!gesture.point) return;
+    if (!this.pendingDriverPivot) {
+      this.pendingDriverPivot = gesture.point;
+      this.drawPending();
+      return;
+    }
+    const pivot = this.pendingDriverPivot;
+    const arm = gesture.point;
+    this.pendingDriverPivot = null;
+    this.drawPending();
+    const moving = this.snapshot.links.filter((link) => link.name !== "frame");
+    const link = moving.find((l) => l.points.includes(pivot) && l.points.includes(arm)) || moving.find((l) => l.points.includes(arm));
+    if (!link) { this.setRefusal(`no link carries ${arm}`); return; }
+    this.commit([{ kind: "add_driver", link: link.name, pivot, arm, speed: 2 * Math.PI }]);
+  }
+
+  clickDelete(gesture) {
+    if (gesture.point) this.commit([{ kind: "delete_point", point: gesture.point }]);
+    else if (gesture.link) this.commit([{ kind: "delete_link", link: gesture.link }]);
+    else if (gesture.slider) this.commit([{ kind: "delete_slider", name: gesture.slider }]);
+  }
+
+  // ---- the 3D view (spatial files) ----------------------------------------------------------------------
+  // No hover picking (its GPU read-backs log driver warnings) and 2D canvases that read back often (plotly
+  // rasterises its 3D text through getImageData): the console stays clean.
+  draw3d(full) {
+    const Plotly = window.Plotly;
+    preferReadbackCanvases();
+    const snapshot = this.snapshot;
+    if (!Plotly && document.readyState !== "complete") {
+      // the page loads plotly after this module: draw once it is there
+      if (!this.waitingForPlotly) {
+        this.waitingForPlotly = true;
+        window.addEventListener("load", () => { this.waitingForPlotly = false; if (this.snapshot) this.drawAll(); }, { once: true });
+      }
+      setText(this.ui.note, "loading the 3D view…");
+      this.ui.note.hidden = false;
+      return;
+    }
+    if (!Plotly || !snapshot.arrays.pos) {
+      setText(this.ui.note, Plotly ? "no motion to show" : "the 3D view needs plotly");
+      this.ui.note.hidden = false;
+      return;
+    }
+    const convert = this.converter;
+    const valid = snapshot.isValid(this.sample);
+    const pose = snapshot.pose(valid ? "cycle" : "sketch", this.sample);
+    setText(this.ui.note, valid ? "" : "the mechanism does not assemble at this input: showing the sketch");
+    this.ui.note.hidden = valid;
+    const scaled = (xyz) => (xyz ? xyz.map((v) => convert.length(v)) : [null, null, null]);
+    const traces = [];
+    for (const link of snapshot.links) {
+      const corners = link.points.map((name) => scaled(pose[snapshot.pointIndex.get(name)]));
+      if (corners.length > 2) corners.push(corners[0]);
+      traces.push({
+        type: "scatter3d", mode: link.name === "frame" ? "markers" : "lines+markers", name: link.name,
+        x: corners.map((c) => c[0]), y: corners.map((c) => c[1]), z: corners.map((c) => c[2] ?? 0),
+        line: { width: 6 }, marker: { size: 4 }, hoverinfo: "skip",
+      });
+    }
+    if (full || !this.pathTraces3d) {
+      this.pathTraces3d = snapshot.movingPoints.map((name) => {
+        const p = snapshot.pointIndex.get(name);
+        const xs = []; const ys = []; const zs = [];
+        for (let k = 0; k < snapshot.n; k += 1) {
+          const xyz = snapshot.isValid(k) ? scaled(snapshot.vector("pos", k, p)) : [null, null, null];
+          xs.push(xyz[0]); ys.push(xyz[1]); zs.push(xyz[2] ?? 0);
+        }
+        return { type: "scatter3d", mode: "lines", name: `path ${name}`, x: xs, y: ys, z: zs, line: { width: 2, dash: "dot" }, connectgaps: false, hoverinfo: "skip" };
+      });
+    }
+    const axis = (title) => ({ title: `${title} (${convert.lengthLabel})` });
+    // the camera and zoom the user chose carry over from the previous drawing
+    const previous = (this.ui.view3d.layout && this.ui.view3d.layout.scene) || {};
+    const scene = { aspectmode: "data", hovermode: false, xaxis: axis("x"), yaxis: axis("y"), zaxis: axis("z") };
+    for (const key of ["camera", "aspectmode", "aspectratio"]) if (previous[key]) scene[key] = previous[key];
+    const layout = { margin: { l: 0, r: 0, t: 0, b: 0 }, showlegend: false, hovermode: false, scene };
+    Plotly.react(this.ui.view3d, [...this.pathTraces3d, ...traces], layout, { displaylogo: false, responsive: true, logging: 0 });
+  }
+}
