@@ -245,25 +245,12 @@ def parameter_records(plan, params) -> list[dict]:
     return out
 
 
-def compile_document(doc: dict):
-    """(mechanism, structure, plan, warnings) of a document, the warnings of reading and compiling it caught;
-    AssurError when it is not a mechanism."""
-    from ..engine import compile as compile_plan
-    from ..io.mechanism_file import from_dict
-    from ..structure.assur import analyse
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        mech = from_dict(doc, source="the designer's document")
-        out = mech, analyse(mech), compile_plan(mech)
-    return (*out, list(caught))
-
-
 def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STEPS, exact: bool = True,
              compiled=None) -> Description:
     """Compile and solve a document (see the module docstring). Never raises for a document that is not a
     mechanism: the reason is a diagnostic and ``cycle`` is None. ``exact``: gait metrics refined to their roots
-    (else on the samples, for the previews of a drag). ``compiled``: the document's :func:`compile_document`
-    result, or the AssurError it raised, when already known."""
+    (else on the samples, for the previews of a drag). ``compiled``: the document's ``(mechanism, structure, plan,
+    warnings)`` or the AssurError that stops it, when already known (:meth:`.compiled.Compiled.described`)."""
     meta = {"model": _model_of_doc(doc), "cycle": None, "diagnostics": []}
     arrays: dict = {}
     with warnings.catch_warnings(record=True) as caught:
@@ -271,7 +258,12 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         try:
             if isinstance(compiled, AssurError):
                 raise compiled
-            mech, structure, plan, warned = compiled if compiled is not None else compile_document(doc)
+            if compiled is None:
+                from .compiled import StructureCache, compile_doc
+                compiled = compile_doc(doc, StructureCache()).described()
+                if isinstance(compiled, AssurError):
+                    raise compiled
+            mech, structure, plan, warned = compiled
         except AssurError as exc:
             meta["diagnostics"].append(_diagnostic("error", "structure", str(exc)))
             _sketch(doc, arrays)
