@@ -45,22 +45,27 @@ class Compiled:
         return self.mechanism, self.structure, self.plan, self.warnings
 
 
+#: the parts of a Mechanism its Assur decomposition reads (its name, description, units, gait, masses and branch
+#: hints it does not)
+TOPOLOGY_FIELDS = ("dimension", "points", "links", "prismatic", "actuators", "drivers", "gears", "joints")
+
+
 def topology_key(m) -> tuple:
-    """Every part of a mechanism description that is not a real number (names, kinds, links' points, pairs,
-    drivers, gears, hints …), as a hashable tuple: two drawings of one topology have the same key."""
+    """Every part of a mechanism's topology that is not a real number (point names, links' points, pairs, drivers,
+    gears, joints: :data:`TOPOLOGY_FIELDS`), as a hashable tuple: two drawings of one topology have the same key."""
     def walk(x):
         if isinstance(x, float):
             return None
         if isinstance(x, (str, int, bool)) or x is None:
             return x
+        if isinstance(x, (list, tuple)):
+            return tuple(walk(v) for v in x)
         if dataclasses.is_dataclass(x):
             return (type(x).__name__, *(walk(getattr(x, f.name)) for f in dataclasses.fields(x)))
         if isinstance(x, dict):
             return tuple((walk(k), walk(v)) for k, v in x.items())
-        if isinstance(x, (list, tuple)):
-            return tuple(walk(v) for v in x)
         return type(x).__name__        # numpy scalars and arrays: numbers
-    return walk(m)
+    return tuple(walk(getattr(m, name)) for name in TOPOLOGY_FIELDS)
 
 
 class StructureCache:
@@ -120,12 +125,14 @@ def compile_doc(doc: dict, structures: StructureCache) -> Compiled:
 
 def branch_signs(plan) -> dict:
     """The branch of every branched group as the plan's sketch draws it (``[branches]`` hints set aside; where the
-    sketch does not tell, the plan's own), keyed by (point, kind), with the points it is solved from; a Newton-solved
-    group by (its bodies, "newton"), with the sign of its Jacobian at the sketch."""
+    sketch does not tell, and in a file without hints, the plan's own: compilation chose it nearest the sketch),
+    keyed by (point, kind), with the points it is solved from; a Newton-solved group by (its bodies, "newton"), with
+    the sign of its Jacobian at the sketch."""
     if plan.dimension != 2:
         return {}
     from ..engine.planar.compile import newton_branch_signs, sketch_branch_signs
-    drawn = sketch_branch_signs(plan)
+    # without a [branches] hint the plan's own branches are the sketch's (compilation chose them so): nothing to solve
+    drawn = sketch_branch_signs(plan) if plan.mechanism.branches else {}
     sig = {}
     for i, st in enumerate(plan.steps):
         if st.key_point is not None:
