@@ -304,3 +304,19 @@ def test_a_synthesis_stops_when_the_last_page_closes(server_on):
     while job._process.is_alive() and time.monotonic() < deadline:
         time.sleep(0.1)
     assert job._cancel.is_set() and not job._process.is_alive()
+
+
+def test_a_drag_across_a_dyad_line_is_refused_in_a_file_without_branch_hints():
+    """Jansen's file has no [branches]: the plan's branches are the sketch's. U (the dyad j–upper, solved from C and
+    P) mirrored across the line C–P is refused; a small move is not."""
+    s = Session.of_file(EX / "jansen.toml")
+    assert "branches" not in s.doc
+    f = 0.01                                                            # cm
+    C, P, U = ([f * c for c in s.doc["points"][n]] for n in ("C", "P", "U"))
+    u = [(P[i] - C[i]) / math.dist(P, C) for i in range(2)]
+    d = sum((U[i] - C[i]) * u[i] for i in range(2))
+    mirror = [C[i] + 2 * d * u[i] - (U[i] - C[i]) for i in range(2)]
+    msg = reply(s, op="preview", edits=[{"kind": "move_point", "point": "U", "to": mirror}])
+    assert msg["type"] == "refused" and msg["where"] == "U" and "Flip" in msg["message"], msg
+    msg = reply(s, op="preview", edits=[{"kind": "move_point", "point": "U", "to": [U[0] + 0.002, U[1]]}])
+    assert msg["type"] == "result"
