@@ -174,9 +174,13 @@ def _gait(study, meta, arrays, exact: bool) -> None:
                                                                   "whole turn", g.foot))
         return
     if exact:
-        m = study.gait
+        # the committed document's gait is what `assur analyze` reports: its Study of CYCLE_STEPS samples
+        from ..analysis.study import Study
+        from ..analysis.sampling import CYCLE_STEPS
+        exact_study = study if study.steps == CYCLE_STEPS else Study(plan, study.params)
+        m = exact_study.gait
         if m is None:
-            meta["diagnostics"].append(_diagnostic("warning", "gait", study.gait_error or "no gait", g.foot))
+            meta["diagnostics"].append(_diagnostic("warning", "gait", exact_study.gait_error or "no gait", g.foot))
             return
         gait = {"step_length": m.step_length, "lift": m.lift, "sag": m.sag, "duty_factor": m.duty_factor,
                 "support_speed_mean": m.support_speed.mean,
