@@ -152,18 +152,73 @@ def test_layouts_designs_by_inputs_and_per_sample():
     close(a.acc, b.acc, "acc")
 
 
-def test_a_generated_kernel_names_the_helpers_it_was_built_on(tmp_path):
+def test_the_kernel_key_carries_the_generator_digest_and_a_changed_generator_recompiles(tmp_path, monkeypatch):
     """numba's disk cache does not follow a callee's changes: every generated kernel's source (and so its file name
-    and cache) carries the digest of assur.kernels.compiled, computed here independently from the file's bytes."""
+    and its numba cache) starts with the digest of the generator and the functions its kernels call
+    (assur.kernels.codegen, .trace, .reductions), computed here independently from the files' bytes. A second
+    process loads the cached kernel; after a change of the generator (its digest), the same source is a new kernel
+    that numba compiles afresh: never the stale one."""
     import hashlib
+    import sys
     from pathlib import Path
 
-    import assur.kernels.compiled as helpers
-    from assur.kernels.codegen import load_kernel
-    digest = hashlib.sha1(Path(helpers.__file__).read_bytes()).hexdigest()[:16]
+    from assur.kernels import codegen
+    folder = Path(codegen.__file__).parent
+    digest = hashlib.sha1(b"".join((folder / f).read_bytes()
+                                   for f in ("codegen.py", "trace.py", "reductions.py"))).hexdigest()[:16]
+    assert codegen.generator_digest() == digest
     source = "from numba import njit\n\n\n@njit(cache=True)\ndef kernel(x):\n    return x + 1.0\n"
-    assert load_kernel(source, tmp_path)(1.0) == 2.0
+
+    def fresh_load():
+        """The kernel as a new process loads it (no module of it imported yet)."""
+        for name in [n for n in sys.modules if n.startswith("assur_kernel_")]:
+            if Path(getattr(sys.modules[name], "__file__", "")).parent == tmp_path:
+                del sys.modules[name]
+        k = codegen.load_kernel(source, tmp_path)
+        assert k(1.0) == 2.0
+        return k, sum(k.stats.cache_hits.values()), sum(k.stats.cache_misses.values())
+
+    k, hits, misses = fresh_load()
+    assert (hits, misses) == (0, 1)                          # compiled and cached
     (written,) = tmp_path.glob("assur_kernel_*.py")
     assert written.read_text(encoding="utf-8").splitlines()[0].endswith(digest)
-    name = "assur_kernel_" + hashlib.sha1(written.read_text(encoding="utf-8").encode()).hexdigest()[:16] + ".py"
-    assert written.name == name
+    assert written.name == ("assur_kernel_" + hashlib.sha1(written.read_text(encoding="utf-8").encode())
+                            .hexdigest()[:16] + ".py")
+    k, hits, misses = fresh_load()
+    assert (hits, misses) == (1, 0)                          # the next process loads it from numba's cache
+    monkeypatch.setattr(codegen, "_DIGEST", "0" * 16)         # the generator changed
+    k, hits, misses = fresh_load()
+    assert (hits, misses) == (0, 1)                          # a new kernel, compiled: not the stale one
+    assert len(list(tmp_path.glob("assur_kernel_*.py"))) == 2
+
+
+def test_the_kernels_are_traced_from_the_numpy_backends_closed_forms(monkeypatch):
+    """One text per formula: a change to a closed form of assur.kernels.planar (here circle ∩ circle moved by a
+    made-up offset) changes the numpy backend and the generated kernel alike. The kernel's source is run as plain
+    Python (numba's decorator replaced by the identity), so nothing is compiled."""
+    from assur.engine.planar import numba_backend
+    from assur.kernels import planar
+    plan = assur.compile(assur.loads(DOUBLE_ROCKER))
+    q = np.linspace(0, 2 * np.pi, 13)
+    base = assur.solve(plan, None, q, backend="numpy")
+    original = planar.circle_circle
+
+    def shifted(*args, **kwargs):
+        z, ok = original(*args, **kwargs)
+        return z + (0.25 - 0.5j), ok
+
+    monkeypatch.setattr(planar, "circle_circle", shifted)
+    ref = assur.solve(plan, None, q, backend="numpy")
+    joint = plan.point_index(plan.steps_of("RRR")[0].joint)
+    assert np.allclose(ref.pos[ref.valid, joint] - base.pos[base.valid, joint], [0.25, -0.5], atol=1e-12)
+    source = numba_backend.solve_source(plan, False, 2)
+    namespace: dict = {}
+    exec(source.replace("from numba import njit", "njit = lambda **kw: (lambda f: f)"), namespace)
+    n = len(plan.point_names)
+    out, valid = np.full((6 * n, 1, q.size), np.nan), np.zeros((1, q.size), bool)
+    namespace["kernel"](plan.defaults[None, :].copy(), np.cos(q), np.sin(q), 1e-12, 1.0, 1.0, 0.0, out, valid)
+    assert np.array_equal(valid[0], ref.valid) and 0 < ref.valid.sum() < q.size
+    rows = out[:, 0].reshape(n, 6, q.size)
+    for j, attr in enumerate(("pos", "dpos_dq", "d2pos_dq2")):
+        got = np.moveaxis(rows[:, 2 * j:2 * j + 2], -1, 0)[valid[0]]          # (assembled samples, points, 2)
+        assert np.allclose(got, getattr(ref, attr)[ref.valid].reshape(got.shape), rtol=0, atol=1e-12), attr

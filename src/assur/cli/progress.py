@@ -13,7 +13,7 @@ import contextlib
 import logging
 import sys
 
-#: the logger the compiled backend reports a fresh kernel compile on (assur.engine.planar.numba_backend)
+#: the logger the compiled backends report a fresh kernel compile on (assur.kernels.codegen.LOG)
 COMPILE_LOGGER = "assur.compile"
 
 

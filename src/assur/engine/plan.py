@@ -426,25 +426,15 @@ class PlanarPlan(PlanBase):
     from the parameters: see :mod:`assur.engine.planar.geometry`), ``lines`` (per slide line:
     (kind, name, guide body, slider body, through point, angle param, offset param, reference point,
     u_slider)), ``sketch_poses`` ((x, y, θ) of every body at the sketch inputs: the Newton solver's
-    seed), and the numba backend's op table ``ops (n_ops, OP_WIDTH)`` and constant recipes
-    ``slots (n_slots, SLOT_WIDTH)`` (:mod:`assur.engine.planar.optable`), or None where the plan is
-    outside that backend's scope.
+    seed) and ``gear_slots``. The compiled backend traces the plan's step executors (:mod:`assur.engine.planar.traced`):
+    the plan carries nothing for it.
     """
     dimension: ClassVar[int] = 2
     geometry_program: tuple = field(repr=False, default=())
     lines: tuple = field(repr=False, default=())
     sketch_poses: tuple = field(repr=False, default=())
-    ops: np.ndarray | None = field(repr=False, default=None)
-    slots: np.ndarray | None = field(repr=False, default=None)
     #: per gear pair, in solve order: how its driven rotation follows from the inputs (:class:`GearSlot`)
     gear_slots: tuple = field(repr=False, default=())
-
-    def __post_init__(self):
-        PlanBase.__post_init__(self)
-        for name in ("ops", "slots"):
-            a = getattr(self, name)
-            if a is not None:
-                object.__setattr__(self, name, _readonly(a, np.int64))
 
     def dyad_steps(self) -> list:
         """The closed-form dyad steps (RRR, RRP, RPR, PRP, PPR), in solve order."""

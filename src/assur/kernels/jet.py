@@ -167,9 +167,10 @@ def abs2(z) -> Jet:
 
 
 def expi(theta) -> Jet:
-    """exp(i·theta) of a real jet: the unit complex number of an angle."""
+    """exp(i·theta) of a real jet: the unit complex number of an angle (of an array, a number or a traced symbol,
+    :mod:`.trace`, without derivatives)."""
     if not isinstance(theta, Jet):
-        return np.exp(1j * np.asarray(theta))
+        return np.exp(1j * (theta if hasattr(theta, "__array_ufunc__") else np.asarray(theta)))
     e = np.exp(1j * theta.v)
     d = dd = None
     if theta.d is not None:

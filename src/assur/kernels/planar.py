@@ -2,7 +2,9 @@
 
 Every kernel returns ``(result, valid)``: samples that cannot be assembled are NaN with
 ``valid`` False, never finite garbage. Branch signs are explicit (+1/−1) and never chosen by
-proximity to a previous sample.
+proximity to a previous sample. The kernels with a radicand take ``margins``: a list to which they
+append their normalised radicand plus the tolerance (≥ 0 assembled, < 0 how far past the toggle), or
+None. The compiled kernels trace these functions (:mod:`assur.kernels.trace`): element-wise code only.
 
 Conventions (z = x + i·y):
 - ``circle_circle``: branch +1 puts the point to the left of the directed line c1 → c2.
@@ -16,34 +18,37 @@ import numpy as np
 from .jet import Jet, abs2, cross, dot, sqrt, value
 
 
-def _tolerant_radicand(rad, scale2, tol: float):
+def _tolerant_radicand(rad, scale2, tol: float, margins=None):
     """Clamp tiny negative radicands (tangency within round-off) to 0; flag the rest invalid.
-    Works on jets and on plain arrays alike."""
+    Works on jets and on plain arrays alike. ``margins``: a list that gets ``rad/scale2 + tol``, or None."""
     v = value(rad)
+    if margins is not None:
+        margins.append(v / scale2 + tol)
     valid = v >= -tol * scale2
     clamped = np.where(valid, np.maximum(v, 0.0), np.nan)
     return (Jet(clamped, rad.d, rad.dd) if isinstance(rad, Jet) else clamped), valid
 
 
-def circle_circle(c1, r1, c2, r2, branch, tol: float = 1e-12):
+def circle_circle(c1, r1, c2, r2, branch, tol: float = 1e-12, margins=None):
     """Intersection of circle (c1, r1) and circle (c2, r2). Shapes broadcast; returns (z, valid)."""
     D = c2 - c1
     d2 = abs2(D)
-    a = (d2 + r1 * r1 - r2 * r2) / (d2 * 2.0)
-    h2 = r1 * r1 / d2 - a * a
-    h2, valid = _tolerant_radicand(h2, 1.0, tol)
+    inv = 1.0 / d2                     # one reciprocal for both terms
+    a = (d2 + r1 * r1 - r2 * r2) * inv * 0.5
+    h2 = r1 * r1 * inv - a * a
+    h2, valid = _tolerant_radicand(h2, 1.0, tol, margins)
     h = sqrt(h2) * branch
     z = c1 + D * (a + h * 1j)
     return z, valid & (value(d2) > 0)
 
 
-def circle_line(c, r, q, u, branch, tol: float = 1e-12):
+def circle_line(c, r, q, u, branch, tol: float = 1e-12, margins=None):
     """Intersection of circle (c, r) with the line q + t·u (|u| = 1). Returns (z, valid)."""
     w = q - c
     proj = dot(u, w)
     rad = proj * proj - abs2(w) + r * r
     scale2 = value(r) * value(r) + 1e-300
-    rad, valid = _tolerant_radicand(rad, scale2, tol)
+    rad, valid = _tolerant_radicand(rad, scale2, tol, margins)
     t = sqrt(rad) * branch - proj
     return q + u * t, valid
 
@@ -57,7 +62,7 @@ def line_line(q1, u1, q2, u2, tol: float = 1e-12):
     return q1 + u1 * t, valid
 
 
-def rotation_from_slide(D, c_par, c_perp, branch, tol: float = 1e-12):
+def rotation_from_slide(D, c_par, c_perp, branch, tol: float = 1e-12, margins=None):
     """Orientation e (|e| = 1) of a guide body for an RPR group.
 
     Solves ``D = e·u·((c_par + t) + i·c_perp)`` for the unit complex ``e·u`` (u is the guide line's
@@ -66,6 +71,6 @@ def rotation_from_slide(D, c_par, c_perp, branch, tol: float = 1e-12):
     """
     DD = abs2(D)
     rad = DD - c_perp * c_perp
-    rad, valid = _tolerant_radicand(rad, value(DD) + 1e-300, tol)
+    rad, valid = _tolerant_radicand(rad, value(DD) + 1e-300, tol, margins)
     s = sqrt(rad) * branch
     return D / (s + c_perp * 1j), valid

@@ -1,10 +1,11 @@
 """The compiled force backend: a plan's force solve as one straight-line numba loop, traced from :mod:`.kernel`.
 
-The kernel's functions are run once in Python on *symbolic* values (:class:`R` real, :class:`C` complex as two real parts): every arithmetic
-operation on them appends one line of source, and the program's tables (which only ever decide the
-branches) are read as plain numbers. The result is the plan's force solve as straight-line scalar code
-with every table look-up resolved — the same formulas as the numpy backend, from the same text — which
-numba compiles once per plan and keeps in its disk cache beside the kinematics' kernels.
+The kernel's functions are run once in Python on symbols (the package's tracer, :mod:`assur.kernels.trace`, which
+also traces the kinematics kernels): every arithmetic operation on them appends one line of source, and the
+program's tables (which only ever decide the branches) are read as plain numbers. The result is the plan's force
+solve as straight-line scalar code with every table look-up resolved — the same formulas as the numpy backend, from
+the same text — which :mod:`assur.kernels.codegen` wraps with the prologue every kernel shares, and which numba
+compiles once per plan and keeps in its disk cache beside the kinematics' kernels.
 
 It covers programs without a generic group, with constant loads and without friction
 (:attr:`Program.compiled_ok`); :func:`assur.forces` uses the numpy backend for the rest.
@@ -16,233 +17,12 @@ import weakref
 
 import numpy as np
 
+from ..kernels import codegen
+from ..kernels.codegen import available  # noqa: F401  (the backend's public name)
+from ..kernels.trace import SAMPLE, C, Tracer, isfinite, source
 from . import kernel as K
 
 _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-
-
-class Tracer:
-    """Collects the lines of the traced source and numbers its temporaries."""
-
-    def __init__(self):
-        self.lines: list[str] = []
-        self.count = 0
-
-    def emit(self, expr: str) -> "R":
-        name = f"t{self.count}"
-        self.count += 1
-        self.lines.append(f"{name} = {expr}")
-        return R(self, name)
-
-
-def _lit(x: float) -> str:
-    """A real number as source (nan and inf spelled for numba)."""
-    x = float(x)
-    if math.isnan(x):
-        return "np.nan"
-    if math.isinf(x):
-        return "np.inf" if x > 0 else "-np.inf"
-    return repr(x)
-
-
-def _src(x) -> str:
-    return x.name if isinstance(x, R) else _lit(x)
-
-
-def _tracer(*xs) -> Tracer:
-    for x in xs:
-        if isinstance(x, R):
-            return x.t
-        if isinstance(x, C):
-            for part in (x.re, x.im):
-                if isinstance(part, R):
-                    return part.t
-    raise AssertionError("no symbolic operand")
-
-
-# real operations with constant folding: a product with an exact zero is zero, with one the other factor
-def _add(a, b):
-    if not isinstance(a, R) and not isinstance(b, R):
-        return float(a) + float(b)
-    if not isinstance(a, R) and a == 0.0:
-        return b
-    if not isinstance(b, R) and b == 0.0:
-        return a
-    return _tracer(a, b).emit(f"{_src(a)} + {_src(b)}")
-
-
-def _neg(a):
-    return -float(a) if not isinstance(a, R) else a.t.emit(f"-{a.name}")
-
-
-def _sub(a, b):
-    if not isinstance(a, R) and not isinstance(b, R):
-        return float(a) - float(b)
-    if not isinstance(b, R) and b == 0.0:
-        return a
-    if not isinstance(a, R) and a == 0.0:
-        return _neg(b)
-    return _tracer(a, b).emit(f"{_src(a)} - {_src(b)}")
-
-
-def _mul(a, b):
-    if not isinstance(a, R) and not isinstance(b, R):
-        return float(a) * float(b)
-    for x, y in ((a, b), (b, a)):
-        if not isinstance(x, R):
-            if x == 0.0:
-                return 0.0
-            if x == 1.0:
-                return y
-            if x == -1.0:
-                return _neg(y)
-    return _tracer(a, b).emit(f"{_src(a)} * {_src(b)}")
-
-
-def _div(a, b):
-    if not isinstance(a, R) and not isinstance(b, R):
-        with np.errstate(all="ignore"):
-            return float(np.divide(float(a), float(b)))
-    if not isinstance(b, R) and b == 1.0:
-        return a
-    if not isinstance(a, R) and a == 0.0:
-        return 0.0
-    return _tracer(a, b).emit(f"{_src(a)} / {_src(b)}")
-
-
-def _call(fn: str, a):
-    return a.t.emit(f"{fn}({a.name})")
-
-
-def _c(x) -> "C":
-    """Any operand as a complex pair."""
-    if isinstance(x, C):
-        return x
-    if isinstance(x, R):
-        return C(x, 0.0)
-    x = complex(x)
-    return C(x.real, x.imag)
-
-
-def _is_complex(x) -> bool:
-    return isinstance(x, (C, complex, np.complexfloating))
-
-
-class _Ops:
-    """Arithmetic shared by real and complex symbols: a complex operand makes the result complex."""
-    __array_priority__ = 1000
-
-    def __add__(self, o): return _cadd(self, o)
-    def __radd__(self, o): return _cadd(o, self)
-    def __sub__(self, o): return _csub(self, o)
-    def __rsub__(self, o): return _csub(o, self)
-    def __mul__(self, o): return _cmul(self, o)
-    def __rmul__(self, o): return _cmul(o, self)
-    def __truediv__(self, o): return _cdiv(self, o)
-    def __rtruediv__(self, o): return _cdiv(o, self)
-
-    def __bool__(self):
-        raise TypeError("a traced force kernel branched on a value (only tables may decide branches)")
-
-
-class R(_Ops):
-    """A real symbol: a named temporary of the generated source."""
-
-    def __init__(self, tracer: Tracer, name: str):
-        self.t, self.name = tracer, name
-
-    def __neg__(self): return _neg(self)
-    def __abs__(self): return _call("abs", self)
-
-    @property
-    def real(self):
-        return self
-
-    @property
-    def imag(self):
-        return 0.0
-
-    def conjugate(self):
-        return self
-
-    def sqrt(self):
-        return _call("math.sqrt", self)
-
-    def exp(self):
-        return _call("math.exp", self)
-
-
-class C(_Ops):
-    """A complex symbol as two real parts (each a symbol or a constant): the generated code is real arithmetic,
-    and a zero part costs nothing."""
-
-    def __init__(self, re, im):
-        self.re, self.im = re, im
-
-    def __neg__(self): return C(_neg(self.re), _neg(self.im))
-
-    def __abs__(self):
-        return _sqrt(_add(_mul(self.re, self.re), _mul(self.im, self.im)))
-
-    @property
-    def real(self):
-        return self.re
-
-    @property
-    def imag(self):
-        return self.im
-
-    def conjugate(self):
-        return C(self.re, _neg(self.im))
-
-    def sqrt(self):
-        raise TypeError("the force kernel takes no complex square roots")
-
-    def exp(self):
-        er = 1.0 if not isinstance(self.re, R) and self.re == 0.0 else _exp(self.re)
-        if not isinstance(self.im, R):
-            return C(_mul(er, math.cos(self.im)), _mul(er, math.sin(self.im)))
-        return C(_mul(er, _call("math.cos", self.im)), _mul(er, _call("math.sin", self.im)))
-
-
-def _sqrt(a):
-    return math.sqrt(a) if not isinstance(a, R) else a.sqrt()
-
-
-def _exp(a):
-    return math.exp(a) if not isinstance(a, R) else a.exp()
-
-
-def _cadd(a, b):
-    if not (_is_complex(a) or _is_complex(b)):
-        return _add(a, b)
-    a, b = _c(a), _c(b)
-    return C(_add(a.re, b.re), _add(a.im, b.im))
-
-
-def _csub(a, b):
-    if not (_is_complex(a) or _is_complex(b)):
-        return _sub(a, b)
-    a, b = _c(a), _c(b)
-    return C(_sub(a.re, b.re), _sub(a.im, b.im))
-
-
-def _cmul(a, b):
-    if not (_is_complex(a) or _is_complex(b)):
-        return _mul(a, b)
-    a, b = _c(a), _c(b)
-    return C(_sub(_mul(a.re, b.re), _mul(a.im, b.im)), _add(_mul(a.re, b.im), _mul(a.im, b.re)))
-
-
-def _cdiv(a, b):
-    if not (_is_complex(a) or _is_complex(b)):
-        return _div(a, b)
-    a, b = _c(a), _c(b)
-    if not isinstance(b.im, R) and b.im == 0.0:
-        return C(_div(a.re, b.re), _div(a.im, b.re))
-    n2 = _add(_mul(b.re, b.re), _mul(b.im, b.im))
-    num = _cmul(a, C(b.re, _neg(b.im)))
-    return C(_div(num.re, n2), _div(num.im, n2))
 
 
 def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
@@ -251,16 +31,11 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     condition measure (NaN where an unknown is not finite). Arrays are sample-last (structure of arrays, the
     layout of the compiled kinematics): ``pos (n_points, 2, N)``, ``reac (n_pairs, 2, N)``, ``frame (3, N)`` …"""
     tr = Tracer()
-    head = []
     z, v, a = [], [], []
     for i in range(n_points):
-        for arr, name, out in ((z, "pos", "z"), (v, "vel", "v"), (a, "acc", "a")):
-            head += [f"{out}x{i} = {name}[{i}, 0, s]", f"{out}y{i} = {name}[{i}, 1, s]"]
-            arr.append(C(R(tr, f"{out}x{i}"), R(tr, f"{out}y{i}")))
-    p = []
-    for k in range(n_params):
-        head.append(f"p{k} = P[r, {k}]")
-        p.append(R(tr, f"p{k}"))
+        for arr, name in ((z, "pos"), (v, "vel"), (a, "acc")):
+            arr.append(C(tr.load(f"{name}[{i}, 0, s]", SAMPLE), tr.load(f"{name}[{i}, 1, s]", SAMPLE)))
+    p = [tr.load(f"P[r, {k}]", SAMPLE) for k in range(n_params)]
     nb = prog.ang.shape[0]
     orient, omega, alpha = [C(1.0, 0.0)] * nb, [0.0] * nb, [0.0] * nb
     F, M = [C(0.0, 0.0)] * nb, [0.0] * nb
@@ -285,57 +60,31 @@ def generate_source(prog, n_points: int, n_params: int, n_inputs: int) -> str:
     reac, slides = np.empty((n_pairs, 2), object), np.empty((n_slides, 2), object)
     frame, driver = np.zeros(3, object), np.empty(n_inputs, object)
     K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, prog.slide_of, z, p, orient, lam, reac, slides, frame, driver)
-    s_ = _src
-    tail = [f"reac[{k}, {j}, s] = {s_(reac[k, j])}" for k in range(n_pairs) for j in range(2)]
-    tail += [f"slides[{k}, {j}, s] = {s_(slides[k, j])}" for k in range(n_slides) for j in range(2)]
-    tail += [f"frame[{j}, s] = {s_(frame[j])}" for j in range(3)]
-    tail += [f"driver[{i}, s] = {s_(driver[i])}" for i in range(n_inputs)]
-    tail.append("c = 1.0")
-    for c in conds:
-        tail.append(f"c = c if {s_(c)} >= c else {s_(c)}")
+    stores = [(f"reac[{k}, {j}, s]", reac[k, j]) for k in range(n_pairs) for j in range(2)]
+    stores += [(f"slides[{k}, {j}, s]", slides[k, j]) for k in range(n_slides) for j in range(2)]
+    stores += [(f"frame[{j}, s]", frame[j]) for j in range(3)]
+    stores += [(f"driver[{i}, s]", driver[i]) for i in range(n_inputs)]
+    finite = True
     for x in lam:
-        if isinstance(x, R):
-            tail.append(f"if not math.isfinite({x.name}):\n            c = np.nan")
-    tail.append("cond[s] = c")
-    body = "\n".join("        " + line for line in head + tr.lines + tail)
-    return ("import math\nimport numpy as np\nfrom numba import njit\n\n\n"
-            "@njit(cache=True, error_model='numpy')\n"
-            "def kernel(pos, vel, acc, P, pdiv, pmod, reac, slides, frame, driver, cond):\n"
-            "    r = 0\n"
-            "    left = pdiv\n"
-            "    for s in range(pos.shape[2]):\n"
-            "        if left == 0:\n"
-            "            left = pdiv\n"
-            "            r = r + 1 if r + 1 < pmod else 0\n"
-            "        left -= 1\n" + body + "\n")
-
-
-def available() -> bool:
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
+        finite = finite & isfinite(x)
+    values = [x for _, x in stores] + conds + [finite]
+    i8 = " " * 8
+    body = ["    r = 0", "    left = pdiv", "    for s in range(pos.shape[2]):", "        if left == 0:",
+            "            left = pdiv", "            r = r + 1 if r + 1 < pmod else 0", "        left -= 1",
+            *codegen.lines_at(tr, values, SAMPLE, i8), *[f"{i8}{target} = {source(x)}" for target, x in stores],
+            f"{i8}c = 1.0"]
+    for c in conds:
+        body.append(f"{i8}c = c if {source(c)} >= c else {source(c)}")
+    body.append(f"{i8}cond[s] = c if {source(finite)} else math.nan")
+    return codegen.module("assur.kinetostatics.compiled.generate_source",
+                          "pos, vel, acc, P, pdiv, pmod, reac, slides, frame, driver, cond", body)
 
 
 def _kernel(plan, prog):
     k = _KERNELS.get(plan)
     if k is None:
-        import os
-        import tempfile
-        from pathlib import Path
-
-        from ..engine.planar.numba_backend import LOG, cache_dir
-        from ..kernels.codegen import load_kernel
-        src = generate_source(prog, plan.n_points, plan.n_params, plan.n_inputs)
-        try:
-            k = load_kernel(src, cache_dir())
-        except OSError:
-            k = load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
-        module = Path(k.py_func.__code__.co_filename)
-        if not any((module.parent / "__pycache__").glob(f"{module.stem}.*.nbi")):
-            LOG.info("compiling a force kernel for this mechanism (once, cached in %s)", os.path.dirname(module))
-        _KERNELS[plan] = k
+        k = _KERNELS[plan] = codegen.load(generate_source(prog, plan.n_points, plan.n_params, plan.n_inputs),
+                                          "a force kernel")
     return k
 
 

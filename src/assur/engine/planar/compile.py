@@ -19,7 +19,6 @@ from ...structure.assur import GroupKind, Structure, analyse
 from ...tolerances import DEFAULT
 from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, GearSlot, GearStep, NewtonStep, PlanarPlan,
                     PPRStep, PRPStep, RPRStep, RRPStep, RRRStep, Side)
-from .optable import build_op_table
 from .newton_group import sketch_branch_sign, sketch_misfit
 from .steps import context_at, run_steps
 
@@ -195,11 +194,7 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT, structure: Structure | N
     if B.problems:
         raise SpecError(B.problems)
     sketch_e = [cmath.exp(1j * th) for _, _, th in plan.sketch_poses]
-    plan = _fix_branches(plan, tolerances, sketch_e)
-    table = build_op_table(plan)
-    if table is None:
-        return plan
-    return replace(plan, ops=table[0], slots=table[1])
+    return _fix_branches(plan, tolerances, sketch_e)
 
 
 def _check_key_point_drawn_apart(plan: PlanarPlan, st, tol) -> None:

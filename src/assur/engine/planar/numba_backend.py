@@ -1,115 +1,92 @@
-"""The compiled backend: run a planar plan's op table in one fused numba loop.
+"""The compiled backend: a planar plan's kinematics as fused numba loops over designs × inputs.
 
-The plan carries its op table (``plan.ops``, ``plan.slots``: :mod:`assur.engine.planar.optable`),
-written at compile time; a plan without one (several inputs, PRP/PPR, driven actuators, Newton
-groups) and a batch that is not laid out as designs × inputs return ``None`` here and the numpy
-backend solves them. numba is imported only when this backend runs. The generated kernels and the
-last set of per-design constants are cached per plan outside the (frozen) plan, in weak-keyed
-dictionaries, so they go with the plan.
+The kernels are generated per plan by the package's one code generator: the plan's step executors are traced on
+symbols (:mod:`assur.engine.planar.traced`: the numpy backend's own closed forms and jets) and wrapped in loops by
+:mod:`assur.kernels.codegen`, which also loads and caches them. A plan that is not traced (several inputs, gears,
+PRP/PPR, driven actuators, Newton groups) and a batch that is not laid out as designs × inputs return ``None`` here
+and the numpy backend solves them. numba is imported only when a kernel runs. The loaded kernels are cached per plan
+outside the (frozen) plan, in a weak-keyed dictionary, so they go with the plan.
 """
 from __future__ import annotations
 
-import logging
 import weakref
 
 import numpy as np
 
 from ...kernels import codegen
+from ...kernels.codegen import LOG, available, cache_dir  # noqa: F401  (the backend's public names)
+from ...kernels.trace import SAMPLE, minimum, where
 from ..plan import PlanarPlan
-from .optable import slot_constants
+from . import traced
 
 #: plan → {kernel key: loaded kernel}
 _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-#: plan → (designs bytes, G): the last small set of per-design constants
-_MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-#: populations up to this many numbers memoise their constants (repeated solves of one design)
-MEMO_MAX_VALUES = 4096
-#: an INFO record "compiling a kernel for this mechanism (once, cached in …)" before numba compiles a kernel
-#: that is not in its disk cache yet (the command line prints it; silent for a library user by default)
-LOG = logging.getLogger("assur.compile")
+#: plan → whether the plan is traced (:func:`covers`)
+_COVERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 def covers(plan) -> bool:
-    """True when the plan has an op table (the compiled backend can solve it)."""
-    return isinstance(plan, PlanarPlan) and plan.ops is not None
-
-
-def available() -> bool:
-    try:
-        import numba  # noqa: F401
-    except ImportError:
+    """True when the compiled backend can solve the plan (:func:`assur.engine.planar.traced.covers`)."""
+    if not isinstance(plan, PlanarPlan):
         return False
-    return True
-
-
-def cache_dir():
-    """Where generated kernels live (:func:`assur.kernels.cache_root.cache_root`, kind 'kernels'); with the caches
-    off (``ASSUR_CACHE_DIR=off``) a temporary directory of this process."""
-    from ...kernels.cache_root import cache_root
-    root = cache_root("kernels")
-    if root is None:
-        global _PROCESS_DIR
-        if _PROCESS_DIR is None:
-            import tempfile
-            _PROCESS_DIR = tempfile.mkdtemp(prefix="assur-kernels-")
-        return _PROCESS_DIR
-    return root
-
-
-_PROCESS_DIR = None
+    c = _COVERS.get(plan)
+    if c is None:
+        c = _COVERS[plan] = traced.covers(plan)
+    return c
 
 
 def _load(plan, key: str, make_source):
-    """A generated kernel of the plan under ``key``: its source written once to the cache directory (a
-    temporary one if that is not writable) and imported, so numba's disk cache applies."""
+    """A generated kernel of the plan under ``key``, generated, written and compiled once (:func:`codegen.load`)."""
     kernels = _KERNELS.setdefault(plan, {})
     k = kernels.get(key)
     if k is None:
-        src = make_source()
-        try:
-            k = codegen.load_kernel(src, cache_dir())
-        except OSError:
-            import tempfile
-            from pathlib import Path
-            k = codegen.load_kernel(src, Path(tempfile.gettempdir()) / "assur-kernels")
-        if not _compiled(k):
-            import os
-            LOG.info("compiling a kernel for this mechanism (once, cached in %s)",
-                     os.path.dirname(k.py_func.__code__.co_filename))
-        kernels[key] = k
+        k = kernels[key] = codegen.load(make_source())
     return k
 
 
-def _compiled(k) -> bool:
-    """True when the numba dispatcher ``k`` is compiled in this process or has an index in numba's cache
-    beside its module (``__pycache__/<module>.<function>-<line>.py<version>.nbi``)."""
-    if k.signatures:
-        return True
-    from pathlib import Path
-    module = Path(k.py_func.__code__.co_filename)
-    return any((module.parent / "__pycache__").glob(f"{module.stem}.*.nbi"))
+def _designs(params) -> np.ndarray:
+    """``P (D, n_params)``: C-contiguous, writeable float64 (one numba signature per kernel)."""
+    return np.require(params, dtype=float, requirements=["C", "W"])
+
+
+def solve_source(plan, with_bodies: bool, order: int) -> str:
+    """The source of the plan's solve kernel (:func:`assur.kernels.codegen.solve_source`): per point (then per body
+    with ``with_bodies``) six rows — x, y of the value, of w1·d/dq and of w2·d²/dq² + w3·d/dq — of which the first
+    2·(order + 1) are written; ``valid`` is the groups' flag and every written value finite."""
+    t = traced.trace_plan(plan, order)
+    w1, w2, w3 = (t.tracer.free(n) for n in ("w1", "w2", "w3"))
+    jets = [t.pos[p] for p in plan.point_names] + (t.orient if with_bodies else [])
+    rows, values = [], []
+    for m, z in enumerate(jets):
+        for xy, part in enumerate((np.real, np.imag)):
+            v = part(z.v)
+            written = [(6 * m + xy, v)]
+            if order >= 1:
+                written.append((6 * m + 2 + xy, part(z.d) * w1))
+            if order >= 2:
+                written.append((6 * m + 4 + xy, part(z.dd) * w2 + part(z.d) * w3))
+            rows += written
+            values.append(v)
+    ok = t.finite(*[v for v in values if getattr(v, "level", 0) & SAMPLE])
+    return codegen.solve_source(t.tracer, rows, ok)
 
 
 def kernel(plan, with_bodies: bool, order: int = 2):
     """The plan's generated straight-line kernel for a derivative order (compiled once, cached on
     disk by numba)."""
     key = f"{'bodies' if with_bodies else 'points'}_{order}"
-    point_out = list(range(len(plan.point_names)))
-    body_out = list(range(len(plan.body_names))) if with_bodies else []
-    return _load(plan, key, lambda: codegen.generate_source(plan.ops, point_out, body_out, order))
+    return _load(plan, key, lambda: solve_source(plan, with_bodies, order))
 
 
-def _constants(plan, designs: np.ndarray) -> np.ndarray:
-    """The kernel's per-design constants G (n_designs, n_slots, 2); the last small set is memoised."""
-    key = designs.tobytes() if designs.size <= MEMO_MAX_VALUES else None
-    memo = _MEMO.get(plan)
-    if key is not None and memo is not None and memo[0] == key:
-        return memo[1]
-    G = slot_constants(plan, designs)
-    if key is not None:
-        G.setflags(write=False)
-        _MEMO[plan] = (key, G)
-    return G
+def objective_source(plan, point: str) -> str:
+    """The source of the plan's path-objective kernel for one point (:func:`assur.kernels.codegen.objective_source`):
+    the squared distance of the point to the target ``txy[u]``, valid where the groups assemble and it is finite."""
+    t = traced.trace_plan(plan, 0)
+    z = t.pos[point].v
+    dx = np.real(z) - t.tracer.load("txy[u, 0]", SAMPLE)
+    dy = np.imag(z) - t.tracer.load("txy[u, 1]", SAMPLE)
+    e2 = dx * dx + dy * dy
+    return codegen.objective_source(t.tracer, e2, t.finite(e2), t.valid, t.deficit())
 
 
 def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray,
@@ -123,20 +100,18 @@ def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_x
     """
     if not covers(plan):
         return None
-    idx = plan.point_index(point)
-    kern = _load(plan, f"objective_{idx}", lambda: codegen.generate_objective_source(plan.ops, idx))
-    designs = np.ascontiguousarray(params, dtype=float)
-    G = _constants(plan, designs)
-    q = np.ascontiguousarray(target_inputs, dtype=float)
-    cyc = np.zeros(0) if cycle_inputs is None else np.ascontiguousarray(cycle_inputs, dtype=float)
+    kern = _load(plan, f"objective_{plan.point_index(point)}", lambda: objective_source(plan, point))
+    designs = _designs(params)
+    q = np.asarray(target_inputs, dtype=float)
+    cyc = np.zeros(0) if cycle_inputs is None else np.asarray(cycle_inputs, dtype=float)
     out = np.empty((designs.shape[0], 5))
-    kern(G, np.cos(q), np.sin(q), np.ascontiguousarray(target_xy, dtype=float), np.cos(cyc), np.sin(cyc), tol, out)
+    kern(designs, np.cos(q), np.sin(q), _designs(target_xy), np.cos(cyc), np.sin(cyc), float(tol), out)
     return out
 
 
 def cycle_covers(plan, transmission: bool = False) -> bool:
-    """True when :func:`cycle_objective` covers the plan: an op table, and for the transmission angle only
-    RRR dyads (the angle of RRP and RPR dyads needs a slide's direction: the numpy route computes it)."""
+    """True when :func:`cycle_objective` covers the plan: a traced plan (:func:`covers`), and for the transmission
+    angle only RRR dyads (the angle of RRP and RPR dyads needs a slide's direction: the numpy route computes it)."""
     return covers(plan) and not (transmission and any(st.kind in ("RRP", "RPR") for st in plan.steps))
 
 
@@ -154,22 +129,46 @@ def cycle_objective(plan, params: np.ndarray, cycle_inputs: np.ndarray, tol: flo
     """
     if not cycle_covers(plan, transmission):
         return None
-    fi = -1 if foot is None else plan.point_index(foot)
-    pi = -1 if path is None else plan.point_index(path)
-    dyads = tuple((plan.point_index(st.point_a), plan.point_index(st.joint), plan.point_index(st.point_b))
-                  for st in plan.steps if st.kind == "RRR") if transmission else ()
-    key = f"cycle_{fi}_{pi}_" + "_".join("-".join(map(str, t)) for t in dyads)
-    kern = _load(plan, key, lambda: codegen.generate_cycle_source(plan.ops, fi, pi, dyads))
-    designs = np.ascontiguousarray(params, dtype=float)
-    G = _constants(plan, designs)
-    q = np.ascontiguousarray(cycle_inputs, dtype=float)
-    txy = np.zeros((0, 2)) if target_xy is None or path is None else np.ascontiguousarray(target_xy, dtype=float)
+    key = f"cycle_{foot}_{path}_{transmission}"
+    kern = _load(plan, key, lambda: cycle_source(plan, foot, path, transmission))
+    designs = _designs(params)
+    q = np.asarray(cycle_inputs, dtype=float)
+    txy = np.zeros((0, 2)) if target_xy is None or path is None else _designs(target_xy)
     out = np.empty((designs.shape[0], codegen.PATH_COLUMN + len(txy)))
-    kern(G, np.cos(q), np.sin(q), float(tol), np.asarray(ground, dtype=float), np.asarray(up, dtype=float),
-         float(omega), float(scale), txy, out)
-    if not dyads:
+    kern(designs, np.cos(q), np.sin(q), float(tol), _designs(ground), _designs(up), float(omega), float(scale), txy,
+         out)
+    if not (transmission and plan.steps_of("RRR")):
         out[:, 2] = np.nan
     return out
+
+
+def cycle_source(plan, foot: str | None, path: str | None, transmission: bool) -> str:
+    """The source of the plan's cycle kernel (:func:`assur.kernels.codegen.cycle_source`): its per-sample values
+    traced from the plan's state — the tangent of the smallest folded transmission angle of the RRR dyads
+    (|cross|/|dot| of J→A and J→B, 0 where they are parallel, +inf where the sample does not assemble), the foot's
+    stride coordinate x = P·g·scale, height P·up·scale, speed |dP/dq|·omega·scale and horizontal velocity
+    dP/dq·g·omega·scale, the path point's x and y."""
+    t = traced.trace_plan(plan, 1 if foot is not None else 0)
+    tr = t.tracer
+    worst = None
+    if transmission:
+        for st in plan.steps_of("RRR"):
+            j = t.pos[st.joint].v
+            a, b = t.pos[st.point_a].v - j, t.pos[st.point_b].v - j
+            ax, ay, bx, by = np.real(a), np.imag(a), np.real(b), np.imag(b)
+            tc, td = abs(ax * by - ay * bx), abs(ax * bx + ay * by)
+            tan = where(t.valid, where(tc > 0.0, tc / td, 0.0), np.inf)
+            worst = tan if worst is None else minimum(worst, tan)
+    foot_values = None
+    if foot is not None:
+        g0, g1, u0, u1 = (tr.load(f"{a}[{i}]") for a in ("g", "up") for i in (0, 1))
+        omega, scale = tr.free("omega"), tr.free("scale")
+        z = t.pos[foot]
+        x, y, dx, dy = np.real(z.v), np.imag(z.v), np.real(z.d), np.imag(z.d)
+        foot_values = ((x * g0 + y * g1) * scale, (x * u0 + y * u1) * scale,
+                       np.sqrt(dx * dx + dy * dy) * omega * scale, (dx * g0 + dy * g1) * omega * scale)
+    path_values = None if path is None else (np.real(t.pos[path].v), np.imag(t.pos[path].v))
+    return codegen.cycle_source(tr, t.valid, t.deficit(), transmission=worst, foot=foot_values, path=path_values)
 
 
 def separable(pshape: tuple, ishape: tuple, shape: tuple):
@@ -214,14 +213,14 @@ def solve_compiled(plan, params: np.ndarray, inputs: np.ndarray, tol: float,
     else:
         q_pad = inputs[..., 0].reshape((1,) * (n - (inputs.ndim - 1)) + inputs.shape[:-1])
         q = np.ascontiguousarray(np.broadcast_to(q_pad[(0,) * k], trail).reshape(-1), dtype=float)
-    G = _constants(plan, designs)
+    designs = _designs(designs)
     cq, sq = np.cos(q), np.sin(q)
     n_out = len(plan.point_names) + (len(plan.body_names) if with_bodies else 0)
     D, N = designs.shape[0], q.size
     out = np.empty((6 * n_out, D, N))         # rows of derivatives above ``order`` stay unwritten
     valid = np.empty((D, N), dtype=np.bool_)
     w1, w2, w3 = (float(r) for r in rates)
-    kernel(plan, with_bodies, order)(G, cq, sq, tol, w1, w2, w3, out, valid)
+    kernel(plan, with_bodies, order)(designs, cq, sq, float(tol), w1, w2, w3, out, valid)
     rows = out.reshape((n_out, 6) + shape)
     axes = tuple(range(2, 2 + n)) + (0, 1)     # (n_out, 2, *shape) → (*shape, n_out, 2), a view
     views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))

@@ -19,7 +19,12 @@ from .newton_group import solve_group
 
 class Context:
     """One pass over a batch: ``w`` local coordinates, ``lines`` slide lines, ``q`` input jets,
-    ``pose[body] = (origin, e = exp(iθ))`` and ``pos[point]`` complex jets, ``valid`` (...)."""
+    ``pose[body] = (origin, e = exp(iθ))`` and ``pos[point]`` complex jets, ``valid`` (...), and ``margins``: None,
+    or a list that the closed forms append their margins to (:mod:`assur.kernels.planar`).
+
+    The compiled kernels run these executors on symbols (:mod:`.traced`): they are element-wise code (a choice per
+    sample is ``np.where``), and read the inputs through :meth:`turn` and constants through :meth:`const`."""
+    margins = None
 
     def __init__(self, plan, params, q_jets, order, tol):
         self.plan, self.order, self.tol = plan, order, tol
@@ -34,6 +39,10 @@ class Context:
 
     def const(self, v):
         return Jet.const(v, self.order)
+
+    def turn(self, k: int, sense: int, factor) -> Jet:
+        """exp(i·sense·q_k)·factor as a jet in input k (``factor``: a complex constant of each design)."""
+        return expi(self.q[k] * float(sense)) * factor
 
     def place(self, body, o, e):
         self.pose[body] = (o, e)
@@ -94,14 +103,15 @@ def _frame(c: Context, st):
 def _crank(c: Context, st):
     body = st.bodies[0]
     d = c.w[(body, st.arm)] - c.w[(body, st.pivot)]
-    theta = c.q[st.input] * float(st.sense) + c.params[..., st.zero_param]
-    e = expi(theta) * np.conj(d / np.abs(d))
+    # θ = sense·q + zero: e = exp(i·sense·q) · exp(i·zero)·conj(unit arm), the second factor a design's constant
+    e = c.turn(st.input, st.sense, expi(c.params[..., st.zero_param]) * np.conj(d / np.abs(d)))
     c.place(body, c.pos[st.pivot] - e * c.w[(body, st.pivot)], e)
 
 
 def _rrr(c: Context, st):
     sa, A, sb, B, J = st.side_a, st.point_a, st.side_b, st.point_b, st.joint
-    z, ok = planar.circle_circle(c.pos[A], c.radius(sa, A, J), c.pos[B], c.radius(sb, B, J), st.branch, c.tol.radicand)
+    z, ok = planar.circle_circle(c.pos[A], c.radius(sa, A, J), c.pos[B], c.radius(sb, B, J), st.branch, c.tol.radicand,
+                                  c.margins)
     c.flag(ok)
     c.pos[J] = z
     c.place_side(sa, A, J)
@@ -112,7 +122,7 @@ def _rrp(c: Context, st):
     sa, A, slider, J = st.side_a, st.point_a, st.slider, st.joint
     Q, U, es, ref, _ = c.world_line(st.line)
     Qj = Q + es * (c.w[(slider, J)] - ref)
-    z, ok = planar.circle_line(c.pos[A], c.radius(sa, A, J), Qj, U, st.branch, c.tol.radicand)
+    z, ok = planar.circle_line(c.pos[A], c.radius(sa, A, J), Qj, U, st.branch, c.tol.radicand, c.margins)
     c.flag(ok)
     c.pos[J] = z
     c.place_side(sa, A, J)
@@ -124,7 +134,8 @@ def _rpr(c: Context, st):
     q, u, ref, us = c.lines[st.line]
     cvec = (q - c.w[(guide, gp)]) + (u / us) * (c.w[(slider, sp)] - ref)
     cc = cvec / u
-    eu, ok = planar.rotation_from_slide(c.pos[sp] - c.pos[gp], np.real(cc), np.imag(cc), st.branch, c.tol.radicand)
+    eu, ok = planar.rotation_from_slide(c.pos[sp] - c.pos[gp], np.real(cc), np.imag(cc), st.branch, c.tol.radicand,
+                                        c.margins)
     c.flag(ok)
     eg = eu * (1.0 / u)
     c.place(guide, c.pos[gp] - eg * c.w[(guide, gp)], eg)

@@ -1,0 +1,114 @@
+"""A planar plan's kinematics traced for the compiled kernels: the numpy backend's own step executors, run once on
+symbols.
+
+:func:`trace_plan` runs the executors of :mod:`.steps` — the closed forms of :mod:`assur.kernels.planar` on the
+jets of :mod:`assur.kernels.jet`, the same code the numpy backend runs on arrays — on one design and one input made
+of tracer symbols (:mod:`assur.kernels.trace`): the design's parameters are the loads ``P[d, k]``, the input's
+cosine and sine are ``c`` and ``s``, the radicand tolerance is ``tol``. The result is every point's position and
+every body's orientation as jets of traced values, the validity flag and the groups' margins; the kernel generator
+(:mod:`assur.kernels.codegen`) wraps them in loops. So a formula exists once: a change to a closed form changes the
+numpy backend and every compiled kernel alike.
+
+The traced plans (:func:`covers`): one rotary input, frame, crank and the RRR, RRP and RPR dyads without a driven
+actuator (walking legs, four-bars, slider-cranks, slotted levers, passive cylinders). Others (several inputs, gears,
+PRP and PPR dyads, Newton-solved groups) are solved by the numpy backend.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+import numpy as np
+
+from ...kernels.jet import Jet
+from ...kernels.trace import DESIGN, SAMPLE, C, Tracer, isfinite, where
+from .steps import EXECUTORS, Context
+
+#: the step kinds a traced kernel covers
+TRACED_KINDS = ("frame", "crank", "RRR", "RRP", "RPR")
+
+
+def covers(plan) -> bool:
+    """True when the plan's steps can be traced into a compiled kernel (see the module's docstring)."""
+    if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary" or getattr(plan, "gear_slots", ()):
+        return False
+    for st in plan.steps:
+        if st.kind not in TRACED_KINDS:
+            return False
+        if st.kind in ("RRR", "RRP") and st.side_a.actuator is not None:
+            return False
+        if st.kind == "RRR" and st.side_b.actuator is not None:
+            return False
+    return True
+
+
+class _Params:
+    """One design's parameter row as traced loads ``P[d, k]``, indexed like ``params (..., n_params)``."""
+
+    def __init__(self, tracer: Tracer, n: int):
+        self.tracer, self.shape = tracer, (n,)
+
+    def __getitem__(self, key):
+        k = key[-1] if isinstance(key, tuple) else key
+        return self.tracer.load(f"P[d, {int(k)}]", DESIGN)
+
+
+class TracedContext(Context):
+    """A :class:`~.steps.Context` on symbols: one design (``P[d, k]``), one input sample (its cosine ``c`` and sine
+    ``s``, with dq = 1, d²q = 0), the tolerance ``tol``; constants are jets with zero derivatives that cost
+    nothing, and the closed forms' margins are collected."""
+
+    def __init__(self, plan, tracer: Tracer, order: int):
+        self.tracer = tracer
+        tol = SimpleNamespace(radicand=tracer.free("tol"))
+        super().__init__(plan, _Params(tracer, plan.n_params), [None] * plan.n_inputs, order, tol)
+        self.margins = []
+
+    def const(self, v):
+        return Jet(v, 0.0 if self.order >= 1 else None, 0.0 if self.order >= 2 else None)
+
+    def turn(self, k: int, sense: int, factor) -> Jet:
+        """e = exp(i·sense·q)·factor from the input's cosine and sine, and its derivatives by q: i·sense·e and −e
+        (a swap and signs: what numpy's jet gives, exactly, at the cost of one complex product)."""
+        e = C(self.tracer.free("c", SAMPLE), self.tracer.free("s", SAMPLE) * float(sense)) * factor
+        d = C(-e.imag * float(sense), e.real * float(sense))
+        return Jet(e, d if self.order >= 1 else None, -e if self.order >= 2 else None)
+
+
+@dataclass
+class KinematicsTrace:
+    """A plan traced on symbols: ``pos`` (point name → complex Jet), ``orient`` (per body, its e = exp(iθ) as a
+    complex Jet), ``valid`` (a traced boolean: every group assembled), ``margins`` (the closed forms' margins, in
+    solve order: each ≥ 0 where its group assembles)."""
+    tracer: Tracer
+    pos: dict
+    orient: list
+    valid: object
+    margins: list
+
+    def deficit(self):
+        """The groups' summed shortfall past their toggles, Σ max(−margin, 0) (a NaN margin — a group fed by one
+        that failed — adds nothing)."""
+        total = 0.0
+        for m in self.margins:
+            total = total + where(m < 0.0, -m, 0.0)
+        return total
+
+    def finite(self, *values):
+        """``valid`` and every value given finite (a traced boolean)."""
+        ok = self.valid
+        for v in values:
+            ok = ok & isfinite(v)
+        return ok
+
+
+def trace_plan(plan, order: int) -> KinematicsTrace:
+    """Run the plan's step executors on symbols (derivatives up to ``order`` by the input) and return the traced
+    state. The plan must be covered (:func:`covers`)."""
+    tracer = Tracer()
+    ctx = TracedContext(plan, tracer, order)
+    with np.errstate(all="ignore"):
+        for st in plan.steps:
+            EXECUTORS[st.kind](ctx, st)
+    return KinematicsTrace(tracer, ctx.pos, [ctx.pose[b][1] for b in range(len(plan.body_names))], ctx.valid,
+                           ctx.margins)
