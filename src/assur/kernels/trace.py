@@ -17,11 +17,11 @@ bit: a call-level line (level 0: it reads only the kernel's scalar arguments) on
 once per design, the rest once per sample. A further loop inside those (the iterations of Newton's method, say) is
 one more bit, above SAMPLE.
 
-The tracer also folds constants (x·1 → x, x + 0 → x, 0·x → 0: a zero times a non-finite value gives zero, not NaN,
-so a non-finite derivative at a singular position may come out infinite where numpy gives NaN; either way it is not
-finite), shares identical operations (common sub-expressions: a commutative operation's operands are sorted), and
+The tracer also folds constants (x·1 → x, x + 0 → x, 0·x → 0 and 0/x → 0: a zero times a non-finite value gives
+zero, not NaN, so a non-finite derivative at a singular position may come out infinite where numpy gives NaN; either
+way it is not finite) and negations (−(−x) → x, a − (−b) → a + b, x·(−y) → −(x·y), all exact), shares identical operations (common sub-expressions: a commutative operation's operands are sorted), and
 keeps only the lines an output needs (:meth:`Tracer.needed`). Complex division is the textbook formula
-a·conj(b)/|b|² (numpy's differs by round-off); the modulus of a complex number is ``math.hypot``, as numpy's.
+a·conj(b)/|b|² and the modulus √(re² + im²) (numpy's division and ``hypot`` differ by round-off).
 """
 from __future__ import annotations
 
@@ -306,11 +306,11 @@ less_equal = _compare("<=", lambda x, y: x <= y)
 
 
 def isfinite(a):
-    """A real's finiteness, branch-free: x − x is 0 exactly for finite x, NaN otherwise."""
+    """A value's finiteness (a complex one: both parts)."""
     if isinstance(a, C) or _is_complex(a):
         a = _c(a)
         return logical_and(isfinite(a.re), isfinite(a.im))
-    return bool(np.isfinite(float(a))) if _const(a) else a.t.emit(f"({a.name} - {a.name} == 0.0)", [a], B)
+    return bool(np.isfinite(float(a))) if _const(a) else _call("math.isfinite", a, kind=B)
 
 
 def logical_and(a, b):
@@ -397,12 +397,13 @@ def conj(a):
 
 
 def cabs(a):
-    """|a|: ``math.hypot`` of a complex value, ``abs`` of a real one."""
+    """|a|: √(re² + im²) of a complex value (inline arithmetic, which LLVM vectorises; ``math.hypot`` is a call),
+    ``abs`` of a real one."""
     if _is_complex(a):
         a = _c(a)
         if _const(a.im) and a.im == 0.0:
             return fabs(a.re)
-        return hypot(a.re, a.im)
+        return sqrt(add(mul(a.re, a.re), mul(a.im, a.im)))
     return fabs(a)
 
 
