@@ -212,11 +212,16 @@ def test_the_kernels_are_traced_from_the_numpy_backends_closed_forms(monkeypatch
     joint = plan.point_index(plan.steps_of("RRR")[0].joint)
     assert np.allclose(ref.pos[ref.valid, joint] - base.pos[base.valid, joint], [0.25, -0.5], atol=1e-12)
     source = numba_backend.solve_source(plan, False, 2)
-    namespace: dict = {}
-    exec(source.replace("from numba import njit", "njit = lambda **kw: (lambda f: f)"), namespace)
+    # numba's numpy error model (0.5/√0 is inf, not an exception): the kernel's math on numpy scalars
+    from types import SimpleNamespace
+    namespace: dict = {"math": SimpleNamespace(sqrt=np.sqrt, cos=np.cos, sin=np.sin, isfinite=np.isfinite,
+                                               nan=np.nan, inf=np.inf)}
+    exec(source.replace("import math\n", "").replace("from numba import njit", "njit = lambda **kw: (lambda f: f)"),
+         namespace)
     n = len(plan.point_names)
     out, valid = np.full((6 * n, 1, q.size), np.nan), np.zeros((1, q.size), bool)
-    namespace["kernel"](plan.defaults[None, :].copy(), np.cos(q), np.sin(q), 1e-12, 1.0, 1.0, 0.0, out, valid)
+    with np.errstate(all="ignore"):
+        namespace["kernel"](plan.defaults[None, :].copy(), np.cos(q), np.sin(q), 1e-12, 1.0, 1.0, 0.0, out, valid)
     assert np.array_equal(valid[0], ref.valid) and 0 < ref.valid.sum() < q.size
     rows = out[:, 0].reshape(n, 6, q.size)
     for j, attr in enumerate(("pos", "dpos_dq", "d2pos_dq2")):

@@ -4,7 +4,9 @@ Every kernel returns ``(result, valid)``: samples that cannot be assembled are N
 ``valid`` False, never finite garbage. Branch signs are explicit (+1/−1) and never chosen by
 proximity to a previous sample. The kernels with a radicand take ``margins``: a list to which they
 append their normalised radicand plus the tolerance (≥ 0 assembled, < 0 how far past the toggle), or
-None. The compiled kernels trace these functions (:mod:`assur.kernels.trace`): element-wise code only.
+None; with margins a sample past a toggle continues at the toggle instead of NaN (:func:`_tolerant_radicand`),
+its ``valid`` False all the same. The compiled kernels trace these functions (:mod:`assur.kernels.trace`):
+element-wise code only.
 
 Conventions (z = x + i·y):
 - ``circle_circle``: branch +1 puts the point to the left of the directed line c1 → c2.
@@ -19,13 +21,18 @@ from .jet import Jet, abs2, cross, dot, sqrt, value
 
 
 def _tolerant_radicand(rad, scale2, tol: float, margins=None):
-    """Clamp tiny negative radicands (tangency within round-off) to 0; flag the rest invalid.
-    Works on jets and on plain arrays alike. ``margins``: a list that gets ``rad/scale2 + tol``, or None."""
+    """Clamp tiny negative radicands (tangency within round-off) to 0; flag the rest invalid (NaN).
+    Works on jets and on plain arrays alike. ``margins``: a list that gets ``rad/scale2 + tol``, or None;
+    with margins, a radicand past the toggle is clamped to 0 too (not NaN): the group continues at its
+    toggle, so the groups it feeds measure their own margins and a chain's summed shortfall is continuous
+    (``valid`` still says the sample does not assemble)."""
     v = value(rad)
+    valid = v >= -tol * scale2
     if margins is not None:
         margins.append(v / scale2 + tol)
-    valid = v >= -tol * scale2
-    clamped = np.where(valid, np.maximum(v, 0.0), np.nan)
+        clamped = np.maximum(v, 0.0)
+    else:
+        clamped = np.where(valid, np.maximum(v, 0.0), np.nan)
     return (Jet(clamped, rad.d, rad.dd) if isinstance(rad, Jet) else clamped), valid
 
 

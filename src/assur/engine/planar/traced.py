@@ -79,7 +79,8 @@ class TracedContext(Context):
 class KinematicsTrace:
     """A plan traced on symbols: ``pos`` (point name → complex Jet), ``orient`` (per body, its e = exp(iθ) as a
     complex Jet), ``valid`` (a traced boolean: every group assembled), ``margins`` (the closed forms' margins, in
-    solve order: each ≥ 0 where its group assembles)."""
+    solve order: each ≥ 0 where its group assembles). The values of a sample that does not assemble are the
+    toggle's continuation, meaningless: the kernels mask them with ``valid``."""
     tracer: Tracer
     pos: dict
     orient: list
@@ -87,8 +88,9 @@ class KinematicsTrace:
     margins: list
 
     def deficit(self):
-        """The groups' summed shortfall past their toggles, Σ max(−margin, 0) (a NaN margin — a group fed by one
-        that failed — adds nothing)."""
+        """The groups' summed shortfall past their toggles, Σ max(−margin, 0): a group past its toggle continues at
+        it (:func:`assur.kernels.planar._tolerant_radicand`), so the groups it feeds add their own shortfall; a NaN
+        margin (a design whose geometry is not physical) adds nothing."""
         total = 0.0
         for m in self.margins:
             total = total + where(m < 0.0, -m, 0.0)
