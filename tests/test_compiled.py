@@ -227,3 +227,67 @@ def test_the_kernels_are_traced_from_the_numpy_backends_closed_forms(monkeypatch
     for j, attr in enumerate(("pos", "dpos_dq", "d2pos_dq2")):
         got = np.moveaxis(rows[:, 2 * j:2 * j + 2], -1, 0)[valid[0]]          # (assembled samples, points, 2)
         assert np.allclose(got, getattr(ref, attr)[ref.valid].reshape(got.shape), rtol=0, atol=1e-12), attr
+
+
+CHAIN = """
+format = "assur/1"
+[units]
+length = "mm"
+angle = "deg"
+[points]
+O = [0, 0]
+C = [80, 0]
+D = [62, 60]
+A = [30, 0]
+B = [62, 24]
+E = [80, 42]
+[links]
+frame = ["O", "C", "D"]
+crank = ["O", "A"]
+coupler = ["A", "B"]
+rocker = ["C", "B"]
+link = ["B", "E"]
+hanger = ["D", "E"]
+[[drivers]]
+name = "crank"
+link = "crank"
+pivot = "O"
+arm = "A"
+"""
+
+
+def test_the_shortfall_of_a_chain_counts_every_group_past_its_toggle():
+    """The synthesis's smooth buildability measure (path_objective's last column): Σ over the cycle and the groups of
+    max(0, −(h² + tol)), h² the normalised radicand of circle ∩ circle, a group past its toggle continuing at it
+    (the point on the line of centres), so that the group it feeds adds its own shortfall. Computed here
+    independently for a crank, an RRR dyad B and an RRR dyad E hung from B: past the first dyad's toggle (the crank
+    pulls A too far from C) B is off its circles and the second dyad fails too."""
+    from assur.engine.planar.numba_backend import path_objective
+    plan = assur.compile(assur.loads(CHAIN))
+    q = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    tol = 1e-12
+    r = path_objective(plan, plan.defaults[None, :], np.zeros((1, 0)), np.zeros((0, 2)), "E", q, tol)
+    st = assur.solve(plan, None, q, backend="numpy", on_unbuildable="nan")
+    crank, first = plan.steps_of("crank")[0], plan.steps_of("RRR")[0]    # θ = sense·q + zero; B's assembly
+    A = 0.030 * np.exp(1j * (crank.sense * q + plan.defaults[crank.zero_param]))
+    C, D = 0.080 + 0j, 0.062 + 0.060j
+    ab, cb, be, de = 0.040, 0.030, abs(0.018 + 0.018j), abs(0.018 + 0.018j)
+
+    def circles(c1, r1, c2, r2, branch=1):
+        """(normalised radicand h², the point: on the circles where h² ≥ 0, else on the line of centres)"""
+        d2 = abs(c2 - c1) ** 2
+        a = (d2 + r1 * r1 - r2 * r2) / (2 * d2)
+        h2 = r1 * r1 / d2 - a * a
+        return h2, c1 + (c2 - c1) * (a + 1j * branch * np.sqrt(np.maximum(h2, 0.0)))
+
+    assert (first.point_a, first.point_b) == ("C", "A")
+    h1, B = circles(C, cb, A, ab, first.branch)
+    h2, _ = circles(B, be, D, de)
+    assert np.allclose(B[st.valid], st.pos[st.valid, plan.point_index("B"), 0]
+                       + 1j * st.pos[st.valid, plan.point_index("B"), 1], atol=1e-15)
+    shortfall = np.maximum(0.0, -(h1 + tol)) + np.maximum(0.0, -(h2 + tol))
+    both = (h1 < -tol) & (h2 < -tol)
+    assert both.sum() > 20 and (h1 >= -tol).sum() > 20                     # the case the test is about occurs
+    assert r[0, 3] == np.count_nonzero(~st.valid) == np.count_nonzero((h1 < -tol) | (h2 < -tol))
+    assert np.isclose(r[0, 4], shortfall.sum(), rtol=1e-10)
+    assert np.maximum(0.0, -(h2 + tol))[both].sum() > 0.1 * shortfall.sum()
