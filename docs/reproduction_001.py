@@ -13,7 +13,7 @@ import numpy as np
 
 from assur.gears import WheelStepLaw, closure_report, curvature_report, find_corners, pitch_pair
 from assur.gears import sectors as S
-from assur.gears.design import load_design
+from assur.io.gear_file import load_design
 
 ROOT = Path(__file__).resolve().parents[1]
 EX = ROOT / "examples"
@@ -238,7 +238,7 @@ def section() -> str:
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# Paper 001 revisited (assur issue 15): the co-design law of assur.gears.codesign_wheelstep
+# Paper 001 revisited (assur issue 15): the co-design law of assur.codesign.wheelstep_law
 
 #: the window fractions of the comparison; 0.6 is the shipped pair (examples/gears_001_smooth.toml)
 REVISITED_FRACTIONS = (0.6, 0.7, 0.8, 0.9)
@@ -249,7 +249,7 @@ def _spread(value):
 
 
 def _verdict(c, corner=0.0):
-    """Short list of the failed checks of a WheelStepGearChecks (and the corners), or "all checks met"."""
+    """Short list of the failed checks of wheel-step drive's GearChecks (and the corners), or "all checks met"."""
     out = ["corners"] if corner > 0 else []
     out += [f"{name} concave (min κ·L {c.convexity[name]:.3f})" for name in ("driving", "driven") if c.concave[name]]
     if c.max_pressure_angle > math.radians(30.0):
@@ -261,7 +261,7 @@ def _verdict(c, corner=0.0):
 
 def revisited_rows(shoe, L, m):
     """One row per pair: the paper's cornered pair, then the redesign for each window fraction (4 bumps, seed 0)."""
-    from assur.gears.codesign_wheelstep import paper_pair, wheelstep_codesign
+    from assur.codesign.wheelstep import paper_pair, wheelstep_codesign
 
     def row(label, corner, c, spread, teeth_note=""):
         low, high = spread["range"]
@@ -286,14 +286,14 @@ def revisited_rows(shoe, L, m):
 
 def _window_pressure(design, points=4001):
     """Max centrode pressure angle (rad) on the window of a redesigned law (closed form on the window only)."""
-    from assur.gears.codesign_checks import pitch_terms
+    from assur.codesign.checks import pitch_terms
     t1, t2 = design.law.window
     G, dG, d2G = design.law.ratio_terms(np.linspace(t1, t2, points))
     return float(np.arctan(pitch_terms(G, dG, d2G, design.checks.centre_distance)["tan_pressure"]).max())
 
 
 def revisited_section() -> str:
-    from assur.gears.codesign_wheelstep import mover_speed_spread, polyline_max_turn, window_pressure_bound
+    from assur.codesign.wheelstep import mover_speed_spread, polyline_max_turn, window_pressure_bound
     w = load_design(EX / "wheelstep_001.toml")
     shoe, L, m = w.shoe, w.gears.centre_distance, w.gears.module
     rows, paper, designs = revisited_rows(shoe, L, m)
@@ -319,7 +319,8 @@ def revisited_section() -> str:
         "",
         "The paper makes the mover's speed constant over the **whole** step: ψ ∝ X(θ) (ψ driving, θ hub angle) "
         "continued step by step, so G = dψ/dθ = K·X′(θ) has a kink at every step end and the pitch curves have "
-        "corners there. The co-design law of `assur.gears.codesign_wheelstep` (on `assur.gears.codesign_law`) "
+        "corners there. The co-design law of `assur.codesign.wheelstep_law` (on `assur.codesign.law`; the search: "
+        "`assur.codesign.wheelstep`) "
         "keeps G = K·X′ exactly on the central fraction f of each step's displacement X_01 (the window) and joins "
         "the windows across the step ends by a C² transfer (quintic Hermite bridge + 4 bumps, chosen by "
         "differential evolution, seed 0, for convexity, pressure angle and undercut). Mapping: one hub step ↔ one "

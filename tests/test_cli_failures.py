@@ -181,7 +181,7 @@ def _mutant(tmp_path, old, new):
 
 
 def _problems(path):
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     with pytest.raises(SpecError) as info:
         load_design(path)
     return dict(info.value.problems)
@@ -190,7 +190,7 @@ def _problems(path):
 def test_installation_distance_beyond_the_working_depth_is_refused(tmp_path, capsys):
     # working depth = 2 addenda = 2·1·m = 4 mm for module 2 (addendum coefficient 1): the teeth of two gears can
     # only touch while the centre distance stays within it of the one they were laid out for (143.5 mm)
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     assert load_design(_mutant(tmp_path, "installation_distance = 144 ", "installation_distance = 147.4 "))
     assert load_design(_mutant(tmp_path, "installation_distance = 144 ", "installation_distance = 139.6 "))
     for bad in ("147.6", "139.4", "400"):
@@ -212,7 +212,8 @@ def test_centre_distance_that_forces_a_huge_module_is_refused(tmp_path):
 
 
 def test_sector_module_must_match_the_sector_arc(tmp_path):
-    from assur.gears.design import SECTOR_PITCH_TOLERANCE, load_design
+    from assur.gears.design import SECTOR_PITCH_TOLERANCE
+    from assur.io.gear_file import load_design
     s = load_design(GEARS).sector_model().arc                # the sector arc of the paper's design, m
     assert s == pytest.approx(6.2123e-3, abs=1e-7)           # paper 001 (docs/reproduction.md): s = 6.2123 mm
     # the bound is on s / (π·m) − 1: a module just inside it is accepted, one just outside refused
@@ -227,7 +228,7 @@ def test_sector_module_must_match_the_sector_arc(tmp_path):
 def test_mesh_check_of_gears_that_do_not_reach_each_other_is_a_gear_error():
     import dataclasses
 
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     from assur.gears.mesh import mesh_check
     pair = load_design(GEARS).pair(samples=512)
     t = np.linspace(0, 2 * np.pi, 64, endpoint=False)

@@ -1,4 +1,4 @@
-"""The joint optimisation of a leg's dimensions and its transfer law (assur.synthesis.codesign).
+"""The joint optimisation of a leg's dimensions and its transfer law (assur.codesign.joint).
 
 References computed here: the file's leg with the transfer :func:`optimize_transfer` finds for it (the search's
 start) — the joint result may not be worse; its gear checks recomputed from its law; its gait from gait_metrics."""
@@ -12,7 +12,7 @@ import pytest
 import assur
 from assur.analysis.gait import gait_metrics
 from assur.errors import SpecError
-from assur.synthesis.codesign import JointProblem, default_vary, optimize_codesign
+from assur.codesign.joint import JointProblem, default_vary, optimize_codesign
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -41,7 +41,7 @@ def test_the_joint_result_is_feasible_and_no_worse_than_its_start(plan):
     d = optimize_codesign(plan, 0.8, centre_distance=0.1215, module=0.002, budget=300, seed=1)
     assert d.feasible and d.checks.ok
     start = JointProblem(plan, 0.8, centre_distance=0.1215, module=0.002)
-    from assur.gears.codesign import optimize_transfer
+    from assur.codesign.transfer import optimize_transfer
     first = optimize_transfer(plan, 0.8, centre_distance=0.1215, module=0.002, seed=1, measure=False)
     start.start_from(first.coefficients - start.gears.default_coefficients(plan.defaults))
     assert d.objective <= start(start.start()) + 1e-12

@@ -1,4 +1,4 @@
-"""The co-design law of a geared walking leg (src/assur/gears/codesign*.py) on examples/walker_fourbar.toml (paper 004's
+"""The co-design law of a geared walking leg (src/assur/codesign/) on examples/walker_fourbar.toml (paper 004's
 four-bar leg, docs/papers/004.md).
 
 Every reference is computed independently in the test: the engine's exact derivatives (dpos_dq), scipy's adaptive
@@ -14,9 +14,10 @@ import pytest
 import assur
 from assur.analysis.gait import gait_metrics
 from assur.errors import SpecError, UnbuildableError
-from assur.gears.codesign import (CodesignLaw, CodesignProblem, MARGIN_NAMES, codesign, foot_law,
-                                  foot_law_from_samples, gear_checks, geared_vx_spread, optimize_transfer,
-                                  pitch_terms, support_window, tradeoff, window_pressure_bound)
+from assur.codesign.checks import gear_checks, pitch_terms
+from assur.codesign.law import CodesignLaw, foot_law, foot_law_from_samples, geared_vx_spread, support_window
+from assur.codesign.margins import MARGIN_NAMES
+from assur.codesign.transfer import CodesignProblem, codesign, optimize_transfer, tradeoff, window_pressure_bound
 from assur.gears.pitch import closure_report, pitch_pair
 
 TWO_PI = 2.0 * math.pi

@@ -1,4 +1,4 @@
-"""The window screen of a co-designed gear drive (assur.gears.codesign_screen): a necessary condition on the leg
+"""The window screen of a co-designed gear drive (assur.codesign.screen): a necessary condition on the leg
 alone. Checked against independent computations: the closed-form least transfer time against a quadrature of its
 pointwise bound and against real transfer laws, and the screen's verdicts against the transfer optimiser."""
 from __future__ import annotations
@@ -11,9 +11,9 @@ import pytest
 
 import assur
 from assur.errors import SpecError
-from assur.gears.codesign_checks import pitch_terms
-from assur.gears.codesign_law import CodesignLaw, foot_law, support_window
-from assur.gears.codesign_screen import critical_fraction, transfer_time_min, window_screen
+from assur.codesign.checks import pitch_terms
+from assur.codesign.law import CodesignLaw, foot_law, support_window
+from assur.codesign.screen import critical_fraction, transfer_time_min, window_screen
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -1,4 +1,4 @@
-"""Paper 001 revisited (src/assur/gears/codesign_wheelstep.py): the wheel-step drive with the co-design law.
+"""Paper 001 revisited (src/assur/codesign/wheelstep.py, wheelstep_law.py): the wheel-step drive with the co-design law.
 
 References: the paper's shoe a = 0.06, b = 0.1, c = 0.36 m and X_01 = 0.8027 m (docs/papers/001.md A1, A4, printed);
 the displacement law X(θ) = (a − b + c)θ + 1.5b·sin 2θ and the corner of the paper's pitch curves, a tangent turn of
@@ -15,11 +15,12 @@ import pytest
 
 from assur.errors import SpecError
 from assur.gears import WheelStepLaw, closure_report, find_corners, pitch_pair
-from assur.gears.codesign_wheelstep import (STEPS, StepDisplacement, WheelStepCodesignLaw, max_tangent_jump,
-                                            mover_speed_spread, polyline_max_turn, wheelstep_codesign,
-                                            wheelstep_gear_checks, window_pressure_bound)
-from assur.gears.design import load_design
+from assur.codesign.checks import gear_checks
+from assur.codesign.wheelstep import (max_tangent_jump, mover_speed_spread, polyline_max_turn, wheelstep_codesign,
+                                      window_pressure_bound)
+from assur.codesign.wheelstep_law import STEPS, StepDisplacement, WheelStepCodesignLaw
 from assur.gears.wheelstep import Shoe
+from assur.io.gear_file import load_design
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOOTH_FILE = ROOT / "examples" / "gears_001_smooth.toml"
@@ -229,7 +230,7 @@ def test_optimised_window_of_0_6_passes_every_check_and_0_8_leaves_the_hub_gear_
 
 def test_paper_checks_report_its_corner_pressure_angle(shoe):
     """At the step end the paper's pair has the one-sided pressure angle of half its corner (B6.3)."""
-    c = wheelstep_gear_checks(WheelStepLaw(shoe, 2), L_P, module=MODULE)
+    c = gear_checks(WheelStepLaw(shoe, 2), L_P, module=MODULE)
     X01, A, b = shoe.budget.total, shoe.a - shoe.b + shoe.c, shoe.b
     G, dG = math.pi * A / X01, 6 * math.pi * b / X01
     assert c.max_pressure_angle == pytest.approx(math.atan(dG / (G * (1 + G))), abs=1e-9)

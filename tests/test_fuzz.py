@@ -76,7 +76,7 @@ def exercise(path: Path, text: str):
         finally:
             tmp.unlink()
         return
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     tmp.write_text(text, encoding="utf-8")
     try:
         design = load_design(tmp)

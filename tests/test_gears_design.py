@@ -1,4 +1,4 @@
-"""Design files assur-gears/1 and assur-wheelstep/1 (assur.gears.design): the paper's examples and located errors."""
+"""Design files assur-gears/1 and assur-wheelstep/1 (read by assur.io.gear_file into assur.gears.design): the paper's examples and located errors."""
 import math
 from pathlib import Path
 
@@ -7,7 +7,8 @@ import pytest
 
 from assur.errors import SpecError
 from assur.gears import WheelStepLaw
-from assur.gears.design import GearDesign, WheelStepDesign, compile_expression, load_design
+from assur.gears.design import GearDesign, WheelStepDesign
+from assur.io.gear_file import compile_expression, load_design
 
 EX = Path(__file__).resolve().parents[1] / "examples"
 
@@ -216,11 +217,16 @@ def test_expression_errors_are_located_spec_errors(tmp_path):
 
 
 def test_gear_and_wheelstep_names_stay_importable():
+    import importlib
+    import sys
+
     import assur.errors
     import assur.gears.errors
     import assur.gears.wheelstep
-    import assur.wheelstep
     assert assur.gears.errors.GearError is assur.errors.GearError
     assert issubclass(assur.errors.GearError, assur.errors.AssurError) and issubclass(assur.errors.GearError,
                                                                                       ValueError)
-    assert assur.wheelstep.Shoe is assur.gears.wheelstep.Shoe
+    sys.modules.pop("assur.wheelstep", None)        # the former module: still served, with a warning
+    with pytest.warns(DeprecationWarning, match="assur.gears.wheelstep"):
+        old = importlib.import_module("assur.wheelstep")
+    assert old.Shoe is assur.gears.wheelstep.Shoe

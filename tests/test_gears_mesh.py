@@ -154,7 +154,7 @@ def test_sector_ratio_deviation_converges_with_the_scan():
     difference quotient of neighbouring positions gave 2.9 % at 90 and 17.6 % at 360 positions: it grew as
     jump/step). The reported sampling error is the change when every other position is left out."""
     import dataclasses
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     d = load_design(Path(__file__).parents[1] / "examples" / "gears_001.toml")
     so = d.sector_outline()
     p1 = polar_outline(so.driving, rays=512 * so.teeth[0])

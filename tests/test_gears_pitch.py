@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from assur.gears import (GearError, GearPair, PitchCurve, WheelStepLaw, check_module, closure_report,
                          curvature_report, find_corners, law_from_callable, law_from_ratio, law_from_table,
                          pitch_pair, speed_law)
-from assur.wheelstep import Shoe
+from assur.gears.wheelstep import Shoe
 
 A, E = 0.05, 0.5
 L_P = 0.1435

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from assur.gears import GearError, WheelStepLaw
 from assur.gears import sectors as S
-from assur.wheelstep import Shoe
+from assur.gears.wheelstep import Shoe
 
 ROOT = Path(__file__).resolve().parents[1]
 PRINTED = runpy.run_path(str(ROOT / "docs" / "paper001_printed_tables.py"))

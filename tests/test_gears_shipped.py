@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from assur.gears.design import load_design
+from assur.io.gear_file import load_design
 from assur.gears.mesh import mesh_check
 from assur.gears.outline import outline_defects
 from assur.report.bundles import run_gears

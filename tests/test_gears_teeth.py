@@ -194,7 +194,7 @@ def test_paper_pair_envelope_outlines_are_simple_and_located():
     # straight rack cannot follow the driven gear's concave stretches (around its four re-entrant corners at body
     # angles 45°, 135°, 225°, 315°) the thinned teeth are reported with their body angles
     shapely = pytest.importorskip("shapely")
-    from assur.gears.design import load_design
+    from assur.io.gear_file import load_design
     from assur.gears.teeth import rounded_pair
     d = load_design(Path(__file__).resolve().parents[1] / "examples" / "gears_001.toml")
     pair = d.pair()

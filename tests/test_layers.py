@@ -20,8 +20,6 @@ SRC = ROOT / "src" / "assur"
 DOC = ROOT / "docs" / "architecture.md"
 
 
-@pytest.mark.xfail(strict=True, reason="gears ↔ io ↔ analysis: the co-design modules still live in gears/ and the "
-                                       "gear design reader imports io (the co-design package removes both)")
 def test_src_keeps_the_declared_layers():
     found = violations(Tree(SRC), read_table(DOC), read_dynamic(DOC))
     assert not found, f"{len(found)} import rule(s) broken in src/assur:\n" + "\n".join(sorted(set(found)))

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from assur.errors import SpecError
-from assur.wheelstep import STEP_HALF_ANGLE, Shoe, bar_length_for
+from assur.gears.wheelstep import STEP_HALF_ANGLE, Shoe, bar_length_for
 
 PAPER = Shoe.from_r_min(0.06, 0.1, 0.02)     # A1: a = 0.06 m, b = 0.1 m, R_min = 0.02 m
 STEP = np.linspace(-math.pi / 4, math.pi / 4, 2001)

@@ -35,7 +35,7 @@ def register(sub) -> None:
 
 def _run(args, expected: str) -> int:
     from ..errors import SpecError
-    from ..gears.design import load_design
+    from ..io.gear_file import load_design
     from ..io.output import atomic_directory, json_text
     from ..report.bundles import public_summary, run_gears, run_wheelstep
     design = load_design(args.file)

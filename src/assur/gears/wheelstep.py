@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..io.problems import Problems
+from ..errors import SpecError
 
 #: half the hub angle of one step (rad): a step is φ ∈ [−STEP_HALF_ANGLE, +STEP_HALF_ANGLE]
 STEP_HALF_ANGLE = math.pi / 4
@@ -51,15 +51,16 @@ class Shoe:
     c: float
 
     def __post_init__(self):
-        P = Problems()
+        problems = []
         for name in ("a", "b", "c"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                P.add(name, f"must be a finite length > 0 m: {v!r}")
-        if not P and self.r_min <= 0:
-            P.add("c", f"gives R_min = a − 4b + c = {self.r_min:.6g} m ≤ 0: the shoe profile is not "
-                       f"convex at φ = 0 (need c > 4b − a = {4 * self.b - self.a:.6g} m)")
-        P.raise_if_any()
+                problems.append((name, f"must be a finite length > 0 m: {v!r}"))
+        if not problems and self.r_min <= 0:
+            problems.append(("c", f"gives R_min = a − 4b + c = {self.r_min:.6g} m ≤ 0: the shoe profile is not "
+                                  f"convex at φ = 0 (need c > 4b − a = {4 * self.b - self.a:.6g} m)"))
+        if problems:
+            raise SpecError(problems)
 
     @classmethod
     def from_r_min(cls, a: float, b: float, r_min: float) -> "Shoe":

@@ -187,7 +187,8 @@ def _from_design(v, spec, where, P, source):
     alpha = math.radians(20.0)
     base = Path(source).parent if source else Path.cwd()
     file = (base / v) if not Path(v).is_absolute() else Path(v)
-    from ..gears.design import GearDesign, load_design
+    from ..gears.design import GearDesign
+    from .gear_file import load_design
     try:
         design = load_design(file)
     except SpecError as exc:

@@ -1,7 +1,7 @@
 """The files of a co-designed geared leg (``assur codesign``): the geared mechanism file, its gear design file,
 the gear outputs (outlines, mesh check), the before/after foot-speed figure, the animation and a JSON summary.
 
-Conventions that tie the files together. The co-design law (:mod:`assur.gears.codesign`) is θ(φ) = σ·q(φ) with φ
+Conventions that tie the files together. The co-design law (:mod:`assur.codesign.law`) is θ(φ) = σ·q(φ) with φ
 the motor's advance and θ the crank's advance in its own sense. In the mechanism file the crank's counter-clockwise
 turn from the sketch is ``mesh·(L(x + phase) − L(phase))`` for the motor's counter-clockwise turn x. With an
 external pair (mesh = −1): a crank that advances clockwise (D = σ_c·σ = −1) takes L = θ and a motor turning
@@ -168,3 +168,41 @@ def tradeoff_figure(rows: list, path: Path, dpi: int = 110) -> None:
     fig.tight_layout()
     fig.savefig(path)
     close(fig)
+
+
+def summary_page(summary: dict, out: Path, lines: list[str]) -> str:
+    """The summary page (``index.html``) of a co-design run: the summary ``lines`` (as printed), the drive's cost
+    before/after as a table (a leg with masses or loads), the figures found in ``out`` and links to the files."""
+    from ..version import __version__
+    from .page import escape, header, page, png_tag, section, table
+    title = f"Co-design of {Path(summary['leg']).stem}"
+    body = header(title, f"{escape(summary['leg'])} — <code>assur codesign</code> — assur {escape(__version__)}")
+    body.append(section("Summary", "<ul>\n" + "\n".join(f"<li>{escape(t)}</li>" for t in lines) + "\n</ul>"))
+    drive = summary.get("drive")
+    if drive:
+        b, a = drive["before"], drive["after"]
+        rows = [(f"peak motor torque [N·m] ({b['driver']} → {a['driver']})", _num(b["peak"]), _num(a["peak"])),
+                ("RMS motor torque [N·m]", _num(b["rms"]), _num(a["rms"]))]
+        joints = list(b["joint_peaks"]) + [k for k in a["joint_peaks"] if k not in b["joint_peaks"]]
+        rows += [(f"peak bearing load at {k} [N]", _num(b["joint_peaks"].get(k)), _num(a["joint_peaks"].get(k)))
+                 for k in joints]
+        note = ('<p class="note">One force analysis of one turn each: the plain leg driven by a uniform crank, the '
+                'geared leg by a uniform motor at the same mean crank speed (docs/codesign.md, "What the constant '
+                'foot speed costs").</p>')
+        body.append(section("The drive's cost", table(["", "before (plain leg)", "after (geared leg)"], rows,
+                                                      num_cols=(1, 2)) + "\n" + note))
+    figures = [png_tag((out / name).read_bytes(), alt) for name, alt in
+               (("foot_speed.png", "foot speed before and after"), ("tradeoff.png", "the window's trade-off"))
+               if (out / name).exists()]
+    if (out / "animation.gif").exists():
+        figures.append('<p><a href="animation.gif">animation.gif</a>: the leg and its gears over one motor turn.</p>')
+    if figures:
+        body.append(section("Figures", "\n".join(figures)))
+    files = [summary["files"]["mechanism"], summary["files"]["gears"], "gears/", "codesign.json"]
+    body.append(section("Files", "<ul>\n" + "\n".join(f'<li><a href="{escape(f)}">{escape(f)}</a></li>'
+                                                      for f in files) + "\n</ul>"))
+    return page(title, body)
+
+
+def _num(v) -> str:
+    return "—" if v is None else f"{v:.4g}"

@@ -133,7 +133,8 @@ def write_document_report(path, out_dir, *, frames: int = 36, mesh_steps: int = 
     """Write ``out_dir/index.html`` and the CAD/table files of the design document ``path`` (a gear pair or a
     wheel-step mover) atomically; returns the page's path."""
     from .bundles import run_gears, run_wheelstep
-    from ..gears.design import GearDesign, load_design
+    from ..gears.design import GearDesign
+    from ..io.gear_file import load_design
     from ..io.output import atomic_directory
     design = load_design(path)
     runner = run_gears if isinstance(design, GearDesign) else run_wheelstep

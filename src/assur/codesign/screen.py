@@ -1,7 +1,7 @@
 """A necessary condition for a walking leg to have a co-designed gear drive at a window fraction f: checked on the
 leg alone, before any transfer law is chosen (:func:`window_screen`).
 
-Notation as :mod:`assur.gears.codesign_law`: g(q) = dτ/dq > 0 motor radians per crank radian, the window [q1, q2]
+Notation as :mod:`assur.codesign.law`: g(q) = dτ/dq > 0 motor radians per crank radian, the window [q1, q2]
 where g = k·x′ (x′ > 0 read along the stride), the transfer [q2, q1 + 2π] of crank span D, the closure
 ∫ g dq = 2π·n over a crank turn (n motor turns).
 
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SpecError
-from .codesign_checks import check_angle, check_bounds, pitch_terms
-from .codesign_law import FootLaw, check_fraction, support_window
+from .checks import check_angle, check_bounds, pitch_terms
+from .law import FootLaw, check_fraction, support_window
 
 TWO_PI = 2.0 * math.pi
 
@@ -91,7 +91,7 @@ def window_screen(foot: FootLaw, fraction: float, *, max_pressure_angle: float =
                   ks: int = 197) -> WindowScreen:
     """The leg's best k at window ``fraction`` and its margins (:class:`WindowScreen`): ``ks`` values of k/k_max in
     [0.01, 0.99], each judged on ``points`` window samples. SpecError for a window that does not exist
-    (:func:`~assur.gears.codesign_law.support_window`) or a bad bound."""
+    (:func:`~assur.codesign.law.support_window`) or a bad bound."""
     f = check_fraction(fraction)
     mu = check_angle("max_pressure_angle", max_pressure_angle)
     lo, hi = check_bounds(ratio_bounds)

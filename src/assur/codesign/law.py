@@ -37,7 +37,7 @@ from ..analysis.gait import VX_FRACTIONS, central_vx_spread, gait_metrics, resol
 from ..engine import solve
 from ..errors import GearError, SpecError, UnbuildableError
 from ..kernels.runs import runs
-from .law import TransmissionLaw, invert_increasing
+from ..gears.law import TransmissionLaw, invert_increasing
 
 TWO_PI = 2.0 * math.pi
 

@@ -1,5 +1,5 @@
 """Co-design of a walking leg and its non-circular gear drive: the linkage's dimensions and the transfer law
-optimised together (assur issue 15, part 3; the law itself: :mod:`assur.gears.codesign`).
+optimised together (assur issue 15, part 3; the law's transfer alone: :mod:`assur.codesign.transfer`).
 
 The problem. A leg (one crank, a ``[gait]`` foot) is driven from a uniform motor through a gear pair whose law
 makes the foot's horizontal speed exactly constant over the central fraction f of the stride (the window); the
@@ -12,13 +12,15 @@ transfer phase closes the cycle with a C² law (bumps c_j over the smoothest bri
 
 Constraints: the leg assembles over a whole turn; step ≥ ``step_min``; lift ≥ ``lift_min``; sag ≤ ``sag_max``
 (defaults: 95 % of the file's step and lift, its sag); the gear pair's margins
-(:data:`assur.gears.codesign.MARGIN_NAMES`: both pitch curves convex, centrode pressure angle ≤
-``max_pressure_angle``, ratio g within ``ratio_bounds``, no undercut for ``module``). Objective, for a feasible
+(:data:`assur.codesign.margins.MARGIN_NAMES`: both pitch curves convex, centrode pressure angle ≤
+``max_pressure_angle``, ratio g within ``ratio_bounds``, no undercut for ``module``) and, with ``max_torque``
+(N·m), the peak motor torque within it (:mod:`assur.codesign.torque`, the leg's crank torque solved once per
+candidate). Objective, for a feasible
 design: the foot's horizontal-speed spread over the central ``target`` fraction of the stride (default 0.9; the
 window's own speed is exact, so this measures the transfer law just beyond the window: |v_x| ∝ |x′|/g on the
 law's samples) minus a small reward for the worst gear margin. An infeasible design scores 1 + its total scaled
 violation. Search: scipy's differential evolution, seeded, from the file's design with the transfer that
-:func:`~assur.gears.codesign.optimize_transfer` finds for it first (half the first population about it),
+:func:`~assur.codesign.transfer.optimize_transfer` finds for it first (half the first population about it),
 ``budget`` evaluations, then a local Powell polish of the best (a fifth of the budget more).
 """
 from __future__ import annotations
@@ -29,9 +31,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SpecError, UnbuildableError
+from .checks import gear_checks
+from .law import CodesignLaw, foot_law, geared_vx_spread
+from .transfer import DEFAULT_RATIO_BOUNDS, CodesignProblem, optimize_transfer
 
-#: the scale that makes each gear margin dimensionless (κ·L, rad, ratio, ratio, 1, 1)
+#: the scale that makes each gear margin dimensionless (κ·L, κ·L, rad, ratio, ratio, 1, 1), in the order of
+#: :data:`~assur.codesign.margins.MARGIN_NAMES`
 MARGIN_SCALES = (1.0, 1.0, 0.1, 0.1, 0.1, 1.0, 1.0)
+#: the scale of the torque margin 1 − peak/limit (already dimensionless) when a torque limit is given
+TORQUE_SCALE = 1.0
 #: weight of the worst (scaled) gear margin in the objective of a feasible design
 MARGIN_REWARD = 0.01
 
@@ -77,12 +85,13 @@ class JointProblem:
     def __init__(self, plan, fraction: float, *, centre_distance: float, module: float, vary=None,
                  step_min: float | None = None, lift_min: float | None = None, n_bumps: int = 6,
                  sag_max: float | None = None, max_pressure_angle: float = math.radians(30.0), ratio_bounds=None,
-                 samples: int = 1024, offset: float = 2.0, target: float = 0.9):
-        from ..gears.codesign import DEFAULT_RATIO_BOUNDS, CodesignProblem
+                 samples: int = 1024, offset: float = 2.0, target: float = 0.9, max_torque: float | None = None):
         self.plan = plan
         self.gears = CodesignProblem(plan, fraction, centre_distance=centre_distance, module=module,
                                      n_bumps=n_bumps, max_pressure_angle=max_pressure_angle,
-                                     ratio_bounds=ratio_bounds or DEFAULT_RATIO_BOUNDS, samples=samples)
+                                     ratio_bounds=ratio_bounds or DEFAULT_RATIO_BOUNDS, samples=samples,
+                                     max_torque=max_torque)
+        self.scales = np.asarray(MARGIN_SCALES + ((TORQUE_SCALE,) if max_torque is not None else ()))
         self.vary = list(default_vary(plan) if vary is None else vary)
         names = set(plan.param_names)
         bad = [v[0] for v in self.vary if v[0] not in names]
@@ -122,7 +131,7 @@ class JointProblem:
         p, c = self.split(z)
         metrics = self.gears.prepared(p)["foot"].metrics
         margins = self.gears.margins(c, p)
-        scaled = margins / np.asarray(MARGIN_SCALES)
+        scaled = margins / self.scales
         violation = float(np.sum(np.maximum(0.0, -scaled)))
         violation += max(0.0, (self.step_min - metrics.step_length) / self.step_min)
         violation += max(0.0, (self.lift_min - metrics.lift) / self.lift_min)
@@ -161,22 +170,23 @@ def optimize_codesign(plan, fraction: float, *, centre_distance: float, module: 
                       step_min: float | None = None, lift_min: float | None = None, sag_max: float | None = None,
                       n_bumps: int = 6, max_pressure_angle: float = math.radians(30.0), ratio_bounds=None,
                       budget: int = 4000, seed: int = 1, popsize: int = 12, target: float = 0.9,
-                      progress=None) -> JointDesign:
+                      progress=None, max_torque: float | None = None) -> JointDesign:
     """Optimise the leg's dimensions and the transfer law together (see the module doc). ``budget``: objective
     evaluations at most; ``progress(text)``: told after each generation. Returns a :class:`JointDesign` whose
-    ``feasible`` says whether every constraint holds; its law is rebuilt on the full 4096-sample foot law."""
+    ``feasible`` says whether every constraint holds (the torque limit, with ``max_torque`` in N·m, included: its
+    peak refined between samples on the final law); its law is rebuilt on the full 4096-sample foot law."""
     from scipy.optimize import differential_evolution
-    from ..gears.codesign import CodesignLaw, foot_law, gear_checks, geared_vx_spread, optimize_transfer
     if isinstance(budget, bool) or not isinstance(budget, (int, np.integer)) or budget < 50:
         raise SpecError([("budget", f"must be a whole number ≥ 50: {budget!r}")])
     if progress is not None:
         progress("the transfer law of the file's leg first …")
     problem = JointProblem(plan, fraction, centre_distance=centre_distance, module=module, vary=vary,
                            step_min=step_min, lift_min=lift_min, sag_max=sag_max, n_bumps=n_bumps,
-                           max_pressure_angle=max_pressure_angle, ratio_bounds=ratio_bounds, target=target)
+                           max_pressure_angle=max_pressure_angle, ratio_bounds=ratio_bounds, target=target,
+                           max_torque=max_torque)
     first = optimize_transfer(plan, fraction, centre_distance=centre_distance, module=module, n_bumps=n_bumps,
                               max_pressure_angle=max_pressure_angle, ratio_bounds=problem.gears.ratio_bounds,
-                              seed=seed, measure=False)
+                              seed=seed, measure=False, max_torque=max_torque)
     problem.start_from(first.coefficients - problem.gears.default_coefficients(plan.defaults))
     dims = len(problem.bounds)
     pop = max(5, int(popsize)) * dims
@@ -216,7 +226,7 @@ def optimize_codesign(plan, fraction: float, *, centre_distance: float, module: 
             from None
     law = CodesignLaw(foot_law(plan, params), fraction, c, n_bumps=n_bumps)
     checks = gear_checks(law, centre_distance, module=module, max_pressure_angle=max_pressure_angle,
-                         ratio_bounds=problem.gears.ratio_bounds)
+                         ratio_bounds=problem.gears.ratio_bounds, max_torque=max_torque)
     gait = {"step": metrics.step_length, "lift": metrics.lift, "sag": metrics.sag,
             "step_min": problem.step_min, "lift_min": problem.lift_min, "sag_max": problem.sag_max}
     return JointDesign(params, law, checks, gait, geared_vx_spread(law), violation == 0 and checks.ok,
