@@ -88,3 +88,43 @@ def test_a_window_no_gear_pair_can_serve_writes_nothing(tmp_path, capsys):
 def test_a_mechanism_without_a_gait_is_refused(tmp_path, capsys):
     code, _, err = _run(capsys, "codesign", EXAMPLES / "crank_rocker.toml", "-o", tmp_path / "o")
     assert code == 1 and "gait" in err and not (tmp_path / "o").exists()
+
+
+def _forces_peaks(plan, joint):
+    """(peak |driver torque|, peak |reaction| at the pair named ``joint``) over one turn of the input (720
+    samples), by assur.forces: independent of the summary's Study."""
+    f = assur.forces(plan, inputs=np.linspace(0, 2 * np.pi, 720, endpoint=False))
+    k = f.pair_names.index(joint)
+    return np.max(np.abs(f.driver)), np.max(np.hypot(f.reactions[:, k, 0], f.reactions[:, k, 1]))
+
+
+@pytest.mark.slow
+def test_the_summary_gives_the_drives_cost_before_and_after(bundle):
+    """Issue 25 C2: the peak and RMS motor torque and the peak bearing loads, the plain leg (a uniform crank) against
+    the geared leg (a uniform motor), in codesign.json and on the summary page."""
+    summary = json.loads((bundle / "codesign.json").read_text())
+    drive = summary["drive"]
+    plain = assur.compile(assur.load(EXAMPLES / "walker_fourbar.toml"))
+    geared = assur.compile(assur.load(bundle / summary["files"]["mechanism"]))
+    for key, plan in (("before", plain), ("after", geared)):
+        torque, at_o = _forces_peaks(plan, "O")
+        assert drive[key]["peak"] == pytest.approx(torque, rel=1e-9)
+        assert drive[key]["joint_peaks"]["O (frame–crank)"] == pytest.approx(at_o, rel=1e-9)
+        assert 0 < drive[key]["rms"] < drive[key]["peak"]
+    assert drive["after"]["peak"] > 3 * drive["before"]["peak"]        # the cost issue 25 C2 measured
+    assert "M (frame–motor)" in drive["after"]["joint_peaks"] and "M (frame–motor)" not in drive["before"]["joint_peaks"]
+    page = (bundle / "index.html").read_text(encoding="utf-8")
+    assert "peak motor torque" in page and f"{drive['after']['peak']:.4g}" in page and "foot_speed" in page
+
+
+def test_a_torque_limit_on_a_leg_without_masses_is_a_one_line_error(tmp_path, capsys):
+    code, _, err = _run(capsys, "codesign", EXAMPLES / "klann.toml", "-o", tmp_path / "o", "--max-torque", "5")
+    assert code == 1 and "--max-torque" in err and "no masses" in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_torque_limit_nothing_meets_writes_nothing(tmp_path, capsys):
+    code, _, err = _run(capsys, "codesign", EXAMPLES / "walker_fourbar.toml", "-o", tmp_path / "o",
+                        "--optimize", "none", "--max-torque", "1")
+    assert code == 3 and "motor torque reaches" in err and "> the limit 1 N·m" in err and "--max-torque" in err
+    assert not (tmp_path / "o").exists()

@@ -1,4 +1,5 @@
-"""``assur atlas``: the atlas of planar kinematic chains (docs/atlas.md).
+"""``assur atlas``: the atlas of planar kinematic chains (docs/atlas.md); the command-line face of
+:mod:`assur.structure.atlas` (the mathematics) and :mod:`assur.io.atlas` (the entries as files).
 
 ``assur atlas --links N --dof F`` prints how many chains of N links and mobility F there are (planar ones, their
 mechanisms, by link assortment; the chains themselves when there are few); ``--json`` prints one JSON object;

@@ -1,5 +1,6 @@
 """``assur atlas --walking-legs``: the 1-DOF mechanisms of 6 or 8 links with a crank at the frame, a foot point on
-each link, dimensioned by a short gait synthesis and ranked (docs/atlas.md, "Walking legs ranked by gait").
+each link, dimensioned by a short gait synthesis and ranked (docs/atlas.md, "Walking legs ranked by gait"); the
+command-line face of :mod:`assur.synthesis.legs` and :mod:`assur.report.legs`.
 
 Without ``-o`` it prints the ranking (``--json``: one JSON object, the mechanism files' texts left out); with
 ``-o DIR`` it also writes the report page ``DIR/index.html``, ``DIR/ranking.json`` and each entry's mechanism file

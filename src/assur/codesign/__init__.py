@@ -21,11 +21,12 @@ from .checks import GearChecks, gear_checks
 from .joint import JointDesign, optimize_codesign
 from .law import CodesignLaw, FootLaw, foot_law, geared_vx_spread
 from .screen import critical_fraction, window_screen
+from .torque import drive_cost, peak_torque
 from .transfer import (CodesignProblem, CodesignResult, TransferDesign, codesign, optimize_transfer, tradeoff,
                        window_pressure_bound)
 from .wheelstep import WheelStepCodesign, paper_pair, wheelstep_codesign
 
 __all__ = ["CodesignLaw", "CodesignProblem", "CodesignResult", "FootLaw", "GearChecks", "JointDesign",
-           "TransferDesign", "WheelStepCodesign", "codesign", "critical_fraction", "foot_law", "gear_checks",
-           "geared_vx_spread", "optimize_codesign", "optimize_transfer", "paper_pair", "tradeoff",
-           "wheelstep_codesign", "window_pressure_bound", "window_screen"]
+           "TransferDesign", "WheelStepCodesign", "codesign", "critical_fraction", "drive_cost", "foot_law",
+           "gear_checks", "geared_vx_spread", "optimize_codesign", "optimize_transfer", "paper_pair",
+           "peak_torque", "tradeoff", "wheelstep_codesign", "window_pressure_bound", "window_screen"]

@@ -32,6 +32,9 @@ from ..engine import solve
 TWO_PI = 2.0 * math.pi
 #: crank angles at which the peak of a finished design is looked for, before it is refined
 CHECK_SAMPLES = 4096
+#: the searches hold the peak on their samples this fraction inside the limit, so that the peak between their
+#: samples (found by :func:`peak_torque` when the design is checked) stays within it
+SEARCH_SAFETY = 1e-3
 
 
 def carries_loads(mechanism) -> bool:
@@ -119,8 +122,8 @@ def torque_check(law, max_torque) -> tuple[float, float, str]:
     limit = check_max_torque(max_torque, foot.plan)
     peak, at = peak_torque(law)
     if not peak <= limit:
-        return peak, at, (f"the motor torque reaches {peak:.4g} N·m > the limit {limit:.4g} N·m at crank angle q = "
-                          f"{math.degrees(at):.1f}°")
+        return peak, at, (f"the motor torque reaches {peak:.5g} N·m > the limit {limit:.5g} N·m (by "
+                          f"{peak - limit:.2g} N·m) at crank angle q = {math.degrees(at):.1f}°")
     return peak, at, ""
 
 
@@ -138,5 +141,5 @@ def drive_cost(before, after) -> dict | None:
     return out
 
 
-__all__ = ["CHECK_SAMPLES", "carries_loads", "check_max_torque", "crank_torque_terms", "drive_cost", "motor_torque",
-           "peak_torque", "torque_check"]
+__all__ = ["CHECK_SAMPLES", "SEARCH_SAFETY", "carries_loads", "check_max_torque", "crank_torque_terms", "drive_cost",
+           "motor_torque", "peak_torque", "torque_check"]

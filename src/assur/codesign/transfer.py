@@ -76,9 +76,10 @@ class CodesignProblem:
     (plan params, c) → (len(:attr:`margin_names`),), and the scalar :meth:`objective` of :func:`optimize_transfer`.
 
     The foot law is recomputed when ``params`` change (the last one is kept). Arguments as :func:`codesign`;
-    ``points``: samples on the window and on the transfer each; ``max_torque`` (N·m): the margin ``torque`` on the
-    peak motor torque over those samples (:mod:`assur.codesign.torque`; the leg solved for its crank torque once
-    per ``params``)."""
+    ``points``: samples on the window and on the transfer each; ``max_torque`` (N·m): the margin ``torque``,
+    1 − peak/limit, of the peak motor torque over those samples against the limit less
+    :data:`~assur.codesign.torque.SEARCH_SAFETY` (:mod:`assur.codesign.torque`; the leg solved for its crank torque
+    once per ``params``)."""
 
     def __init__(self, plan, fraction: float, *, centre_distance: float, module: float, n_bumps: int = 4,
                  pressure_angle: float = math.radians(20.0), max_pressure_angle: float = math.radians(30.0),
@@ -129,10 +130,18 @@ class CodesignProblem:
             margins = TransferMargins(window, hermite * scale, bumps * scale[:, None], k0, dk,
                                       centre_distance=self.centre_distance, undercut_limit=self.undercut_limit,
                                       max_pressure_angle=self.max_pressure_angle, ratio_bounds=self.ratio_bounds,
-                                      torque=self._torque(foot, params, q), torque_limit=self.max_torque)
+                                      torque=self._torque(foot, params, q), torque_limit=self._search_limit())
             self._cache = {"foot": foot, "basis": basis, "q": q, "margins": margins}
             self._key = key
         return self._cache
+
+    def _search_limit(self):
+        """The limit the margin ``torque`` holds the sampled peak to: a hair inside ``max_torque``
+        (:data:`~assur.codesign.torque.SEARCH_SAFETY`), so the refined peak of the design stays within it."""
+        if self.max_torque is None:
+            return None
+        from .torque import SEARCH_SAFETY
+        return self.max_torque * (1.0 - SEARCH_SAFETY)
 
     def _torque(self, foot, params, q):
         """(g, g′, g″) on the samples q → peak motor torque (N·m), or None without a limit."""

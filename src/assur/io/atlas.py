@@ -1,5 +1,5 @@
 """Each atlas entry as a mechanism: the mechanism file of a sketch that assembles, and its SVG drawing
-(docs/atlas.md, "Each entry as a mechanism").
+(docs/atlas.md, "Each entry as a mechanism"); a face of the atlas (:mod:`assur.structure.atlas`, the mathematics).
 
 :func:`mechanism_entry` tries the sketches of :func:`assur.structure.atlas.layout.sketch` (attempt 0, 1, …) until
 the engine assembles one over a full crank turn: it compiles the mechanism file's document, solves it at the

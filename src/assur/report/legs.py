@@ -1,5 +1,6 @@
 """The walking-leg ranking as files: a report page with a thumbnail, the metrics and a ready mechanism file per
-entry (docs/atlas.md, "Walking legs ranked by gait").
+entry (docs/atlas.md, "Walking legs ranked by gait"); a face of the atlas (:mod:`assur.structure.atlas`) and of
+its ranking (:mod:`assur.synthesis.legs`).
 
 :func:`write_leg_ranking` writes, into one directory at once (all or nothing):
 

@@ -1,5 +1,6 @@
 """Walking legs ranked by their gait: type synthesis followed by a short dimensional synthesis of every candidate
-(docs/atlas.md, "Walking legs ranked by gait").
+(docs/atlas.md, "Walking legs ranked by gait"); the synthesis face of the atlas (:mod:`assur.structure.atlas`, the
+mathematics, which knows nothing of it).
 
 A *candidate* is an atlas mechanism of ``links`` links and mobility 1 (:mod:`assur.structure.atlas`), one of its
 crank placements (a link hinged to the frame drives it) and a *foot link*: a moving link other than the crank,
