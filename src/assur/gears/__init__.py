@@ -3,7 +3,9 @@
 Public names: :func:`pitch_pair`, :class:`PitchCurve`, :class:`GearPair` (pitch.py); the laws
 :class:`WheelStepLaw`, :func:`law_from_callable`, :func:`law_from_table`, :func:`law_from_ratio` (law.py);
 :class:`GearError` (:mod:`assur.errors`). Sector model, Tables 1–3 and the paper's tooth outlines:
-:mod:`assur.gears.sectors`; the wheel-step mover: :mod:`assur.gears.wheelstep`; design files: :mod:`assur.gears.design`.
+:mod:`assur.gears.sectors`; the wheel-step mover's shoe: :mod:`assur.gears.wheelstep`; a design's data:
+:mod:`assur.gears.design` (its files are read by :mod:`assur.io.gear_file`). Gear geometry only: designing a
+mechanism and its gears together is :mod:`assur.codesign`'s.
 """
 from ..errors import GearError
 from .law import (TransmissionLaw, WheelStepLaw, law_from_callable, law_from_ratio, law_from_table)

@@ -11,6 +11,10 @@ Displacements, eqs. (4), (5), (6) as corrected to agree with (10), and (10): ``X
 ``X_II = (a − b + c)π/2 − 3b``, ``X_01 = (a − b + c)π/2 + 3b``.
 Mover displacement over a step: ``X(φ) = (a − b + c)φ + 1.5 b sin 2φ`` = rolling part ∫₀^φ R + crank
 part ``3b sin 2φ`` (not printed in the paper; this form regenerates its Table 1).
+
+The shoe lives with the gears because the paper's gear law (:class:`assur.gears.law.WheelStepLaw`, and a gear
+file's ``kind = "wheelstep"`` law) is defined on its displacement X(φ); the mover's drive redesigned together with
+it is :mod:`assur.codesign.wheelstep`.
 """
 from __future__ import annotations
 
