@@ -114,7 +114,8 @@ def test_the_summary_gives_the_drives_cost_before_and_after(bundle):
     assert drive["after"]["peak"] > 3 * drive["before"]["peak"]        # the cost issue 25 C2 measured
     assert "M (frame–motor)" in drive["after"]["joint_peaks"] and "M (frame–motor)" not in drive["before"]["joint_peaks"]
     page = (bundle / "index.html").read_text(encoding="utf-8")
-    assert "peak motor torque" in page and f"{drive['after']['peak']:.4g}" in page and "foot_speed" in page
+    assert "peak motor torque" in page and f"{drive['after']['peak']:.4g}" in page
+    assert 'alt="foot speed before and after" src="data:image/png;base64,' in page
 
 
 def test_a_torque_limit_on_a_leg_without_masses_is_a_one_line_error(tmp_path, capsys):

@@ -165,7 +165,8 @@ def test_codesign_carries_the_limit_to_its_checks(plan):
 def test_the_joint_search_holds_the_limit_on_the_written_file(plan, tmp_path):
     from assur.codesign.joint import optimize_codesign
     from assur.synthesis.design import mechanism_with_params
-    d = optimize_codesign(plan, 0.8, centre_distance=L_C, module=MODULE, budget=100, seed=1, max_torque=20.0)
+    d = optimize_codesign(plan, 0.8, centre_distance=L_C, module=MODULE, budget=50, popsize=5, seed=1,
+                          max_torque=20.0)
     assert d.feasible and d.checks.torque_peak <= 20.0
     leg = assur.compile(mechanism_with_params(plan, d.params))
     torque = file_torque(geared_plan(d.law, leg, tmp_path))[-1]
