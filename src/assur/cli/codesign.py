@@ -210,7 +210,7 @@ def write_bundle(out: Path, plan, params, law, checks, *, stem, options, args, l
         from ..codesign.transfer import tradeoff
         rows = tradeoff(plain, centre_distance=options["centre_distance"], module=options["module"],
                         max_pressure_angle=options["max_pressure_angle"], ratio_bounds=options["ratio_bounds"],
-                        seed=args.seed)
+                        seed=args.seed, max_torque=options["max_torque"])
         R.tradeoff_figure(rows, out / "tradeoff.png")
         summary["tradeoff"] = rows
     return summary
