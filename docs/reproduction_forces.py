@@ -15,7 +15,6 @@ import numpy as np
 
 import assur
 from assur.kinetostatics.design import drive_summary
-from assur.kinetostatics.gait import gait_forces
 
 ROOT = Path(__file__).resolve().parents[1]
 EX = ROOT / "examples"
@@ -111,7 +110,7 @@ def legs():
         q = np.linspace(0, 2 * math.pi, STEPS, endpoint=False)
         f = assur.forces(plan, inputs=q)
         s = drive_summary(f, q)
-        gf = gait_forces(plan, steps=STEPS)
+        gf = assur.Study(plan, steps=STEPS).force_cycle.gait
         mod = gf.module_driver
         check = _virtual_power_check(plan, f)
         rows.append((paper, name, _g(s.peak), _g(s.rms), _g(gf.weight), len(gf.phases), _g(np.max(np.abs(mod))),

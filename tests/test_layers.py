@@ -20,8 +20,6 @@ SRC = ROOT / "src" / "assur"
 DOC = ROOT / "docs" / "architecture.md"
 
 
-@pytest.mark.xfail(strict=True, reason="report/analysis.py ↔ report/mechanism.py (stroke_html, since 01f5dc0); "
-                                       "gears ↔ io ↔ analysis is gone (the co-design package)")
 def test_src_keeps_the_declared_layers():
     found = violations(Tree(SRC), read_table(DOC), read_dynamic(DOC))
     assert not found, f"{len(found)} import rule(s) broken in src/assur:\n" + "\n".join(sorted(set(found)))

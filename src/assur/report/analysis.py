@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 
-from .page import escape, table
+from ..errors import SpecError
+from .page import escape, png_tag, table
 from .text import actuator_rows, deg_text, format_number, gait_rows, length_display, on_arc, phases_text
 
 __all__ = ["analysis_html", "analysis_lines", "dyad_lines", "link_rows", "output_lines", "transmission_rows"]
@@ -122,6 +123,33 @@ def _stroke_lines(act: dict, length_factor: float, length_unit: str) -> list[str
     return out
 
 
+def stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list[str]:
+    """A linear driver's working stroke: the envelope tables and the actuator figure."""
+    rows = actuator_rows(act, length_factor, length_unit)
+    parts = [f"<p>{escape(line)}</p>" for line in rows["stroke"]]
+    if rows["lever"]:
+        parts.append("<h3>Lever manipulator (paper 002 parametrisation)</h3>")
+        parts.append(table(["quantity", "value", "unit"], rows["lever"], num_cols=(1,)))
+    parts.append("<h3>Stroke envelope</h3>")
+    parts.append('<p class="note">Extremes along the stroke; interior ones located by a root of the '
+                 "derivative.</p>")
+    parts.append('<div class="scroll">' + table(["rod", "quantity", "min (where)", "max (where)",
+                                                 "interior extrema", "unit"], rows["extremes"]) + "</div>")
+    if rows["pairs"]:
+        parts.append("<h3>Rods hinged at one joint</h3>")
+        parts.append(table(["quantity", "value", "note"], rows["pairs"], num_cols=(1,)))
+    try:
+        from ..plot.actuators import actuator_figure
+        from ..plot.draw import close, figure_png
+        fig = actuator_figure(plan)
+        parts.append(png_tag(figure_png(fig, dpi=80), "angular velocities and accelerations of the rods, "
+                                                      "K_ω and length changes along the stroke"))
+        close(fig)
+    except SpecError as exc:
+        parts.append(f'<p class="note">no actuator figure: {escape(exc)}</p>')
+    return parts
+
+
 def analysis_lines(study, system: str = "file") -> list[str]:
     """The human-readable analysis of a Study (``assur analyze``)."""
     plan = study.plan
@@ -206,7 +234,6 @@ def analysis_html(study, units: str = "file") -> str:
     if plan.n_inputs != 1:
         return "\n".join(parts)
     if plan.dimension == 2 and not study.turn:
-        from .mechanism import stroke_html
         act = study.actuators
         if "note" in act:
             return "\n".join(parts + [f'<p class="note">{escape(act["note"])}</p>'])

@@ -19,7 +19,7 @@ from ..analysis.study import Study
 from ..errors import SpecError
 from .page import escape, header, page, png_tag, section, table
 from .analysis import analysis_html
-from .text import (actuator_rows, deg_text, dyad_kind_number, format_number, length_display, on_arc, parameter_rows,
+from .text import (deg_text, dyad_kind_number, format_number, length_display, on_arc, parameter_rows,
                    phases_text, roman, speed_text)
 
 __all__ = ["build_report", "write_report"]
@@ -74,33 +74,6 @@ def drivers_html(plan) -> str:
             what = f"actuator {d.actuator}"
         rows.append((d.name, d.kind, what, speed_text(d.kind, d.speed, m.units)))
     return table(["driver", "kind", "", "speed"], rows)
-
-
-def stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list[str]:
-    """A linear driver's working stroke: the envelope tables and the actuator figure."""
-    rows = actuator_rows(act, length_factor, length_unit)
-    parts = [f"<p>{escape(line)}</p>" for line in rows["stroke"]]
-    if rows["lever"]:
-        parts.append("<h3>Lever manipulator (paper 002 parametrisation)</h3>")
-        parts.append(table(["quantity", "value", "unit"], rows["lever"], num_cols=(1,)))
-    parts.append("<h3>Stroke envelope</h3>")
-    parts.append('<p class="note">Extremes along the stroke; interior ones located by a root of the '
-                 "derivative.</p>")
-    parts.append('<div class="scroll">' + table(["rod", "quantity", "min (where)", "max (where)",
-                                                 "interior extrema", "unit"], rows["extremes"]) + "</div>")
-    if rows["pairs"]:
-        parts.append("<h3>Rods hinged at one joint</h3>")
-        parts.append(table(["quantity", "value", "note"], rows["pairs"], num_cols=(1,)))
-    try:
-        from ..plot.actuators import actuator_figure
-        from ..plot.draw import close, figure_png
-        fig = actuator_figure(plan)
-        parts.append(png_tag(figure_png(fig, dpi=80), "angular velocities and accelerations of the rods, "
-                                                      "K_ω and length changes along the stroke"))
-        close(fig)
-    except SpecError as exc:
-        parts.append(f'<p class="note">no actuator figure: {escape(exc)}</p>')
-    return parts
 
 
 def module_html(summary: dict, plan, gait, steps: int) -> str:
