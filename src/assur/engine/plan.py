@@ -28,7 +28,7 @@ from ..model.mechanism import Mechanism
 from ..structure.assur import Structure
 
 #: step kinds; the position in this tuple is the integer code in ``plan.step_kind``
-STEP_KINDS = ("frame", "crank", "RRR", "RRP", "RPR", "PRP", "PPR", "newton", "RSS", "gear")
+STEP_KINDS = ("frame", "crank", "RRR", "RRP", "RPR", "PRP", "PPR", "newton", "RSS", "gear", "cam", "cam_slide")
 #: parameter kinds; the position in this tuple is the integer code in ``plan.param_kind``
 PARAM_KINDS = ("length", "angle", "number")
 #: planar dyads with two assemblies (a sign chosen once at compile time)
@@ -112,6 +112,43 @@ class GearSlot:
     source: int
     sense: float
     sketch: float
+
+
+@dataclass(frozen=True, slots=True)
+class CamStep(CrankStep):
+    """An oscillating follower driven by a cam: a crank step (sense 1) about the follower's frame pivot whose
+    ``input`` indexes the plan's slots (inputs, gear slots, then cam slots: :class:`CamSlot`); ``cam`` indexes
+    ``mechanism.cams``."""
+    kind: ClassVar[str] = "cam"
+    cam: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class CamSlideStep(StepRecord):
+    """A translating follower driven by a cam: the follower ``bodies[0]`` slides on the frame line ``line`` (index
+    into ``plan.lines``) without turning, its reference point at ``params[start_param] + slot`` along the line from
+    the line's point (``input`` indexes the plan's slots, as for :class:`CamStep`); ``cam`` indexes
+    ``mechanism.cams``."""
+    kind: ClassVar[str] = "cam_slide"
+    param_fields: ClassVar[tuple[str, ...]] = ("start_param",)
+    bodies: tuple[int, ...]
+    line: int
+    input: int
+    start_param: int
+    cam: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class CamSlot:
+    """How a cam pair's follower motion follows from the inputs: the cam's rotation from the sketch is
+    x = ``sense``·(q[source] − ``sketch``) (``source`` an input, or an earlier slot with sense 1 and sketch 0), and
+    the follower's move from the sketch is ``lift_sign``·``cam.relative(x)`` (m along its slide, or rad about its
+    pivot). ``cam`` indexes ``mechanism.cams``."""
+    cam: int
+    source: int
+    sense: float
+    sketch: float
+    lift_sign: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -435,6 +472,9 @@ class PlanarPlan(PlanBase):
     sketch_poses: tuple = field(repr=False, default=())
     #: per gear pair, in solve order: how its driven rotation follows from the inputs (:class:`GearSlot`)
     gear_slots: tuple = field(repr=False, default=())
+    #: per cam pair, in solve order: how its follower's move follows from the inputs (:class:`CamSlot`); their slot
+    #: indices follow the inputs' and the gear slots'
+    cam_slots: tuple = field(repr=False, default=())
 
     def dyad_steps(self) -> list:
         """The closed-form dyad steps (RRR, RRP, RPR, PRP, PPR), in solve order."""

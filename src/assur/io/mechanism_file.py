@@ -17,6 +17,7 @@ from ..tolerances import DEFAULT as TOL
 from . import units as U
 from .dynamics_file import MASS_KEYS, read_dynamics, read_gait_load
 from .mechanism_writer import as_dict, dump, dumps, to_dict
+from .cam_pairs import read_cam_pairs
 from .gear_pairs import read_gear_pairs
 from .problems import Problems
 from .toml_reader import parse_toml, read_text, read_toml
@@ -24,7 +25,7 @@ from .toml_reader import parse_toml, read_text, read_toml
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
 _TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
-        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears"}
+        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears", "cams"}
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
@@ -365,6 +366,11 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
                             source=source)
     if gears and dimension == 3:
         P.add("gears", "gear pairs need a planar mechanism (dimension = 2)")
+    cams = read_cam_pairs(data, P, length_factor=L, angle_factor=A, link_points={lk.name: lk.points for lk in links},
+                          frame_points=set(next((lk.points for lk in links if lk.name == FRAME), ())),
+                          prismatic=prismatic, drivers=drivers)
+    if cams and dimension == 3:
+        P.add("cams", "cam pairs need a planar mechanism (dimension = 2)")
     dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,
                              links=links, prismatic=prismatic, actuators=actuators, drivers=drivers)
 
@@ -394,7 +400,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     P.raise_if_any(source)
     m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                   actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
-                  joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, description=desc, units=units,
+                  joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, cams=cams, description=desc, units=units,
                   dimension=dimension)
     _warn_lengths_off_the_sketch(m, L, source)
     return m

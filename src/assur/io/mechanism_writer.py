@@ -9,6 +9,7 @@ import math
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT as TOL
 from . import units as U
+from .cam_pairs import law_table
 from .output import atomic_file
 from .toml_writer import dumps as write_toml
 
@@ -125,6 +126,8 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
         d["drivers"] = out
     if m.gears:
         d["gears"] = [_gear_table(gp, an) for gp in m.gears]
+    if m.cams:
+        d["cams"] = [_cam_table(cp, ln, an) for cp in m.cams]
     if m.branches:
         d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
     if m.joints:
@@ -161,6 +164,19 @@ def _gear_table(gp, an) -> dict:
     if law.kind != "ratio" and gp.design is None and law.driving_turns != 1:
         t["driving_turns"] = law.driving_turns
     t |= {"mesh": gp.mesh, "phase": an(gp.phase), "pressure_angle": an(gp.pressure_angle)}
+    return t
+
+
+def _cam_table(cp, ln, an) -> dict:
+    """A ``[[cams]]`` entry (lifts in the file's length unit, or its angle unit for an oscillating follower)."""
+    t = {"name": cp.name, "cam": cp.cam, "follower": cp.follower, "point": cp.point, "contact": cp.contact}
+    if cp.contact == "roller":
+        t["roller_radius"] = ln(cp.roller_radius)
+    if cp.contact == "flat" and cp.face_angle:
+        t["face_angle"] = an(cp.face_angle)
+    t |= {"phase": an(cp.phase), "rotation": "ccw" if cp.rotation > 0 else "cw",
+          "pressure_limit": an(cp.pressure_limit)}
+    t["law"] = law_table(cp.law, an, an if cp.motion == "oscillating" else ln)
     return t
 
 

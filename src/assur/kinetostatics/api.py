@@ -138,18 +138,23 @@ def _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, 
     with np.errstate(all="ignore"):
         K.outputs(prog.pr, prog.ln, prog.drv, prog.sense, prog.slide_of, z, p, orient, lam, reac, slides, frame,
                   driver)
-    reac, driver, gears = np.moveaxis(reac, -1, 0), driver.T.copy(), None
+    reac, driver, gears, cams = np.moveaxis(reac, -1, 0), driver.T.copy(), None, None
+    slides = np.moveaxis(slides, -1, 0)
+    if plan.cam_slots:                               # before the gears: a cam's drive may be a gear's torque
+        from .camming import cam_forces
+        with np.errstate(all="ignore"):
+            cams = cam_forces(plan, tables, state, lam, reac, slides, driver, prog.slide_of)
     if plan.gear_slots:
         from .gearing import gear_forces
         inputs = np.broadcast_to(state.inputs, shape + (plan.n_inputs,)).reshape(n, -1)
         with np.errstate(all="ignore"):
             gears = gear_forces(plan, tables, z, inputs, lam, reac, driver)
-    return _result(plan, state, reac, np.moveaxis(slides, -1, 0), frame.T, driver, cond,
-                   lam.T, iterations=iterations, converged=converged, method=method, tol=tol, gears=gears)
+    return _result(plan, state, reac, slides, frame.T, driver, cond,
+                   lam.T, iterations=iterations, converged=converged, method=method, tol=tol, gears=gears, cams=cams)
 
 
 def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, converged, method, tol,
-            gears=None) -> Forces:
+            gears=None, cams=None) -> Forces:
     """The Forces of flat arrays (N, …): singular samples (a group's condition below the tolerance, or a
     non-finite unknown) and unassembled ones are NaN."""
     shape = state.shape
@@ -177,4 +182,6 @@ def _result(plan, state, reac, slides, frame, driver, cond, lam, *, iterations, 
                   singular=singular.reshape(shape), iterations=iterations, converged=converged, method=method,
                   state=state, slides=(rows, slides.reshape(shape + (len(rows), 2))),
                   gears={name: {k: np.where(bad, np.nan, v).reshape(shape) for k, v in g.items()}
-                         for name, g in (gears or {}).items()})
+                         for name, g in (gears or {}).items()},
+                  cams={name: {k: (np.where(bad, False, v) if v.dtype == bool else np.where(bad, np.nan, v)).reshape(shape)
+                               for k, v in g.items()} for name, g in (cams or {}).items()})

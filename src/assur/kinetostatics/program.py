@@ -57,7 +57,7 @@ class Program:
         """True when the compiled kernel covers the whole program (no generic group)."""
         return not self.generic and not self.geared
 
-    #: True when the plan has gear pairs (their tooth forces are applied by the numpy path)
+    #: True when the plan has gear or cam pairs (their tooth and contact forces are applied by the numpy path)
     geared: bool = False
 
 
@@ -154,7 +154,7 @@ def build_program(t: ForceTables) -> Program:
                    np.array(lforce, complex), torque, pr, ln, np.array(gr_rows, np.int64).reshape(-1, 12),
                    np.array(gb_list, np.int64), np.array(gd_list, np.int64), np.array(t.driver_pairs, np.int64),
                    sense, slide_of, t.n_unknowns, tuple(generic), loads_in_kernel,
-                   geared=bool(getattr(plan, "gear_slots", ())))
+                   geared=bool(getattr(plan, "gear_slots", ())) or bool(getattr(plan, "cam_slots", ())))
 
 
 def _group_row(t: ForceTables, bodies, mine, gb_list, gd_list):

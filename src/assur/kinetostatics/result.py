@@ -68,6 +68,10 @@ class Forces:
     #: ``line_of_action`` (complex unit vector of the force on the driven link), ``pitch_point`` (complex, m),
     #: each of the batch shape (:mod:`assur.kinetostatics.gearing`)
     gears: dict = field(repr=False, default_factory=dict)
+    #: per cam pair name: ``contact_force`` (N, ≥ 0 while the cam pushes), ``normal`` (complex unit vector of the
+    #: force on the follower), ``contact`` (complex, m), ``pressure_angle`` (rad), ``lost`` (bool: the cam would have
+    #: to pull), each of the batch shape (:mod:`assur.kinetostatics.camming`)
+    cams: dict = field(repr=False, default_factory=dict)
     _cache: dict = field(repr=False, default_factory=dict, compare=False)
 
     def _full(self, which: int, fill: float) -> np.ndarray:

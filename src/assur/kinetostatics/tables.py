@@ -12,6 +12,10 @@ body at the point to one other. Unknowns per pair (the columns of the equations)
     crank                T               the motor's torque on the crank (ccw positive)
     gear-driven link     T               the gear pair's torque on its driven link (ccw positive), later
                                          replaced by the tooth force (:mod:`.gearing`)
+    cam-driven rocker    T               the cam's torque on an oscillating follower, later replaced by the
+                                         contact force (:mod:`.camming`)
+    cam-driven slider    N, M, F         a translating follower's slide, F the cam's drive along it (later
+                                         replaced by the contact force)
 
 Each pair belongs to the group (plan step) that solves its later body; the groups are solved
 from the last back to the drivers, each from its own bodies' equilibrium.
@@ -92,6 +96,8 @@ class ForceTables:
     driver_pairs: tuple[int, ...]
     #: per gear slot of the plan: the 'T' pair of the gear's torque on its driven link
     gear_pairs: tuple[int, ...] = ()
+    #: per cam slot of the plan: the 'T' pair of an oscillating follower or the 'P' pair of a translating one
+    cam_pairs: tuple[int, ...] = ()
 
     @property
     def n_bodies(self) -> int:
@@ -150,12 +156,19 @@ def _build(plan: PlanarPlan) -> ForceTables:
             add("R", ranked[0], other, 2, point=pidx[point], name=point)
     driven = {d.actuator: k for k, d in enumerate(m.drivers) if d.kind == "linear"}
     line_of = {rec[1]: i for i, rec in enumerate(plan.lines)}
+    # a translating cam follower's slide carries the cam's drive as a third unknown, like a driven actuator's (its
+    # 'driven' index past the inputs: no input of its own)
+    cam_slides = {plan.lines[st.line][1]: plan.n_inputs + j
+                  for j, st in enumerate(s for s in plan.steps if s.kind in ("cam", "cam_slide")) if st.kind == "cam_slide"}
+    cam_pair_of: dict[str, int] = {}
     for p in g.pairs:
         if p.kind != "P":
             continue
         i, j = sorted(p.bodies, key=lambda b: rank[b])
-        k = driven.get(p.name, -1) if p.driven else -1
+        k = driven.get(p.name, -1) if p.driven else cam_slides.get(p.name, -1)
         add("P", i, j, 3 if k >= 0 else 2, line=line_of[p.name], driven=k, name=p.name)
+        if p.name in cam_slides:
+            cam_pair_of[p.name] = len(pairs) - 1
     driver_pairs = []
     for k, d in enumerate(m.drivers):
         if d.kind == "rotary":
@@ -167,6 +180,13 @@ def _build(plan: PlanarPlan) -> ForceTables:
     for st in plan.steps_of("gear"):
         add("T", 0, st.bodies[0], 1, point=pidx[st.pivot], name=m.gears[st.gear].name)
         gear_pairs.append(len(pairs) - 1)
+    cam_pairs = []
+    for st in plan.steps_of("cam", "cam_slide"):
+        if st.kind == "cam":
+            add("T", 0, st.bodies[0], 1, point=pidx[st.pivot], name=m.cams[st.cam].name)
+            cam_pairs.append(len(pairs) - 1)
+        else:
+            cam_pairs.append(cam_pair_of[plan.lines[st.line][1]])
     groups = []
     for i, st in enumerate(plan.steps):
         if st.kind == "frame":
@@ -177,7 +197,7 @@ def _build(plan: PlanarPlan) -> ForceTables:
     masses = tuple(_mass(plan, b, dyn.mass_of(g.bodies[b].name), pidx) if b else None for b in range(nb))
     angles = tuple(_angle(plan, b, pidx) for b in range(nb))
     return ForceTables(plan, dyn, tuple(pairs), col, tuple(groups), masses, angles,
-                       tuple(rank[b] for b in range(nb)), tuple(driver_pairs), tuple(gear_pairs))
+                       tuple(rank[b] for b in range(nb)), tuple(driver_pairs), tuple(gear_pairs), tuple(cam_pairs))
 
 
 def _sketch(m, p) -> complex:

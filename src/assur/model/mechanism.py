@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .dynamics import Dynamics
+from .camming import CamPair
 from .gearing import GearPair
 
 FRAME = "frame"
@@ -182,6 +183,8 @@ class Mechanism:
     dynamics: "Dynamics | None" = None
     #: gear pairs (higher pairs, p4) between links turning about frame pivots
     gears: tuple[GearPair, ...] = ()
+    #: cam pairs (higher pairs, p4): a cam turning about a frame pivot driving a translating or oscillating follower
+    cams: tuple[CamPair, ...] = ()
     description: str = ""
     units: Units = Units()
     dimension: int = 2
@@ -225,6 +228,8 @@ class Mechanism:
             rows.append((f"driver {d.name}", what))
         for gp in self.gears:
             rows.append((f"gear pair {gp.name}", f"{gp.a} → {gp.b} ({gp.mesh}, mean ratio {fmt(gp.law.mean_ratio)})"))
+        for cp in self.cams:
+            rows.append((f"cam pair {cp.name}", f"{cp.cam} → {cp.follower} ({cp.motion} {cp.contact} follower)"))
         if self.gait is not None:
             rows.append(("gait foot", self.gait.foot))
         return html_table(f"Mechanism {self.name}".rstrip(), rows)

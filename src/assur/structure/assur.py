@@ -11,6 +11,11 @@ hinged at the centres of curvature of the two pitch curves at the contact point 
 link). A gear pair whose driving link is determined therefore determines its driven link, hinged on the frame:
 the driven link and the substitute link form a class II group (an RRR dyad), written ``II(crank, drive′)``
 with the substitute link named after the pair.
+
+A cam pair is a higher pair (p4) too. Its follower either oscillates about a frame pivot or translates on a frame
+slide; with the cam determined, the follower and the pair's substitute link (hinged at the cam profile's centre of
+curvature at the contact and at the follower's: the roller's centre) form a class II group, an RRR dyad (oscillating)
+or an RRP dyad (translating), written ``II(follower, cam′)``.
 """
 from __future__ import annotations
 
@@ -34,6 +39,7 @@ class GroupKind(str, Enum):
     GENERAL = "general"
     RSS = "RSS"   # spatial: rocker hinged on the frame (R), coupler with spherical ends (S, S)
     GEAR = "gear"  # a link hinged on the frame and driven through a gear pair (with its substitute link, an RRR dyad)
+    CAM = "cam"    # a follower hinged on, or sliding on, the frame and driven by a cam (with its substitute link)
 
     @property
     def dyad_kind_number(self) -> int | None:
@@ -132,13 +138,13 @@ class Structure:
             parts.append(f"I({', '.join([label(0)] + names(d.bodies))})")
         for g in self.groups:
             members = names(g.bodies)
-            if g.kind is GroupKind.GEAR:
+            if g.kind in (GroupKind.GEAR, GroupKind.CAM):
                 members.append(self.substitute_link(g))
             parts.append(f"{roman(g.group_class)}({', '.join(members)})")
         return " → ".join(parts)
 
     def substitute_link(self, group: "AssurGroup") -> str:
-        """The name of a gear group's substitute link: the gear pair's name primed."""
+        """The name of a gear or cam group's substitute link: the higher pair's name primed."""
         return f"{self.graph.pairs[group.outer[1][1]].name}′"
 
     def describe(self) -> list[dict]:
@@ -151,6 +157,9 @@ class Structure:
             })
             if g.kind is GroupKind.GEAR:
                 out[-1]["gear_pair"] = self.graph.pairs[g.outer[1][1]].name
+                out[-1]["substitute_link"] = self.substitute_link(g)
+            elif g.kind is GroupKind.CAM:
+                out[-1]["cam_pair"] = self.graph.pairs[g.outer[1][1]].name
                 out[-1]["substitute_link"] = self.substitute_link(g)
         return out
 
@@ -190,7 +199,7 @@ def analyse(m: Mechanism) -> Structure:
         groups = tuple(_spatial_group(g, dy) for dy in dyads)
         return Structure(g, n, PairCounts(counts), W, "Somov–Malyshev", drivers, groups,
                          tuple(g.bodies[i].source for i in left), idle=idle)
-    p4 = sum(1 for p in g.pairs if p.kind == "G")
+    p4 = sum(1 for p in g.pairs if p.kind in ("G", "C"))
     counts = {"p5": len(g.pairs) - p4, "p4": p4}
     W = mobility_chebyshev(n, counts["p5"], p4)
     drivers, groups, undetermined = _decompose(m, g)
@@ -228,7 +237,7 @@ def _decompose(m: Mechanism, g: StructureGraph):
             cyl, rod = g.index(f"{d.actuator}.cylinder"), g.index(f"{d.actuator}.rod")
             drivers.append(Driven(d.name, (cyl, rod), "linear"))
     # unit-level pairs (drop the driven slides, which are inputs)
-    upairs = [(i, p) for i, p in enumerate(g.pairs) if not (p.kind == "P" and p.driven) and p.kind != "G"]
+    upairs = [(i, p) for i, p in enumerate(g.pairs) if not (p.kind == "P" and p.driven) and p.kind not in ("G", "C")]
     units_all = sorted({u(i) for i in range(nb)})
     members = {x: tuple(i for i in range(nb) if u(i) == x) for x in units_all}
 
@@ -277,7 +286,7 @@ def _decompose(m: Mechanism, g: StructureGraph):
     groups = []
     unknown = [x for x in units_all if x not in known]
     while unknown:
-        geared = _gear_driven(g, known, u)
+        geared = _gear_driven(g, known, u) or _cam_driven(g, known, u)
         if geared is not None:
             groups.append(geared)
             known.add(u(geared.bodies[0]))
@@ -319,6 +328,27 @@ def _gear_driven(g: StructureGraph, known: set, u):
         if pivot is None:
             continue
         return AssurGroup((b,), 2, 2, GroupKind.GEAR, ((b, _pair_at(g, pivot, b, 0)), (b, i)), (), tuple(sorted({0, a})))
+    return None
+
+
+def _cam_driven(g: StructureGraph, known: set, u):
+    """The group of the first cam pair whose cam is determined and whose follower, hinged on the frame or sliding on
+    a frame slide, is not (None if there is none)."""
+    frame_points = set(g.bodies[0].points)
+    for i, p in enumerate(g.pairs):
+        if p.kind != "C":
+            continue
+        a, b = p.bodies
+        if u(a) not in known or u(b) in known:
+            continue
+        pivot = next((q for q in g.bodies[b].points if q in frame_points), None)
+        if pivot is not None:
+            own = _pair_at(g, pivot, b, 0)
+        else:
+            own = next((k for k, pk in enumerate(g.pairs) if pk.kind == "P" and set(pk.bodies) == {b, 0}), None)
+            if own is None:
+                continue
+        return AssurGroup((b,), 2, 2, GroupKind.CAM, ((b, own), (b, i)), (), tuple(sorted({0, a})))
     return None
 
 

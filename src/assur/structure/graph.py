@@ -3,7 +3,8 @@
 Bodies: the frame (index 0), every other link, one slider block per pin-in-slot prismatic pair,
 and a cylinder and a rod per linear actuator. Pairs: a revolute joining k bodies at a point
 counts as k − 1 pairs; each prismatic pair and each actuator's cylinder–rod slide is one pair; each gear
-pair is one higher pair (kind 'G', class p4) between its two links.
+pair is one higher pair (kind 'G', class p4) between its two links, and so is each cam pair (kind 'C', the cam and
+its follower).
 """
 from __future__ import annotations
 
@@ -22,7 +23,8 @@ class Body:
 
 @dataclass(frozen=True, slots=True)
 class Pair:
-    kind: str          # 'R' (revolute at `point`), 'P' (prismatic named `name`) or 'G' (gear pair named `name`)
+    kind: str          # 'R' (revolute at `point`), 'P' (prismatic named `name`), 'G' (gear pair named `name`) or 'C'
+                       # (cam pair named `name`: bodies (cam, follower))
     bodies: tuple[int, int]
     point: str | None = None
     name: str | None = None
@@ -79,4 +81,6 @@ def build_graph(m: Mechanism) -> StructureGraph:
                           driven=ac.name in driven, joint="prismatic"))
     for gp in m.gears:
         pairs.append(Pair("G", (index[gp.a], index[gp.b]), name=gp.name, joint="gear"))
+    for cp in m.cams:
+        pairs.append(Pair("C", (index[cp.cam], index[cp.follower]), name=cp.name, joint="cam"))
     return StructureGraph(tuple(bodies), tuple(pairs), tuple(joints))

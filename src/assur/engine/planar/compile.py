@@ -19,6 +19,7 @@ from ...structure.assur import GroupKind, Structure, analyse
 from ...tolerances import DEFAULT
 from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, GearSlot, GearStep, NewtonStep, PlanarPlan,
                     PPRStep, PRPStep, RPRStep, RRPStep, RRRStep, Side)
+from .cam_steps import cam_step
 from .newton_group import sketch_branch_sign, sketch_misfit
 from .steps import context_at, run_steps
 
@@ -171,9 +172,12 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT, structure: Structure | N
             sketch_inputs.append(abs(B.sketch(ac.between[1]) - B.sketch(ac.between[0])))
             actuator_input[d.actuator] = k
     gear_slots: list = []
+    cam_slots: list = []
     for grp in s.groups:
         if grp.kind == GroupKind.GEAR:
             steps.append(_gear_step(m, B, grp, steps, gear_slots, sketch_inputs))
+        elif grp.kind == GroupKind.CAM:
+            steps.append(cam_step(m, B, grp, steps, gear_slots, cam_slots, sketch_inputs))
         else:
             steps.append(_group_step(m, s, B, grp, actuator_input))
     # which body places each point
@@ -190,7 +194,7 @@ def compile_planar(m: Mechanism, *, tolerances=DEFAULT, structure: Structure | N
         input_kinds=tuple(input_kinds), sketch_inputs=np.array(sketch_inputs, dtype=float),
         speeds=np.array(speeds, dtype=float), point_body=tuple(point_body), param_kind=np.array(B.kinds),
         geometry_program=tuple(B.recipes), lines=tuple(B.lines), length_scale=m.length_scale,
-        sketch_poses=_sketch_frames(B, g), gear_slots=tuple(gear_slots))
+        sketch_poses=_sketch_frames(B, g), gear_slots=tuple(gear_slots), cam_slots=tuple(cam_slots))
     if B.problems:
         raise SpecError(B.problems)
     sketch_e = [cmath.exp(1j * th) for _, _, th in plan.sketch_poses]
@@ -268,8 +272,10 @@ def _gear_step(m, B, grp, steps, gear_slots, sketch_inputs) -> GearStep:
         elif st.bodies == (a,) and st.kind == "gear":
             source = (st.input, 1.0, 0.0)
     if source is None:
+        cammed = any(st.bodies == (a,) and st.kind == "cam" for st in steps)
         raise StructureError(f"gear pair '{gp.name}': its driving link '{gp.a}' must be a driven crank or the "
-                             f"driven link of another gear pair (a link the drive turns directly)")
+                             f"driven link of another gear pair (a link the drive turns directly)"
+                             + ("; a gear driven by a cam's follower is not supported" if cammed else ""))
     pivot = g.pairs[grp.outer[0][1]].point
     arm = next(p for p in g.bodies[b].points if p != pivot)
     zero = B.param(f"{gp.name}.zero", cmath.phase(B.sketch(arm) - B.sketch(pivot)), "angle")

@@ -13,6 +13,7 @@ from ...kernels import planar
 from ...kernels.jet import Jet, expi
 from ...tolerances import DEFAULT
 from ..options import continuation, stage_count
+from .cam_steps import cam_slide, slot_jet
 from .geometry import geometry
 from .newton_group import solve_group
 
@@ -83,7 +84,8 @@ class Context:
 
 def with_gear_slots(plan, q_jets) -> list:
     """The input jets followed by one jet per gear slot of the plan: the driven link's rotation from the sketch
-    through the pair's law (chain rule: y' = L'·x', y'' = L''·x'² + L'·x'')."""
+    through the pair's law (chain rule: y' = L'·x', y'' = L''·x'² + L'·x''), then one per cam slot (the follower's
+    move, :func:`.cam_steps.slot_jet`)."""
     out = list(q_jets)
     for sl in getattr(plan, "gear_slots", ()):
         x = (out[sl.source] - sl.sketch) * sl.sense
@@ -91,6 +93,8 @@ def with_gear_slots(plan, q_jets) -> list:
         d = None if x.d is None else y1 * x.d
         dd = None if (x.dd is None or x.d is None) else y2 * (x.d * x.d) + y1 * x.dd
         out.append(Jet(y, d, dd))
+    for sl in getattr(plan, "cam_slots", ()):
+        out.append(slot_jet(plan, sl, (out[sl.source] - sl.sketch) * sl.sense))
     return out
 
 
@@ -175,7 +179,7 @@ def _ppr(c: Context, st):
 
 
 EXECUTORS = {"frame": _frame, "crank": _crank, "gear": _crank, "RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "PPR": _ppr,
-             "newton": solve_group}
+             "newton": solve_group, "cam": _crank, "cam_slide": cam_slide}
 CLOSED_FORMS = ("RRR", "RRP", "RPR", "PRP", "PPR")
 
 
