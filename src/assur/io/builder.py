@@ -130,6 +130,16 @@ class Builder:
         return self._append("drivers", {"kind": "linear", **_given(name=name, actuator=actuator, speed=speed,
                                                                    range=range, law=law)})
 
+    def cam(self, cam: str, follower: str, *, point: str, law, contact: str | None = None, roller_radius=None,
+            face_angle=None, phase=None, rotation: str | None = None, pressure_limit=None,
+            name: str | None = None) -> "Builder":
+        """A cam pair (``[[cams]]``): ``cam`` (turning about a frame pivot) drives ``follower`` (translating on a frame
+        slide, or oscillating about a frame pivot) through its trace ``point``; ``law`` a list of segments
+        ``{"motion": "cycloidal", "angle": 120, "lift": 20}`` or a spline ``{"angle": [...], "lift": [...]}``."""
+        return self._append("cams", _given(name=name, cam=cam, follower=follower, point=point, contact=contact,
+                                           roller_radius=roller_radius, face_angle=face_angle, phase=phase,
+                                           rotation=rotation, pressure_limit=pressure_limit, law=law))
+
     def branch(self, point: str, side: str, of: tuple[str, str]) -> "Builder":
         """Assemble ``point`` on ``side`` ('left' | 'right') of the directed line of[0] → of[1] (``[branches]``)."""
         return self._put("branches", point, {"side": side, "of": _plain(of)})
