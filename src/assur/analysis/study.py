@@ -29,6 +29,11 @@ Fields (None where they do not apply; SI units):
 ``population_gait`` the sampled gait (no refinement: what a drag previews and synthesis optimises)
 ``actuators``       a linear driver's working-stroke summary (dict)
 ``spatial``         [:class:`~assur.analysis.spatial.DyadSummary`] of a spatial mechanism's R–S–S dyads
+``instant_centres`` :class:`~assur.analysis.instant_centres.InstantCentres`: every relative instant centre over the
+                    run (planar); ``centres_at(q)`` at other inputs; ``centrodes(a, b)``, ``inflection(body)``
+``cams``            {pair: :class:`~assur.cams.geometry.CamGeometry`} of the file's cam pairs (profile, checks)
+``sensitivity``     :class:`~assur.analysis.sensitivity.Sensitivity`: exact derivatives of every output over the
+                    run with respect to every parameter (planar)
 ``forces``          :class:`~assur.kinetostatics.result.Forces` over the run (a file with masses or loads)
 ``force_cycle``     :class:`~assur.kinetostatics.overview.ForceCycle` (forces, drive summary, the module's gait
                     forces); ``force_summary`` its JSON form
@@ -257,6 +262,54 @@ class Study(Cycle):
             return None
         from .spatial import dyad_summaries
         return dyad_summaries(self)
+
+    # -- instant centres, centrodes, cams ---------------------------------------------------------------------
+    @cached_property
+    def instant_centres(self):
+        """Every relative instant centre over the run (:class:`~.instant_centres.InstantCentres`, planar; else None)."""
+        if self.plan.dimension != 2:
+            return None
+        from .instant_centres import instant_centres
+        return instant_centres(self.plan, self.state)
+
+    def centres_at(self, q):
+        """The instant centres at inputs ``q (k,)`` of the moving input (a refinement solve)."""
+        from .instant_centres import instant_centres
+        return instant_centres(self.plan, self.state_at(np.atleast_1d(np.asarray(q, dtype=float))))
+
+    def centrodes(self, moving, fixed="frame"):
+        """The fixed and moving centrodes of body ``moving`` relative to ``fixed`` over the run
+        (:class:`~.centrodes.Centrodes`; kept per pair)."""
+        key = ("centrodes", moving, fixed)
+        cache = self.__dict__.setdefault("_pairs", {})
+        if key not in cache:
+            from .centrodes import centrodes
+            cache[key] = centrodes(self.plan, self.state, moving, fixed)
+        return cache[key]
+
+    def inflection(self, body):
+        """The inflection circle of ``body`` relative to the frame over the run (:class:`~.centrodes.Inflection`)."""
+        key = ("inflection", body)
+        cache = self.__dict__.setdefault("_pairs", {})
+        if key not in cache:
+            from .centrodes import inflection_circle
+            cache[key] = inflection_circle(self.plan, self.state, body)
+        return cache[key]
+
+    @cached_property
+    def cams(self) -> dict:
+        """{cam pair name: :class:`~assur.cams.geometry.CamGeometry`} at the study's parameters (the sketch as x = 0)."""
+        from ..cams.followers import from_plan
+        return {cp.name: from_plan(self.plan, k, self.params) for k, cp in enumerate(self.plan.mechanism.cams)}
+
+    @cached_property
+    def sensitivity(self):
+        """Exact derivatives of every output over the run by every parameter
+        (:class:`~assur.analysis.sensitivity.Sensitivity`, planar; else None)."""
+        if self.plan.dimension != 2:
+            return None
+        from .sensitivity import sensitivity
+        return sensitivity(self)
 
     # -- forces ----------------------------------------------------------------------------------------------
     @property
