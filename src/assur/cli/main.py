@@ -1,7 +1,8 @@
 """The ``assur`` command line: the parser and the dispatch to the commands of
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
 (forces), :mod:`assur.cli.synth`
-(synth), :mod:`assur.cli.gears` (gears, wheelstep) and :mod:`assur.cli.exchange` (import, export).
+(synth), :mod:`assur.cli.gears` (gears, wheelstep), :mod:`assur.cli.exchange` (import, export) and
+:mod:`assur.cli.sensitivity` (sensitivity), :mod:`assur.cli.cams` (cam).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
 invalid file, a structure that cannot be solved, a missing file or optional package, an output that cannot be
@@ -32,12 +33,14 @@ def build_parser():
     import argparse
 
     from ..version import __version__
-    from . import atlas, codesign, design, exchange, forces, gears, mechanism, synth
+    from . import atlas, cams, codesign, design, exchange, forces, gears, mechanism, sensitivity, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
     mechanism.register(sub)
     forces.register(sub)
+    sensitivity.register(sub)
+    cams.register(sub)
     synth.register(sub)
     gears.register(sub)   # `assur gears` and `assur wheelstep`
     codesign.register(sub)

@@ -221,6 +221,7 @@ def draw_mechanism(ax, plan, pos_row, *, params=None, color="C0", alpha=1.0, lin
             _guide(cv, q0 + float((c - q0) @ u) * u, d, 5 * size, size)
         _block(cv, c, d, size, col, alpha, z=z + 0.5)
     _gear_curves(cv, plan, pos, k, col, alpha, z)
+    _cam_profiles(cv, plan, pos, params, k, col, alpha, z)
     # ground symbols at the frame pivots
     if pivots:
         for p in m.frame.points:
@@ -264,6 +265,59 @@ def _gear_curves(cv: "_Canvas", plan, pos, k, col, alpha, z):
             w = centre + turn * curve
             xy = np.column_stack([w.real, w.imag]) * k
             cv.line(np.vstack([xy, xy[:1]]), col, 1.0, 0.8 * alpha, z - 0.5)
+
+
+def cam_outline(plan, index: int, params=None, samples: int = 720):
+    """(profile, pitch) (samples,) complex in the cam's frame (origin its pivot, x along pivot → arm in the sketch)
+    of cam pair ``index`` at ``params`` (kept for the last few designs: an animation draws it every frame)."""
+    key = (None if params is None else tuple(np.asarray(params, dtype=float).tolist()), index, samples)
+    cache = _CAM_CACHE.setdefault(plan, {})
+    if key not in cache:
+        from ..cams.followers import from_plan
+        g = from_plan(plan, index, params)
+        c = g.turn_samples(samples)
+        if len(cache) > 8:
+            cache.clear()
+        cache[key] = (c.profile, c.pitch, g)
+    return cache[key]
+
+
+import weakref  # noqa: E402
+
+_CAM_CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _cam_profiles(cv: "_Canvas", plan, pos, params, k, col, alpha, z):
+    """Each cam pair's profile turned with its cam (its pivot → arm direction now against the sketch), the pitch
+    curve dashed, and the follower's roller (a circle at the trace point) or flat face (a segment through it)."""
+    m = plan.mechanism
+    if not m.cams:
+        return
+    from ..model.camming import cam_ends
+    for j, cp in enumerate(m.cams):
+        profile, pitch, g = cam_outline(plan, j, params)
+        pivot, arm = cam_ends(m, cp)
+        O = complex(*pos[plan.point_index(pivot)])
+        now = complex(*pos[plan.point_index(arm)]) - O
+        turn = now / abs(now) / g.orientation
+        w = (O + turn * g.orientation * profile) * k
+        cv.poly(np.column_stack([w.real, w.imag]), "0.85", col, 1.0, 0.9 * alpha, z - 0.6)
+        R = complex(*pos[plan.point_index(cp.point)]) * k
+        if cp.contact == "roller":
+            t = np.exp(1j * np.linspace(0.0, 2 * math.pi, 48))
+            c = R + cp.roller_radius * k * t
+            cv.poly(np.column_stack([c.real, c.imag]), "white", col, 1.0, alpha, z + 0.2)
+        elif cp.contact == "flat":
+            if cp.motion == "translating":
+                face = 1j * g.direction
+            else:
+                Of = complex(*pos[plan.point_index(next(p for p in m.link(cp.follower).points
+                                                        if p in set(m.frame.points)))]) * k
+                face = (R - Of) / abs(R - Of)
+            face = face * complex(math.cos(cp.face_angle), math.sin(cp.face_angle))
+            half = 0.6 * abs(g.trace - g.pivot) * k
+            cv.line([[(R - half * face).real, (R - half * face).imag], [(R + half * face).real, (R + half * face).imag]],
+                    col, 2.0, alpha, z + 0.2)
 
 
 def set_limits(ax, pts, margin=0.08):

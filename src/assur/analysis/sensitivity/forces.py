@@ -30,9 +30,8 @@ def coefficient(x: Series, k: int, factor: float = 1.0) -> Series:
     return Series([x.v[k] * factor], None if x.e1 is None else [x.e1[k] * factor])
 
 
-def _at(motion: Motion, X: list, p: list):
-    """(world(b, point) → position series, pose) at coordinates ``X`` and parameters ``p``."""
-    cl = motion.closure
+def _at(cl, X: list, p: list):
+    """(world(b, point) → position series, pose) of the closure ``cl`` at coordinates ``X`` and parameters ``p``."""
     w, _ = cl.geometry(p)
     from .series import expi
     pose = {0: (0j, 1 + 0j)}
@@ -57,7 +56,7 @@ def _loads(motion: Motion, plan, inputs):
     from ...kinetostatics.tables import force_tables
     t = force_tables(plan)
     cl = motion.closure
-    world, pose = _at(motion, motion.X, motion.params)
+    world, pose = _at(motion.closure, motion.X, motion.params)
     g = complex(*t.dynamics.gravity[:2])
     items = []
     for b, bm in enumerate(t.masses):
@@ -110,7 +109,7 @@ def _load_value(plan, load, q):
 
 def _virtual_work(motion: Motion, plan, items, X2, p2):
     """W at the displaced coordinates ``X2`` (ε₂ the virtual displacements) with the loads held."""
-    world, pose = _at(motion, X2, p2)
+    world, pose = _at(motion.closure, X2, p2)
     cl = motion.closure
     W = 0.0
     for b, f, where, couple in items:

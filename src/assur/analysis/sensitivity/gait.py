@@ -39,7 +39,7 @@ class _Foot:
         """x, v and their q-derivatives (value, ∂/∂q, ∂²/∂q², ∂/∂p, ∂²/∂q∂p) at inputs ``q (k,)``."""
         st = self.study.state_at(np.atleast_1d(np.asarray(q, dtype=float)))
         mo = solve_motion(self.study.plan, st)
-        world, _ = _at(mo, mo.X, mo.params)
+        world, _ = _at(mo.closure, mo.X, mo.params)
         z = world(self.b, self.name)
         w = self.w
         out = {}

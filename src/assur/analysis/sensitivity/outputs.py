@@ -64,7 +64,7 @@ class Outputs:
     # -- families ---------------------------------------------------------------------------------------------
     def _kinematics(self):
         plan, mo = self.plan, self.motion
-        world, _ = _at(mo, mo.X, mo.params)
+        world, _ = _at(mo.closure, mo.X, mo.params)
         for i, p in enumerate(plan.point_names):
             z = world(plan.point_body[i], p)
             for axis, part in (("x", np.real), ("y", np.imag)):
@@ -84,7 +84,7 @@ class Outputs:
 
     def _transmission(self):
         plan, mo = self.plan, self.motion
-        world, pose = _at(mo, [x.truncate(1) for x in mo.X], [x.truncate(1) for x in mo.params])
+        world, pose = _at(mo.closure, [x.truncate(1) for x in mo.X], [x.truncate(1) for x in mo.params])
         cl = mo.closure
         _, lines = cl.geometry([x.truncate(1) for x in mo.params])
 

@@ -46,7 +46,7 @@ def reactions(plan, motion: Motion, mult: Multipliers) -> list:
     lam = [Series([mult.value[:, c, None, None]], [mult.derivative[:, :, c, None]]) for c in range(cl.n)]
     X = [Series([x.v[0]], [x.e1[0]]) for x in motion.X]
     p = [x.truncate(1) for x in motion.params]
-    world, pose = _at(motion, X, p)
+    world, pose = _at(motion.closure, X, p)
     w, lines = cl.geometry(p)
     out = [None] * len(t.pairs)
     line_pair = {fp.line: k for k, fp in enumerate(t.pairs) if fp.kind == "P"}
