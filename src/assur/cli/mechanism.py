@@ -42,6 +42,8 @@ def register(sub) -> None:
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    sp.add_argument("--at", action="append", metavar="INPUT",
+                    help="also every relative instant centre at this input (file units; repeatable)")
     add_units(sp)
     sp = add("plot", cmd_plot, "a figure: paths, kinematic diagram, velocity and acceleration curves")
     sp.add_argument("-o", "--output", type=output_path(PLOT_EXTENSIONS), required=True, metavar="OUT",
@@ -55,7 +57,13 @@ def register(sub) -> None:
                     help="draw the force analysis instead: driving torque and power, reaction hodographs, the forces "
                          "on the diagram and Zhukovsky's lever (planar, one driver)")
     sp.add_argument("--at", metavar="INPUT", help="with --forces: the input (file units) of the diagram and the lever "
-                                                  "(default: where the driving effort peaks)")
+                                                  "(default: where the driving effort peaks); with --centres or "
+                                                  "--centrodes: the input drawn (default: the first of the run)")
+    sp.add_argument("--centres", action="store_true",
+                    help="draw every relative instant centre with Kennedy's lines at --at (planar)")
+    sp.add_argument("--centrodes", metavar="BODY",
+                    help="draw the fixed and moving centrodes of BODY relative to the frame and its inflection "
+                         "circle at --at (planar)")
     add_units(sp)
     add_range(sp)
     sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
@@ -74,6 +82,8 @@ def register(sub) -> None:
                     help="a synthesis problem file: the run's random seed (default 1)")
     sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
                     help="a synthesis problem file: objective evaluations in all")
+    sp.add_argument("--at", action="append", metavar="INPUT",
+                    help="a section with every relative instant centre at this input (file units; repeatable)")
     add_units(sp)
     add_range(sp)
 
@@ -165,7 +175,11 @@ def cmd_analyze(args) -> int:
     from ..report.analysis import analysis_lines
     m, plan = compile_file(args.file)
     study = Study(plan, steps=args.steps)
+    at = _centre_inputs(plan, args.at)
     summary = study.as_dict()
+    if at is not None:
+        from ..report.centres import centres_dict
+        summary["instant_centres"] = centres_dict(study, at)
     if args.json:
         print(json_text({"file": str(args.file), **summary}))
         return 0
@@ -175,7 +189,20 @@ def cmd_analyze(args) -> int:
         from ..report.forces import summary_lines
         print("Forces (N, N·m, W, J):")
         _emit(summary_lines(summary["forces"], plan))
+    if at is not None:
+        from ..report.centres import centres_lines
+        _emit(centres_lines(study, at, args.units))
     return 0
+
+
+def _centre_inputs(plan, texts):
+    """``--at`` values for the instant centres (file units) → SI inputs, or None; SpecError for a spatial file."""
+    if not texts:
+        return None
+    if plan.dimension != 2:
+        raise SpecError([("--at", "instant centres are for planar mechanisms")])
+    from .forces import parse_at
+    return [float(x) for x in parse_at(plan, texts)]
 
 
 def cmd_plot(args) -> int:
@@ -187,8 +214,11 @@ def cmd_plot(args) -> int:
     ranges = input_ranges(plan, args)
     if getattr(args, "forces", False):
         return _plot_forces(args, plan, ext)
+    if args.centres or args.centrodes:
+        return _plot_centres(args, plan, ext, ranges)
     if args.at is not None:
-        raise SpecError([("--at", "is for the force figures: add --forces")])
+        raise SpecError([("--at", "is for the force, centre and centrode figures: add --forces, --centres or "
+                                  "--centrodes")])
     if plan.dimension == 3:
         from ..plot import spatial as view
         if ext == ".html":
@@ -216,6 +246,25 @@ def _save_figure(fig, args, ext) -> int:
         close(fig)
     print(f"wrote {args.output}")
     return 0
+
+
+def _plot_centres(args, plan, ext, ranges) -> int:
+    """``assur plot FILE --centres`` / ``--centrodes BODY``: the instant centres or the centrodes at ``--at``."""
+    from ..analysis.study import Study
+    from ..plot.centres import centres_figure, centrodes_figure
+    if plan.dimension != 2:
+        raise SpecError([("--centres", "instant centres and centrodes are for planar mechanisms")])
+    study = Study(plan, steps=args.steps, ranges=ranges)
+    at = _centre_inputs(plan, [args.at]) if args.at is not None else None
+    q = at[0] if at else float(study.q[0])
+    if args.centrodes:
+        if args.centrodes not in plan.body_names[1:]:
+            raise SpecError([("--centrodes", f"unknown body {args.centrodes!r} (bodies: "
+                                             f"{', '.join(plan.body_names[1:])})")])
+        fig = centrodes_figure(study, args.centrodes, at=q, dpi=args.dpi)
+    else:
+        fig = centres_figure(study, q, dpi=args.dpi)
+    return _save_figure(fig, args, ext)
 
 
 def _plot_forces(args, plan, ext) -> int:
@@ -281,6 +330,7 @@ def cmd_report(args) -> int:
     from ..report.mechanism import write_report
     m, plan = compile_file(args.file)
     path = write_report(plan, args.output, steps=args.steps, frames=args.frames, ranges=input_ranges(plan, args),
-                        source=str(args.file), units=args.units, progress=frame_progress("animation frames"))
+                        source=str(args.file), units=args.units, progress=frame_progress("animation frames"),
+                        at=_centre_inputs(plan, args.at))
     print(f"wrote {path}")
     return 0

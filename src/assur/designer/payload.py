@@ -121,6 +121,18 @@ def _instant_centres(plan, state) -> np.ndarray:
     return out
 
 
+def _all_centres(study, meta: dict, arrays: dict) -> None:
+    """Every relative instant centre over the run (the Study's field): ``centres`` (n, pairs, 2) (NaN at infinity),
+    the model's ``centre_pairs`` [[i, j]] (body indices) and ``kennedy`` [[ij, jk, ik]] (pair indices per triple of
+    bodies: the three centres Kennedy's theorem puts on one line), for the page's "all centres" view."""
+    ic = study.instant_centres
+    pts = ic.points
+    arrays["centres"] = np.stack([np.where(np.isfinite(pts), pts.real, np.nan),
+                                  np.where(np.isfinite(pts), pts.imag, np.nan)], axis=-1)
+    meta["model"]["centre_pairs"] = [list(p) for p in ic.pairs]
+    meta["model"]["kennedy"] = [list(t) for _, t in ic.kennedy_lines(0)] if len(pts) else []
+
+
 def _cycle_meta(plan, k: int, turn: bool, valid) -> dict:
     """The ``cycle`` description of a solved cycle of input ``k`` (the analyses fill in their entries)."""
     return {"n": int(len(valid)), "turn": bool(turn),
@@ -141,6 +153,7 @@ def _cycle_planar(plan, params, meta: dict, arrays: dict, steps: int, exact: boo
     valid = np.asarray(state.valid, dtype=bool)
     arrays.update(q=study.q, valid=valid.astype(float), pos=state.pos, vel=state.vel, acc=state.acc,
                   omega=state.body_omega, alpha=state.body_alpha, ic=_instant_centres(plan, state))
+    _all_centres(study, meta, arrays)
     mu = study.transmission
     groups = meta["model"]["groups"]
     arrays["transmission"] = np.stack([mu.get(g["point"], np.full(valid.shape, np.nan)) for g in groups], axis=-1) \
@@ -280,6 +293,7 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         m["point_order"] = list(plan.point_names)
         m["body_names"] = list(plan.body_names)
         m["gears"] = gear_records(mech)
+        m["cams"] = cam_records(plan) if plan.dimension == 2 else []
         params = plan.defaults.copy()
         for name, value in (overrides or {}).items():
             if name in plan.param_names:
@@ -315,6 +329,26 @@ def gear_records(mech, samples: int = 180) -> list[dict]:
             {"pivot": pivot, "arm": arm, "angle0": angle0,
              "xy": np.round(np.column_stack([c.real, c.imag]), 12).tolist()}
             for (pivot, arm, _, angle0), c in zip(ends, curves)]})
+    return out
+
+
+def cam_records(plan, samples: int = 240) -> list[dict]:
+    """Each cam pair's profile for the page to draw turning with its cam, as a gear's pitch curve: the cam's
+    ``pivot`` and ``arm`` points, the sketch angle ``angle0`` of pivot → arm (rad), ``xy`` (samples, 2) the profile
+    relative to the pivot in the sketch orientation (m), and the follower's ``point`` and ``roller`` radius (m)."""
+    from ..cams.followers import from_plan
+    from ..model.camming import cam_ends
+    out = []
+    for k, cp in enumerate(plan.mechanism.cams):
+        try:
+            g = from_plan(plan, k)
+        except AssurError:
+            continue
+        pivot, arm = cam_ends(plan.mechanism, cp)
+        z = g.orientation * g.profile(samples)
+        out.append({"name": cp.name, "pivot": pivot, "arm": arm, "angle0": float(np.angle(g.orientation)),
+                    "xy": np.round(np.column_stack([z.real, z.imag]), 12).tolist(), "point": cp.point,
+                    "roller": cp.roller_radius if cp.contact == "roller" else 0.0})
     return out
 
 

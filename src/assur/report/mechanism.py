@@ -132,7 +132,8 @@ def _planar_figures(run: Study, gait, frames: int, units: str = "file", progress
     return panels, js
 
 
-def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: str = "file") -> list[str]:
+def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: str = "file",
+                     at=None) -> list[str]:
     plan = study.plan
     summary = study.as_dict(forces=False)
     out = [section("Structure", structure_html(summary) + "\n" + atlas_html(plan.mechanism)),
@@ -145,6 +146,12 @@ def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: st
     frc = forces_html(study)
     if frc:
         out.append(section("Forces", frc))
+    if plan.mechanism.cams:
+        from .cams import cams_html
+        out.append(section("Cams", cams_html(study)))
+    if at:
+        from .centres import centres_html
+        out.append(section("Instant centres", centres_html(study, at, units)))
     return out + [section("Plots", panels), section("Animation", anim),
                   section("Positions", positions_html(run, 12, units))]
 
@@ -207,12 +214,12 @@ def _spatial_sections(study: Study, run: Study, panels: str, view: str, units: s
 
 # -- the page ---------------------------------------------------------------------------------------
 def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None, source: str | None = None,
-                 units: str = "file", progress=None) -> str:
+                 units: str = "file", progress=None, at=None) -> str:
     """The report page of a compiled mechanism (planar or spatial) as one HTML string. ``steps``: samples
     of the turn (or of ``ranges``, one (start, stop) per input, SI) that the analysis, the figures and the
     animation's path share; ``frames``: positions of the animation; ``units``: lengths, speeds and
     accelerations in the file's length unit ('file') or in SI ('si'); ``progress(i, n)``: called per frame of
-    a planar animation drawn."""
+    a planar animation drawn; ``at``: inputs (SI) of the moving input where the page shows every instant centre."""
     from ..version import __version__
     spatial = plan.dimension == 3
     study = Study(plan, steps=steps)          # the analysis: the natural cycle
@@ -223,7 +230,10 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
     except SpecError as exc:    # nothing to draw (a linear input without a stroke, no position assembles)
         note = f'<p class="note">no figures: {escape(exc)}</p>'
         figures = (note, note)
-    body = (_spatial_sections if spatial else _planar_sections)(study, run, *figures, units)
+    if spatial:
+        body = _spatial_sections(study, run, *figures, units)
+    else:
+        body = _planar_sections(study, run, *figures, units, at=at)
     m = plan.mechanism
     title = m.name or (Path(source).stem if source else "mechanism")
     kind = " — spatial (dimension = 3)" if spatial else ""
@@ -233,12 +243,12 @@ def build_report(plan, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=Non
 
 
 def write_report(plan, out_dir, *, steps: int = CYCLE_STEPS, frames: int = 36, ranges=None,
-                 source: str | None = None, units: str = "file", progress=None) -> Path:
+                 source: str | None = None, units: str = "file", progress=None, at=None) -> Path:
     """Write ``out_dir/index.html`` atomically (``io.output.atomic_directory``): on failure nothing is
     left behind. Returns the page's path. ``progress(i, n)``: called per animation frame drawn."""
     from ..io.output import atomic_directory
     with atomic_directory(out_dir) as tmp:
         page_text = build_report(plan, steps=steps, frames=frames, ranges=ranges, source=source, units=units,
-                                 progress=progress)
+                                 progress=progress, at=at)
         (tmp / "index.html").write_text(page_text, encoding="utf-8")
     return Path(out_dir) / "index.html"

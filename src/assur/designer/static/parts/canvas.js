@@ -177,6 +177,24 @@ export class CanvasPart {
         children.push(svg("polygon", { class: "asd-gear", testid: `gear-${gear.name}-${i ? "b" : "a"}`, points }));
       });
     }
+    // cam pairs: the profile turned with its cam, the follower's roller at its trace point
+    for (const cam of snapshot.model.cams || []) {
+      const p = at(cam.pivot);
+      const q = at(cam.arm);
+      if (!p || !q) continue;
+      const turn = Math.atan2(q[1] - p[1], q[0] - p[0]) - cam.angle0;
+      const c = Math.cos(turn);
+      const s = Math.sin(turn);
+      const points = cam.xy.map(([x, y]) => this.toScreen([p[0] + c * x - s * y, p[1] + s * x + c * y]))
+        .map(([x, y]) => `${x.toFixed(2)},${y.toFixed(2)}`).join(" ");
+      children.push(svg("polygon", { class: "asd-cam", testid: `cam-${cam.name}`, points }));
+      const r = at(cam.point);
+      if (r && cam.roller > 0) {
+        const [cx, cy] = this.toScreen(r);
+        const [ex] = this.toScreen([r[0] + cam.roller, r[1]]);
+        children.push(svg("circle", { class: "asd-cam-roller", cx, cy, r: Math.abs(ex - cx) }));
+      }
+    }
     this.ui.canvas.links.replaceChildren(...children);
   }
 
@@ -299,7 +317,36 @@ export class CanvasPart {
           svg("text", { class: "asd-ic-label", testid: `ic-label-${name}`, x: x + 6, y: y + 16, text: `I ${name}` })));
       });
     }
+    children.push(...this.kennedyCentres(snapshot, visible));
     this.ui.canvas.ics.replaceChildren(...children);
+  }
+
+  // every relative instant centre (labelled by its two bodies' numbers) and Kennedy's lines through each triple
+  kennedyCentres(snapshot, visible) {
+    const pairs = snapshot.model.centre_pairs || [];
+    if (!visible || !this.showVectors.kennedy || !snapshot.arrays.centres || !pairs.length) return [];
+    const at = (c) => {
+      const xy = snapshot.vector("centres", this.sample, c);
+      return xy && xy.every(Number.isFinite) ? this.toScreen(xy) : null;
+    };
+    const out = [];
+    for (const triple of snapshot.model.kennedy || []) {
+      const ends = triple.map(at).filter(Boolean);
+      if (ends.length < 2) continue;
+      const [[x0, y0], [x1, y1]] = [ends[0], ends[ends.length - 1]];
+      const d = Math.hypot(x1 - x0, y1 - y0);
+      if (!(d > 1e-6)) continue;
+      const k = 4000 / d;
+      out.push(svg("line", { class: "asd-kennedy", x1: x0 - k * (x1 - x0), y1: y0 - k * (y1 - y0),
+                             x2: x0 + k * (x1 - x0), y2: y0 + k * (y1 - y0) }));
+    }
+    pairs.forEach(([i, j], c) => {
+      const xy = at(c);
+      if (!xy || Math.abs(xy[0]) > 1e6 || Math.abs(xy[1]) > 1e6) return;
+      out.push(svg("g", { class: "asd-centre", testid: `centre-${i}-${j}` },
+        svg("circle", { cx: xy[0], cy: xy[1], r: 3 }), svg("text", { x: xy[0] + 4, y: xy[1] + 12, text: `${i}${j}` })));
+    });
+    return out;
   }
 
   drawPoints(snapshot, at) {

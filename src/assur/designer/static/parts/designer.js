@@ -46,7 +46,7 @@ class Designer {
     this.pendingDriverPivot = null;
     this.view = null;            // {cx, cy, scale} world → screen
     this.size = { width: 800, height: 560 };
-    this.showVectors = { vel: true, acc: true, ic: true };
+    this.showVectors = { vel: true, acc: true, ic: true, kennedy: false };
     this.playing = false;
     this.playClock = null;
     this.paramOverrides = {};

@@ -31,13 +31,13 @@ export class PanelsPart {
       html("div", { class: "asd-row" }, "|a| ", ui.readoutAcc, " ", ui.readoutAccUnit));
 
     const toggle = (key, testid, label) => {
-      const box = html("input", { type: "checkbox", testid, checked: true });
+      const box = html("input", { type: "checkbox", testid, checked: this.showVectors[key] });
       box.addEventListener("change", () => { this.showVectors[key] = box.checked; this.drawPose(); });
       return html("label", { class: "asd-row" }, box, ` ${label}`);
     };
     const display = this.section("Display", "display-panel",
       toggle("vel", "show-vel", "velocity vectors"), toggle("acc", "show-acc", "acceleration vectors"),
-      toggle("ic", "show-ic", "instant centres"));
+      toggle("ic", "show-ic", "instant centres"), toggle("kennedy", "show-kennedy", "all centres (Kennedy)"));
 
     ui.drivers = html("div", { class: "asd-drivers" });
     const drivers = this.section("Drivers", "drivers-panel", ui.drivers);
