@@ -27,6 +27,7 @@ REFUSED = {
     "lever_manipulator.toml": "actuators.drive_rod",
     "rssr.toml": "dimension", "rssr_tilted.toml": "dimension",
     "walker_fourbar_geared.toml": "gears",
+    "cam_press.toml": "cams",
 }
 REFUSED_BY = {
     "pylinkage": {"walker_sixbar_beta1_60.toml": "links.crank"},

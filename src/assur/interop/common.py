@@ -82,10 +82,12 @@ def frame_slots(m: Mechanism, xy: dict, fmt: str) -> list[FrameSlot]:
 
 
 def refuse_extras(m: Mechanism, fmt: str, *, actuators: bool = True) -> None:
-    """SpecError for what no exporter here writes (gear pairs, actuators); an InteropWarning for what is left out
-    (masses, loads, the gait)."""
+    """SpecError for what no exporter here writes (gear and cam pairs, actuators); an InteropWarning for what is
+    left out (masses, loads, the gait)."""
     if m.gears:
         raise SpecError([("gears", f"gear pairs are not representable in {fmt}")])
+    if m.cams:
+        raise SpecError([("cams", f"cam pairs are not representable in {fmt}")])
     if actuators and m.actuators:
         raise SpecError([(f"actuators.{m.actuators[0].name}", f"linear actuators are not representable in {fmt}")])
     dropped = [what for what, present in (("masses, loads and friction ([dynamics])", m.dynamics is not None),
