@@ -260,3 +260,44 @@ def test_a_cam_must_be_turned_by_the_drive():
     text = LIFTER.replace('cam = "cam"\nfollower', 'cam = "lever"\nfollower')
     with pytest.raises(StructureError):
         assur.compile(assur.loads(text))
+
+
+def _as_profile_cam(text: str, plan) -> str:
+    """The file ``text`` with its law replaced by its cam's own profile (a polar table in mm and degrees, 720 points
+    read off a periodic quintic spline of the conjugate profile's radius by its polar angle)."""
+    from scipy.interpolate import make_interp_spline
+    prof = from_plan(plan, 0).profile(2880)
+    ang, rad = np.angle(prof) % (2 * math.pi), np.abs(prof)
+    o = np.argsort(ang)
+    ang, rad = ang[o], rad[o]
+    sp = make_interp_spline(np.append(ang, ang[0] + 2 * math.pi), np.append(rad, rad[0]), k=5, bc_type="periodic")
+    A = np.linspace(0.0, 360.0, 720, endpoint=False)
+    R = sp(np.radians(A) + (np.radians(A) < ang[0]) * 2 * math.pi) * 1e3
+    start = text.index("law = [")
+    end = text.index("]", text.index("}", text.rindex("motion"))) + 1
+    table = ("law = { profile = { angle = [" + ", ".join(f"{a:.12g}" for a in A) + "], radius = ["
+             + ", ".join(f"{r:.15g}" for r in R) + "] } }")
+    return text[:start] + table + text[end:]
+
+
+@pytest.mark.parametrize("which", ["press", "lifter"])
+def test_a_cam_given_by_its_profile_moves_the_follower_by_the_law(which, press, lifter):
+    """Law → conjugate profile (the envelope) → a cam given by that profile → the follower's motion by contact: the
+    same motion (to the profile table's own resolution), and the profile table round-trips through the writer."""
+    plan = press if which == "press" else lifter
+    text = PRESS.read_text() if which == "press" else LIFTER
+    m2 = assur.loads(_as_profile_cam(text, plan))
+    assert m2.cams[0].law.profile and m2.cams[0].law.kind == "table"
+    p2 = assur.compile(m2)
+    q = np.linspace(0, 2 * math.pi, 97)[:-1]
+    a, b = assur.solve(plan, inputs=q).pos, assur.solve(p2, inputs=q).pos
+    assert np.max(np.abs(a - b)) <= 1e-8 * plan.length_scale
+    again = assur.loads(assur.dumps(m2))
+    assert again.cams[0].law.profile == m2.cams[0].law.profile
+    assert np.allclose(again.cams[0].law.lifts, m2.cams[0].law.lifts, rtol=0, atol=1e-15)
+
+
+def test_a_profile_off_the_sketch_is_refused(press):
+    text = _as_profile_cam(PRESS.read_text(), press).replace("R = [30.5, 39.62]", "R = [31.5, 40.62]")
+    with pytest.raises(SpecError, match=r"cams\[0\]\.point"):
+        assur.loads(text)

@@ -23,6 +23,9 @@
     ]
     # law = { angle = [0, 90, 180, 270], lift = [0, 10, 25, 10] }   ... or a periodic C² cubic spline through
     #                                                                   points of the turn
+    # law = { profile = { angle = [...], radius = [...] } }            ... or the cam's own profile, a polar
+    #     table in the cam's frame (its pivot at the origin, angles from pivot → arm in the sketch; radii in the
+    #     file's length unit, held as a periodic quintic spline): the follower's lift is its contact with it
 
 Motions: ``dwell``, ``harmonic``, ``cycloidal``, ``modified_trapezoid``, ``modified_sine``, ``polynomial_345``
 (also ``3-4-5``), ``polynomial_4567`` (``4-5-6-7``). Every problem is reported with its path (``cams[0].law[2]``).
@@ -51,9 +54,10 @@ def _number(v) -> bool:
 
 
 def read_cam_pairs(data: dict, P, *, length_factor: float, angle_factor: float, link_points: dict,
-                   frame_points: set, prismatic, drivers) -> tuple[CamPair, ...]:
+                   frame_points: set, prismatic, drivers, points: dict | None = None) -> tuple[CamPair, ...]:
     """The cam pairs of a parsed mechanism file (problems go to ``P``). ``link_points``: link name → its points;
-    ``prismatic``: the file's prismatic pairs; ``drivers``: its drivers."""
+    ``prismatic``: the file's prismatic pairs; ``drivers``: its drivers; ``points``: name → sketch (x, y) in m (a
+    profile cam's follower geometry)."""
     cdata = P.section(data, "cams", "must be an array of tables [[cams]]", list)
     out, seen = [], set()
     for i, spec in enumerate(cdata):
@@ -136,7 +140,23 @@ def read_cam_pairs(data: dict, P, *, length_factor: float, angle_factor: float, 
             P.add(f"{path}.rotation", f"must be 'ccw' or 'cw': {rotation!r}")
             sign, ok = 1, False
         lift_factor = length_factor if motion != "oscillating" else angle_factor
-        law = read_law(spec.get("law"), f"{path}.law", P, angle_factor, lift_factor)
+        raw = spec.get("law")
+        if isinstance(raw, dict) and "profile" in raw:
+            for key in ("phase", "rotation"):
+                if key in spec:
+                    P.add(f"{path}.{key}", "applies to a law; a profile turns with its cam (phase 0, ccw)")
+                    ok = False
+            law = None
+            if ok:
+                law = _profile_law(raw, f"{path}.law", P, angle_factor, length_factor,
+                                   dict(cam=cam, follower=follower, point=point, motion=motion, contact=contact,
+                                        radius=float(radius) * length_factor, face=angles["face_angle"],
+                                        link_points=link_points, frame_points=frame_points, prismatic=prismatic,
+                                        points=points or {}))
+            sign = 1
+            angles["phase"] = 0.0
+        else:
+            law = read_law(raw, f"{path}.law", P, angle_factor, lift_factor)
         if ok and law is not None:
             out.append(CamPair(str(name), cam, follower, point, law, contact, motion, float(radius) * length_factor,
                                angles["face_angle"], angles["phase"], sign, angles["pressure_limit"]))
@@ -214,8 +234,81 @@ def _spline(v, where, P, angle_factor, lift_factor) -> CamLaw | None:
                   source="spline")
 
 
-def law_table(law: CamLaw, angle_out, lift_out):
-    """The ``law`` value a file holds for ``law`` (``angle_out``, ``lift_out``: SI → file unit conversions)."""
+def _profile_law(v, where, P, angle_factor, length_factor, f) -> CamLaw | None:
+    """The lift table a given profile imposes on the follower as the sketch places it (see the module docstring)."""
+    import cmath
+    from ..kernels.cam_contact import oscillating_lift, translating_lift
+    bad = [k for k in v if k != "profile"]
+    if bad:
+        P.add(f"{where}.{bad[0]}", "a profile law holds profile = {angle = [...], radius = [...]} only")
+        return None
+    prof = v["profile"]
+    at = f"{where}.profile"
+    if not isinstance(prof, dict):
+        P.add(at, "must be a table {angle = [...], radius = [...]}")
+        return None
+    P.unknown_keys(prof, ("angle", "radius"), at)
+    a, r = prof.get("angle"), prof.get("radius")
+    if not (isinstance(a, list) and isinstance(r, list) and len(a) == len(r) and len(a) >= 8
+            and all(_number(c) for c in a + r)):
+        P.add(at, "needs angle and radius: two lists of the same length, at least 8 finite numbers")
+        return None
+    a = np.asarray(a, float) * angle_factor
+    r = np.asarray(r, float) * length_factor
+    if abs(a[0]) > 1e-12 or not np.all(np.diff(a) > 0) or a[-1] >= TWO_PI or not np.all(r > 0):
+        P.add(at, "angles must start at 0 and increase within one turn (< 360°), radii be positive")
+        return None
+    if f["motion"] == "oscillating" and f["contact"] == "flat":
+        P.add(at, "a flat-faced oscillating follower on a given profile is not supported: give its law")
+        return None
+    pts = f["points"]
+    frame = f["frame_points"]
+    pivot = next(p for p in f["link_points"][f["cam"]] if p in frame)
+    arm = next(p for p in f["link_points"][f["cam"]] if p != pivot)
+    O, A, R = (complex(*pts[n]) for n in (pivot, arm, f["point"]))
+    e0 = (A - O) / abs(A - O)
+    from scipy.interpolate import make_interp_spline
+    spline = make_interp_spline(np.append(a, TWO_PI), np.append(r, r[0]), k=5, bc_type="periodic")
+    g = np.linspace(0.0, TWO_PI, 8192, endpoint=False)
+    curve = spline(g) * np.exp(1j * g)
+    xs = np.linspace(0.0, TWO_PI, 4096, endpoint=False)
+    R0 = np.conj(e0) * (R - O)
+    if f["motion"] == "translating":
+        pr = next(p for p in f["prismatic"] if p.link == f["follower"] and p.guide == "frame")
+        U = cmath.exp(1j * pr.angle)
+        sign = 1.0 if ((R - O).conjugate() * U).real > 0 else -1.0
+        u = np.conj(e0) * U * sign
+        face = 1j * u * cmath.exp(1j * f["face"])          # across the slide, turned by face_angle
+        normal = 1j * face
+        if (np.conj(normal) * u).real < 0:
+            normal = -normal
+        lift = translating_lift(curve, xs, R0, u, f["contact"], f["radius"], normal)
+    else:
+        fpv = next(p for p in f["link_points"][f["follower"]] if p in frame)
+        Of = np.conj(e0) * (complex(*pts[fpv]) - O)
+        turn = 1.0 if ((R - O).conjugate() * 1j * (R - complex(*pts[fpv]))).real > 0 else -1.0
+        lift = oscillating_lift(curve, xs, Of, R0, turn, f["contact"], f["radius"])
+    if not np.all(np.isfinite(lift)):
+        P.add(at, "the follower does not meet the profile over the whole turn (check the sketch and the radii)")
+        return None
+    scale = float(np.max(r))
+    off = float(lift[0]) * (scale if f["motion"] == "oscillating" else 1.0)
+    if abs(off) > 1e-6 * scale:
+        unit = "rad" if f["motion"] == "oscillating" else "m"
+        P.add(f"{where.rsplit('.', 1)[0]}.point", f"the sketch puts the follower {float(lift[0]):.6g} {unit} off the "
+                                                   "profile: draw it touching the profile at the sketch")
+        return None
+    return CamLaw("table", angles=tuple(xs.tolist()), lifts=tuple((lift - lift.min()).tolist()), source="profile",
+                  profile=tuple(zip(a.tolist(), r.tolist())))
+
+
+def law_table(law: CamLaw, angle_out, lift_out, length_out=None):
+    """The ``law`` value a file holds for ``law`` (``angle_out``, ``lift_out``, ``length_out``: SI → file unit
+    conversions)."""
+    if law.profile:
+        lo = length_out or lift_out
+        return {"profile": {"angle": [angle_out(a) for a, _ in law.profile],
+                            "radius": [lo(r) for _, r in law.profile]}}
     if law.kind == "segments":
         out = []
         names = {v: k for k, v in MOTIONS.items() if k in LAWS}

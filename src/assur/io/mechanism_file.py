@@ -368,7 +368,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("gears", "gear pairs need a planar mechanism (dimension = 2)")
     cams = read_cam_pairs(data, P, length_factor=L, angle_factor=A, link_points={lk.name: lk.points for lk in links},
                           frame_points=set(next((lk.points for lk in links if lk.name == FRAME), ())),
-                          prismatic=prismatic, drivers=drivers)
+                          prismatic=prismatic, drivers=drivers, points=dict(points))
     if cams and dimension == 3:
         P.add("cams", "cam pairs need a planar mechanism (dimension = 2)")
     dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,

@@ -174,9 +174,10 @@ def _cam_table(cp, ln, an) -> dict:
         t["roller_radius"] = ln(cp.roller_radius)
     if cp.contact == "flat" and cp.face_angle:
         t["face_angle"] = an(cp.face_angle)
-    t |= {"phase": an(cp.phase), "rotation": "ccw" if cp.rotation > 0 else "cw",
-          "pressure_limit": an(cp.pressure_limit)}
-    t["law"] = law_table(cp.law, an, an if cp.motion == "oscillating" else ln)
+    if not cp.law.profile:
+        t |= {"phase": an(cp.phase), "rotation": "ccw" if cp.rotation > 0 else "cw"}
+    t["pressure_limit"] = an(cp.pressure_limit)
+    t["law"] = law_table(cp.law, an, an if cp.motion == "oscillating" else ln, ln)
     return t
 
 

@@ -49,12 +49,14 @@ class CamLaw:
 
     kind 'segments': ``segments`` covering [0, 2π) in order (closed forms); 'spline': a periodic C² cubic spline
     through (``angles``, ``lifts``); 'table': a periodic quintic spline through (``angles``, ``lifts``) (a sampled
-    lift, e.g. the one a given profile imposes). ``source`` says where it came from (reports, the writer)."""
+    lift, e.g. the one a given profile imposes: then ``profile`` holds that profile's polar table ((angle, radius)
+    pairs, rad and m, the cam's frame), which a written file repeats). ``source`` says where it came from."""
     kind: str
     segments: tuple[CamSegment, ...] = ()
     angles: tuple[float, ...] = field(default=(), repr=False)
     lifts: tuple[float, ...] = field(default=(), repr=False)
     source: str = ""
+    profile: tuple = field(default=(), repr=False)
     _spline: object = field(default=None, init=False, repr=False, compare=False)
 
     def _splines(self):
@@ -102,7 +104,7 @@ class CamLaw:
         return float(np.max(s) - np.min(s))
 
     def __reduce__(self):   # the spline cache is rebuilt on the other side of a pickle
-        return CamLaw, (self.kind, self.segments, self.angles, self.lifts, self.source)
+        return CamLaw, (self.kind, self.segments, self.angles, self.lifts, self.source, self.profile)
 
 
 @dataclass(frozen=True, slots=True)
