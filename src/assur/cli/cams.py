@@ -45,7 +45,7 @@ def cmd_cam(args) -> int:
 def _write(args, plan, g, summary):
     ext = args.output.suffix.lower()
     if ext in (".dxf", ".svg"):
-        from ..cams.outline import write_profile
+        from ..io.cam_profile import write_profile
         write_profile(args.output, g)
     elif ext == ".json":
         from ..io.output import json_text
