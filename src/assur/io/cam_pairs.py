@@ -47,6 +47,8 @@ MOTIONS = {"dwell": None, **{name: name for name in LAWS}, "simple_harmonic": "h
            "4-5-6-7": "polynomial_4567", "345": "polynomial_345", "4567": "polynomial_4567"}
 #: a law's segment angles must add up to a turn within this (rad); its lifts must close within this times the stroke
 CLOSURE = 1e-9
+#: a given profile is sampled at this many points of its spline, and the lift it imposes at this many cam turns
+PROFILE_SAMPLES, LIFT_SAMPLES = 4096, 2048
 
 
 def _number(v) -> bool:
@@ -269,9 +271,9 @@ def _profile_law(v, where, P, angle_factor, length_factor, f) -> CamLaw | None:
     e0 = (A - O) / abs(A - O)
     from scipy.interpolate import make_interp_spline
     spline = make_interp_spline(np.append(a, TWO_PI), np.append(r, r[0]), k=5, bc_type="periodic")
-    g = np.linspace(0.0, TWO_PI, 8192, endpoint=False)
+    g = np.linspace(0.0, TWO_PI, PROFILE_SAMPLES, endpoint=False)
     curve = spline(g) * np.exp(1j * g)
-    xs = np.linspace(0.0, TWO_PI, 4096, endpoint=False)
+    xs = np.linspace(0.0, TWO_PI, LIFT_SAMPLES, endpoint=False)
     R0 = np.conj(e0) * (R - O)
     if f["motion"] == "translating":
         pr = next(p for p in f["prismatic"] if p.link == f["follower"] and p.guide == "frame")

@@ -30,6 +30,20 @@ def _refine(values: np.ndarray, i: np.ndarray) -> np.ndarray:
     return np.where(np.isfinite(peak) & (den < 0), peak, b)
 
 
+#: cam turns solved at once (bounds the (turns, profile samples) arrays)
+BLOCK = 64
+
+
+def _blocked(fn):
+    """Run ``fn(profile, xs, …)`` on blocks of :data:`BLOCK` cam turns and join the results."""
+    def run(profile, xs, *args, **kwargs):
+        xs = np.atleast_1d(np.asarray(xs, float))
+        return np.concatenate([fn(profile, xs[i:i + BLOCK], *args, **kwargs) for i in range(0, len(xs), BLOCK)])
+    run.__doc__, run.__name__ = fn.__doc__, fn.__name__
+    return run
+
+
+@_blocked
 def translating_lift(profile, xs, R0: complex, u: complex, contact: str, r: float = 0.0,
                      normal: complex | None = None) -> np.ndarray:
     """t (N,) along ``u`` of a translating follower's trace point (R₀ at t = 0) for cam turns ``xs (N,)``."""
@@ -59,6 +73,7 @@ def translating_lift(profile, xs, R0: complex, u: complex, contact: str, r: floa
     return np.max(t, axis=-1)
 
 
+@_blocked
 def oscillating_lift(profile, xs, Of: complex, R0: complex, turn: float, contact: str, r: float = 0.0) -> np.ndarray:
     """ψ (N,) of an oscillating follower's turn about ``Of`` in the sense ``turn`` (R₀ at ψ = 0) for cam turns ``xs``:
     the largest turn that keeps the roller (or knife) clear of the profile, refined on the samples."""

@@ -6,7 +6,9 @@ With the foot's stride coordinate x(q, p) and height v(q, p) (q the crank angle)
   q* (∂f/∂q = 0) the extreme value moves as ∂f/∂p (the envelope theorem);
 - the contact arc runs between the stride's extremes q_a, q_b; an end moves as dq_e/dp = −(∂²x/∂q∂p)/(∂²x/∂q²), so the
   duty factor (the arc's share of the turn) moves as (dq_end/dp − dq_start/dp)/2π, and the sag (v's range over the
-  arc) by the envelope theorem at an interior extreme, or by ∂v/∂p + ∂v/∂q·dq_e/dp at an end of the arc.
+  arc) by the envelope theorem at an interior extreme, or by ∂v/∂p + ∂v/∂q·dq_e/dp at an end of the arc. Where two
+  candidates share the extreme and move apart (the two ends of a symmetric path, as a Chebyshev lambda's), the sag
+  has a kink: its derivative is NaN.
 
 The extremes are refined by Newton's method on the exact derivatives (each step one solve at that input).
 """
@@ -85,28 +87,25 @@ def gait_outputs(study) -> dict[str, Output]:
     start, end = (ea, eb) if apart(qa, gm.contact_start) <= apart(qb, gm.contact_start) else (eb, ea)
     width = (end[0] - start[0]) % TWO_PI
     out["gait.duty"] = Output("gait.duty", "gait", "1", width / TWO_PI, (end[1] - start[1]) / TWO_PI)
-    # the sag: v's range over the arc, each extreme interior (envelope) or at an end (moving with it)
+    # the sag: v's range over the arc; the candidates are the arc's two ends (moving with it) and the interior roots
+    # of ∂v/∂q refined from the samples' extremes (the envelope theorem there)
     inside = ((q - start[0]) % TWO_PI) <= width
     qs, vs = q[inside], v[inside]
-    values = []
+    cands = []
+    for e in (start, end):
+        f = F.at(e[0])["v"]
+        cands.append((f[0][0], f[3][0] + f[1][0] * e[1]))
     for pick in (np.argmin, np.argmax):
-        i = int(pick(vs))
-        h = q[1] - q[0]
-        at_end = None
-        for e in (start, end):
-            if apart(qs[i], e[0]) <= 1.5 * h:
-                at_end = e
-        fe = None
-        if at_end is None:
-            qi, fe = F.refine("v", qs[i])
-            if not ((qi - start[0]) % TWO_PI) <= width:
-                at_end, fe = None, None
-        if fe is None:
-            e = at_end if at_end is not None else min((start, end), key=lambda e: abs(np.interp(e[0], q, v) - vs[i]))
-            f = F.at(e[0])["v"]
-            values.append((f[0][0], f[3][0] + f[1][0] * e[1]))
-        else:
-            values.append((fe[0][0], fe[3][0]))
+        qi, fe = F.refine("v", qs[int(pick(vs))])
+        if 0.0 < (qi - start[0]) % TWO_PI < width:
+            cands.append((fe[0][0], fe[3][0]))
+    tie = 1e-9 * max(abs(out["gait.lift"].value), 1e-300)
+    values = []
+    for best in (min(cands, key=lambda c: c[0]), max(cands, key=lambda c: c[0])):
+        rivals = [c for c in cands if abs(c[0] - best[0]) <= tie and not np.allclose(c[1], best[1], rtol=1e-9,
+                                                                                       atol=1e-12)]
+        # an extreme shared by two candidates that move apart (both ends of a symmetric arc): a kink, no derivative
+        values.append((best[0], np.full_like(best[1], np.nan) if rivals else best[1]))
     (vmin, dmin), (vmax, dmax) = values
     out["gait.sag"] = Output("gait.sag", "gait", "m", vmax - vmin, dmax - dmin)
     return out
