@@ -280,7 +280,7 @@ def _as_profile_cam(text: str, plan) -> str:
     return text[:start] + table + text[end:]
 
 
-@pytest.mark.parametrize("which", ["press", "lifter"])
+@pytest.mark.parametrize("which", [pytest.param("press", marks=pytest.mark.slow), "lifter"])
 def test_a_cam_given_by_its_profile_moves_the_follower_by_the_law(which, press, lifter):
     """Law → conjugate profile (the envelope) → a cam given by that profile → the follower's motion by contact: the
     same motion (to the profile table's own resolution), and the profile table round-trips through the writer."""
@@ -297,6 +297,7 @@ def test_a_cam_given_by_its_profile_moves_the_follower_by_the_law(which, press, 
     assert np.allclose(again.cams[0].law.lifts, m2.cams[0].law.lifts, rtol=0, atol=1e-15)
 
 
+@pytest.mark.slow
 def test_a_profile_off_the_sketch_is_refused(press):
     text = _as_profile_cam(PRESS.read_text(), press).replace("R = [30.5, 39.62]", "R = [31.5, 40.62]")
     with pytest.raises(SpecError, match=r"cams\[0\]\.point"):
