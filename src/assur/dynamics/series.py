@@ -1,0 +1,251 @@
+"""Interpolants of the reduced equation's terms that are cheap to evaluate inside an integrator.
+
+* :class:`PeriodicSeries`: a trigonometric (Fourier) interpolant of samples on a uniform grid of one input turn,
+  truncated where its coefficients fall below rounding. For the smooth periodic terms of a mechanism that turns
+  fully it converges geometrically with the number of samples; its derivative and antiderivative are exact for
+  the interpolant, so J*′ is the derivative of the interpolated J* (the equation of the interpolated model then
+  conserves its own energy exactly).
+* :class:`TableSeries`: the terms on a fine uniform grid (a turn, or the interval of a stroke or of the part of a
+  turn where the mechanism assembles): J* by cubic Hermite interpolation on its exact values and slopes, the
+  forces linearly (the terms of a load against velocity, or of a load law, have kinks where a spectral series
+  converges slowly). :class:`PeriodicTable` is the same for a batch of Fourier series (the population's).
+
+:func:`fit_periodic` samples an exact function on a grid, measures the interpolant's error at the grid's
+midpoints and doubles the grid until that error is below the tolerance; :func:`fit_table` measures a table's.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class PeriodicSeries:
+    """f(q) = Re Σ_k c_k·e^{ik(q − start)}, k = 0 … K. ``coefficients`` (..., K + 1, n_terms) complex: the
+    batch, the harmonics, then several functions sharing the grid (J*, Q, …)."""
+    start: float
+    coefficients: np.ndarray
+
+    @classmethod
+    def from_samples(cls, values, start: float = 0.0, keep: float = 1e-15, scale=None) -> "PeriodicSeries":
+        """Samples ``values (..., n, n_terms)`` at start + 2πj/n, j = 0 … n − 1. Harmonics whose coefficients are
+        below ``keep`` times ``scale (n_terms,)`` (default: each term's largest coefficient) over the whole batch
+        are dropped from the top; the Nyquist harmonic is always dropped (it has no unique derivative)."""
+        values = np.asarray(values, dtype=float)
+        n = values.shape[-2]
+        F = np.fft.rfft(values, axis=-2) / n
+        F[..., 1:, :] *= 2.0
+        F = F[..., : (n + 1) // 2, :]            # no Nyquist harmonic
+        mag = np.abs(F).reshape(-1, F.shape[-2], F.shape[-1]).max(axis=0)     # (K + 1, n_terms)
+        scale = np.maximum(mag.max(axis=0) if scale is None else np.asarray(scale, dtype=float), 1e-300)
+        big = np.nonzero(np.any(mag > keep * scale, axis=1))[0]
+        K = int(big[-1]) + 1 if big.size else 1
+        return cls(float(start), np.ascontiguousarray(F[..., :K, :]))
+
+    @property
+    def harmonics(self) -> int:
+        return self.coefficients.shape[-2] - 1
+
+    def _phase(self, q):
+        k = np.arange(self.coefficients.shape[-2])
+        return np.exp(1j * (np.asarray(q, dtype=float)[..., None] - self.start) * k), k
+
+    def __call__(self, q, derivative: bool = False):
+        """Values (..., n_terms) at q (...); with ``derivative`` also d/dq (..., n_terms)."""
+        c = self.coefficients
+        if c.ndim == 2 and np.ndim(q) == 0:           # one design at one input: a plain dot product
+            k = np.arange(c.shape[0])
+            E = np.exp(1j * (float(q) - self.start) * k)
+            value = (E @ c).real
+            return (value, ((E * (1j * k)) @ c).real) if derivative else value
+        E, k = self._phase(q)
+        value = np.einsum("...k,...kt->...t", E, c).real
+        if not derivative:
+            return value
+        return value, np.einsum("...k,...kt->...t", E * (1j * k), c).real
+
+    def mean(self):
+        """(..., n_terms) the mean over a turn."""
+        return self.coefficients[..., 0, :].real
+
+    def antiderivative(self, q):
+        """(..., n_terms) ∫ from start to q of (f − mean): periodic; add mean·(q − start) for the whole integral."""
+        E, k = self._phase(q)
+        c = self.coefficients[..., 1:, :]
+        kk = k[1:]
+        return (np.einsum("...k,...kt->...t", (E[..., 1:] - 1.0) / (1j * kk), c)).real
+
+
+@dataclass(frozen=True)
+class PeriodicTable:
+    """A batch's :class:`PeriodicSeries` tabulated on a fine uniform grid of ``n`` inputs per turn, values and
+    first derivatives (``table`` (D, n, n_terms, 2)), evaluated by cubic Hermite interpolation: a handful of
+    operations per design whatever the number of harmonics (what a population's integrator evaluates at every
+    stage). Its error is the Hermite remainder, h⁴·max|f⁗|/384 with h = 2π/n."""
+    start: float
+    table: np.ndarray
+
+    @classmethod
+    def from_series(cls, series: PeriodicSeries, n: int = 512) -> "PeriodicTable":
+        c = series.coefficients                          # (..., K + 1, n_terms)
+        K1 = c.shape[-2]
+        if K1 > n // 2:
+            raise ValueError(f"a table of {n} inputs holds at most {n // 2 - 1} harmonics, not {K1 - 1}")
+        spectrum = np.zeros(c.shape[:-2] + (n // 2 + 1, c.shape[-1]), complex)
+        spectrum[..., :K1, :] = c
+        spectrum[..., 1:, :] *= 0.5
+        k = np.arange(n // 2 + 1)[:, None]
+        value = np.fft.irfft(spectrum, n, axis=-2) * n
+        slope = np.fft.irfft(spectrum * (1j * k), n, axis=-2) * n
+        return cls(series.start, np.ascontiguousarray(np.stack([value, slope], axis=-1)))
+
+    def __call__(self, q, rows):
+        """(values (m, n_terms), derivatives (m, n_terms)) of the designs ``rows`` (m,) at q (m,)."""
+        n = self.table.shape[1]
+        h = TWO_PI / n
+        x = (np.asarray(q, dtype=float) - self.start) / h
+        i = np.floor(x)
+        s = (x - i)[:, None]
+        i = i.astype(np.int64) % n
+        a, b = self.table[rows, i], self.table[rows, (i + 1) % n]          # (m, n_terms, 2)
+        s2, s3 = s * s, s * s * s
+        value = (2 * s3 - 3 * s2 + 1) * a[..., 0] + (s3 - 2 * s2 + s) * h * a[..., 1] \
+            + (3 * s2 - 2 * s3) * b[..., 0] + (s3 - s2) * h * b[..., 1]
+        slope = (6 * s2 - 6 * s) / h * a[..., 0] + (3 * s2 - 4 * s + 1) * a[..., 1] \
+            + (6 * s - 6 * s2) / h * b[..., 0] + (3 * s2 - 2 * s) * b[..., 1]
+        return value, slope
+
+
+@dataclass(frozen=True)
+class TableSeries:
+    """The terms on a uniform grid of ``n`` inputs from ``lo`` with spacing ``h`` (one turn when ``periodic``,
+    else the closed interval [lo, lo + (n − 1)·h]): J* (column 0) by cubic Hermite interpolation on its exact
+    samples and slopes (its derivative, the equation's J*′, is that interpolant's), the other columns by linear
+    interpolation (exact for the file's piecewise-linear load laws, and no overshoot at the kinks of a load
+    against velocity, where a spectral series converges slowly). ``values (n, n_terms)``."""
+    lo: float
+    h: float
+    periodic: bool
+    values: np.ndarray
+
+    @classmethod
+    def from_samples(cls, lo: float, h: float, values, periodic: bool) -> "TableSeries":
+        return cls(float(lo), float(h), bool(periodic), np.ascontiguousarray(values, dtype=float))
+
+    def _locate(self, q):
+        n = self.values.shape[0]
+        x = (np.asarray(q, dtype=float) - self.lo) / self.h
+        if self.periodic:
+            i = np.floor(x)
+            s = x - i
+            i = i.astype(np.int64) % n
+            return i, (i + 1) % n, s
+        i = np.clip(np.floor(x), 0, n - 2)
+        s = x - i
+        i = i.astype(np.int64)
+        return i, i + 1, s
+
+    def __call__(self, q, derivative: bool = False):
+        i, j, s = self._locate(q)
+        a, b = self.values[i], self.values[j]
+        s_ = s[..., None]
+        value = a + s_ * (b - a)
+        slope = (b - a) / self.h
+        h, s2, s3 = self.h, s * s, s * s * s
+        value[..., 0] = (2 * s3 - 3 * s2 + 1) * a[..., 0] + (s3 - 2 * s2 + s) * h * a[..., 1] \
+            + (3 * s2 - 2 * s3) * b[..., 0] + (s3 - s2) * h * b[..., 1]
+        slope[..., 0] = (6 * s2 - 6 * s) / h * a[..., 0] + (3 * s2 - 4 * s + 1) * a[..., 1] \
+            + (6 * s - 6 * s2) / h * b[..., 0] + (3 * s2 - 2 * s) * b[..., 1]
+        return (value, slope) if derivative else value
+
+    def mean(self):
+        """(n_terms,) the mean over a turn (trapezoids; periodic tables)."""
+        return self.values.mean(axis=0)
+
+    def integral(self, q, column: int = 2):
+        """∫ from lo to q of the linear interpolant of ``column`` (…); for a periodic table the integral of the
+        column minus its mean (periodic)."""
+        v = self.values[:, column]
+        n = v.size
+        if self.periodic:
+            v = v - v.mean()
+            nxt = np.roll(v, -1)
+        else:
+            nxt = np.append(v[1:], v[-1])
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (v + nxt) * self.h)])
+        x = (np.asarray(q, dtype=float) - self.lo) / self.h
+        whole = np.floor(x)
+        s = x - whole
+        if self.periodic:
+            turns, i = np.divmod(whole.astype(np.int64), n)
+            base = cum[i] + turns * cum[n]
+        else:
+            i = np.clip(whole, 0, n - 2).astype(np.int64)
+            s = x - i
+            base = cum[i]
+        a, b = v[i], nxt[i]
+        return base + self.h * (a * s + 0.5 * (b - a) * s * s)
+
+
+@dataclass(frozen=True)
+class Fit:
+    """An interpolant and how well it reproduces the exact function: ``error (n_terms,)`` the largest difference
+    at the midpoints of the grid (between the samples, where it is largest) relative to ``scale (n_terms,)``, the
+    largest magnitude of each term; ``samples`` the grid size used."""
+    series: object
+    error: np.ndarray
+    scale: np.ndarray
+    samples: int
+
+
+def _relative(err, scale):
+    return np.where(scale > 0, err / np.where(scale > 0, scale, 1.0), 0.0)
+
+
+def _scale(values, scales):
+    mag = np.max(np.abs(values), axis=0)
+    return mag if scales is None else scales(mag)
+
+
+def fit_table(exact, lo: float, span: float, n: int, *, periodic: bool, scales=None) -> Fit:
+    """A :class:`TableSeries` of ``exact`` on n samples (a turn from ``lo`` when ``periodic``, else [lo, lo + span]),
+    its error measured at the grid's midpoints."""
+    h = span / n if periodic else span / (n - 1)
+    q = lo + h * np.arange(n)
+    values = exact(q)
+    series = TableSeries.from_samples(lo, h, values, periodic)
+    mid = q[: n if periodic else n - 1] + 0.5 * h
+    exact_mid = exact(mid)
+    scale = _scale(np.concatenate([values, exact_mid]), scales)
+    value = series(mid)
+    err = _relative(np.max(np.abs(value - exact_mid), axis=0), scale)
+    return Fit(series, err, scale, n)
+
+
+def fit_periodic(exact, start: float, n: int, *, tol: float, n_max: int, first=None, scales=None) -> Fit:
+    """A :class:`PeriodicSeries` of ``exact(q (m,)) → (m, n_terms)`` from n, 2n, … samples of the turn from
+    ``start`` until the relative error at the midpoints is ≤ ``tol`` (or n reaches ``n_max``). ``first``: the
+    values at the first grid, when already known. ``scales(max |value| (n_terms,)) → (n_terms,)``: what each
+    term's error is relative to (default: its own largest magnitude)."""
+    values = first
+    while True:
+        q = start + TWO_PI * np.arange(n) / n
+        if values is None:
+            values = exact(q)
+        series = PeriodicSeries.from_samples(values, start, scale=_scale(values, scales))
+        mid = q + math.pi / n
+        exact_mid = exact(mid)
+        scale = _scale(np.concatenate([values, exact_mid]), scales)
+        err = _relative(np.max(np.abs(series(mid) - exact_mid), axis=0), scale)
+        if np.all(err <= tol) or 2 * n > n_max:
+            return Fit(series, err, scale, n)
+        merged = np.empty((2 * n,) + values.shape[1:])
+        merged[0::2], merged[1::2] = values, exact_mid
+        values, n = merged, 2 * n
+
+
+__all__ = ["Fit", "PeriodicSeries", "PeriodicTable", "TableSeries", "fit_periodic", "fit_table"]
