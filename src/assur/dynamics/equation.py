@@ -85,20 +85,20 @@ class Equation:
     def _table_scalar(self, q: float):
         """:meth:`terms` of a table at one input, in plain floats (the table's interpolation, written out)."""
         t = self.fit.series
-        v = t.values
-        n = v.shape[0]
-        x = (q - t.lo) / t.h
-        i = math.floor(x)
+        nodes, v = t.nodes, t.values
+        n = nodes.size
         if t.periodic:
-            s = x - i
-            i %= n
+            q = nodes[0] + (q - nodes[0]) % TWO_PI
+            i = min(max(int(np.searchsorted(nodes, q, side="right")) - 1, 0), n - 1)
             j = (i + 1) % n
+            h = (nodes[j] if j else nodes[0] + TWO_PI) - nodes[i]
         else:
-            i = min(max(i, 0), n - 2)
-            s = x - i
+            i = min(max(int(np.searchsorted(nodes, q, side="right")) - 1, 0), n - 2)
             j = i + 1
+            h = nodes[j] - nodes[i]
+        s = (q - nodes[i]) / h
         a, b = v[i], v[j]
-        h, s2 = t.h, s * s
+        s2 = s * s
         s3 = s2 * s
         J = (2 * s3 - 3 * s2 + 1) * a[0] + (s3 - 2 * s2 + s) * h * a[1] + (3 * s2 - 2 * s3) * b[0] \
             + (s3 - s2) * h * b[1]

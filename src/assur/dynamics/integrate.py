@@ -274,7 +274,7 @@ def integrate(eq, *, q0: float, speed0: float, time: float | None = None, turns:
                     run.events.append(Event("reversal", float(te), float(ye[0]), 0.0,
                                             f"the speed changes sign at q = {ye[0]:.6g}, t = {te:.6g} s"))
         hit = [(float(te[0]), k, ye[0]) for te, ye, k in zip(sol.t_events, sol.y_events, kinds)
-               if len(te) and (k != "reversal" or turns is not None) and te[0] > t]
+               if len(te) and (k != "reversal" or turns is not None)]
         t, y = float(sol.t[-1]), sol.y[:, -1].copy()
         if sol.status == 0:                       # reached t_stop
             if t >= limit:

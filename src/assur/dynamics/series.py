@@ -122,40 +122,37 @@ class PeriodicTable:
 
 @dataclass(frozen=True)
 class TableSeries:
-    """The terms on a uniform grid of ``n`` inputs from ``lo`` with spacing ``h`` (one turn when ``periodic``,
-    else the closed interval [lo, lo + (n − 1)·h]): J* (column 0) by cubic Hermite interpolation on its exact
-    samples and slopes (its derivative, the equation's J*′, is that interpolant's), the other columns by linear
-    interpolation (exact for the file's piecewise-linear load laws, and no overshoot at the kinks of a load
-    against velocity, where a spectral series converges slowly). ``values (n, n_terms)``."""
-    lo: float
-    h: float
+    """The terms at ``nodes (n,)`` (increasing; one turn [lo, lo + 2π) when ``periodic``, else a closed interval):
+    J* (column 0) by cubic Hermite interpolation on its exact samples and slopes (column 1; the equation's J*′ is
+    that interpolant's derivative), the other columns by linear interpolation (exact for the file's
+    piecewise-linear load laws, and no overshoot at the kinks of a load against velocity, where a spectral series
+    converges slowly). ``values (n, n_terms)``."""
+    nodes: np.ndarray
     periodic: bool
     values: np.ndarray
 
-    @classmethod
-    def from_samples(cls, lo: float, h: float, values, periodic: bool) -> "TableSeries":
-        return cls(float(lo), float(h), bool(periodic), np.ascontiguousarray(values, dtype=float))
-
     def _locate(self, q):
-        n = self.values.shape[0]
-        x = (np.asarray(q, dtype=float) - self.lo) / self.h
+        """(i, j, s, h): the nodes around q (...), the fraction s of the interval and its length h."""
+        x = np.asarray(q, dtype=float)
+        nodes, n = self.nodes, self.nodes.size
         if self.periodic:
-            i = np.floor(x)
-            s = x - i
-            i = i.astype(np.int64) % n
-            return i, (i + 1) % n, s
-        i = np.clip(np.floor(x), 0, n - 2)
-        s = x - i
-        i = i.astype(np.int64)
-        return i, i + 1, s
+            x = nodes[0] + np.mod(x - nodes[0], TWO_PI)
+            i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, n - 1)
+            j = (i + 1) % n
+            right = np.where(j == 0, nodes[0] + TWO_PI, nodes[j])
+        else:
+            i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, n - 2)
+            j = i + 1
+            right = nodes[j]
+        h = right - nodes[i]
+        return i, j, (x - nodes[i]) / h, h
 
     def __call__(self, q, derivative: bool = False):
-        i, j, s = self._locate(q)
+        i, j, s, h = self._locate(q)
         a, b = self.values[i], self.values[j]
-        s_ = s[..., None]
-        value = a + s_ * (b - a)
-        slope = (b - a) / self.h
-        h, s2, s3 = self.h, s * s, s * s * s
+        value = a + s[..., None] * (b - a)
+        slope = (b - a) / h[..., None]
+        s2, s3 = s * s, s * s * s
         value[..., 0] = (2 * s3 - 3 * s2 + 1) * a[..., 0] + (s3 - 2 * s2 + s) * h * a[..., 1] \
             + (3 * s2 - 2 * s3) * b[..., 0] + (s3 - s2) * h * b[..., 1]
         slope[..., 0] = (6 * s2 - 6 * s) / h * a[..., 0] + (3 * s2 - 4 * s + 1) * a[..., 1] \
@@ -163,32 +160,26 @@ class TableSeries:
         return (value, slope) if derivative else value
 
     def mean(self):
-        """(n_terms,) the mean over a turn (trapezoids; periodic tables)."""
-        return self.values.mean(axis=0)
+        """(n_terms,) the mean over a turn of the linear interpolants (periodic tables)."""
+        h = np.diff(np.append(self.nodes, self.nodes[0] + TWO_PI))
+        nxt = np.roll(self.values, -1, axis=0)
+        return np.sum(0.5 * (self.values + nxt) * h[:, None], axis=0) / TWO_PI
 
     def integral(self, q, column: int = 2):
-        """∫ from lo to q of the linear interpolant of ``column`` (…); for a periodic table the integral of the
-        column minus its mean (periodic)."""
+        """∫ from the first node to q of the linear interpolant of ``column``, (…); for a periodic table of the
+        column less its mean (periodic)."""
         v = self.values[:, column]
-        n = v.size
         if self.periodic:
-            v = v - v.mean()
+            v = v - self.mean()[column]
+            h = np.diff(np.append(self.nodes, self.nodes[0] + TWO_PI))
             nxt = np.roll(v, -1)
         else:
+            h = np.append(np.diff(self.nodes), 0.0)
             nxt = np.append(v[1:], v[-1])
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * (v + nxt) * self.h)])
-        x = (np.asarray(q, dtype=float) - self.lo) / self.h
-        whole = np.floor(x)
-        s = x - whole
-        if self.periodic:
-            turns, i = np.divmod(whole.astype(np.int64), n)
-            base = cum[i] + turns * cum[n]
-        else:
-            i = np.clip(whole, 0, n - 2).astype(np.int64)
-            s = x - i
-            base = cum[i]
-        a, b = v[i], nxt[i]
-        return base + self.h * (a * s + 0.5 * (b - a) * s * s)
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (v + nxt) * h)])
+        i, j, s, hh = self._locate(q)
+        turns = np.floor((np.asarray(q, dtype=float) - self.nodes[0]) / TWO_PI) if self.periodic else 0.0
+        return cum[i] + turns * cum[-1] + hh * (v[i] * s + 0.5 * (v[j] - v[i]) * s * s)
 
 
 @dataclass(frozen=True)
@@ -212,17 +203,21 @@ def _scale(values, scales):
 
 
 def fit_table(exact, lo: float, span: float, n: int, *, periodic: bool, scales=None) -> Fit:
-    """A :class:`TableSeries` of ``exact`` on n samples (a turn from ``lo`` when ``periodic``, else [lo, lo + span]),
-    its error measured at the grid's midpoints."""
-    h = span / n if periodic else span / (n - 1)
-    q = lo + h * np.arange(n)
+    """A :class:`TableSeries` of ``exact`` on n inputs: uniform over the turn from ``lo`` when ``periodic``, else
+    Chebyshev–Lobatto points of [lo, lo + span] (dense towards the ends, where a dead centre makes J* grow fast);
+    its error measured at the midpoints of the nodes."""
+    if periodic:
+        q = lo + span * np.arange(n) / n
+        mid = q + 0.5 * span / n
+    else:
+        q = lo + 0.5 * span * (1.0 - np.cos(np.pi * np.arange(n) / (n - 1)))
+        q[0], q[-1] = lo, lo + span
+        mid = 0.5 * (q[1:] + q[:-1])
     values = exact(q)
-    series = TableSeries.from_samples(lo, h, values, periodic)
-    mid = q[: n if periodic else n - 1] + 0.5 * h
+    series = TableSeries(q, bool(periodic), np.ascontiguousarray(values, dtype=float))
     exact_mid = exact(mid)
     scale = _scale(np.concatenate([values, exact_mid]), scales)
-    value = series(mid)
-    err = _relative(np.max(np.abs(value - exact_mid), axis=0), scale)
+    err = _relative(np.max(np.abs(series(mid) - exact_mid), axis=0), scale)
     return Fit(series, err, scale, n)
 
 
