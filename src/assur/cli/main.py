@@ -1,7 +1,8 @@
 """The ``assur`` command line: the parser and the dispatch to the commands of
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
 (forces), :mod:`assur.cli.synth`
-(synth), :mod:`assur.cli.gears` (gears, wheelstep) and :mod:`assur.cli.exchange` (import, export).
+(synth), :mod:`assur.cli.gears` (gears, wheelstep), :mod:`assur.cli.exchange` (import, export) and
+:mod:`assur.cli.simulate` (simulate).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
 invalid file, a structure that cannot be solved, a missing file or optional package, an output that cannot be
@@ -32,7 +33,7 @@ def build_parser():
     import argparse
 
     from ..version import __version__
-    from . import atlas, codesign, design, exchange, forces, gears, mechanism, synth
+    from . import atlas, codesign, design, exchange, forces, gears, mechanism, simulate, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -44,6 +45,7 @@ def build_parser():
     design.register(sub)
     atlas.register(sub)
     exchange.register(sub)   # `assur import` and `assur export`
+    simulate.register(sub)
     return p
 
 
