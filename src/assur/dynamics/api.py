@@ -109,7 +109,7 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
         raise SpecError([("friction", "friction is modelled for planar mechanisms only")])
     drive = None if mot is None else drive_train(mot, plan)
     if params.ndim == 2:
-        from .population import simulate_population
+        from .batch import simulate_population
         if friction or mode != "series":
             raise SpecError([("params", "a batch of designs runs on interpolated terms without friction")])
         return simulate_population(plan, params, drive, time=time, cycles=cycles, q0=q0, speed0=speed0,

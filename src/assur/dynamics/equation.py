@@ -10,6 +10,7 @@ run stops there.
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,28 +84,46 @@ class Equation:
         return value[..., 0] + self.extra_inertia, slope[..., 0], value[..., 2], value[..., 3]
 
     def _table_scalar(self, q: float):
-        """:meth:`terms` of a table at one input, in plain floats (the table's interpolation, written out)."""
-        t = self.fit.series
-        nodes, v = t.nodes, t.values
-        n = nodes.size
-        if t.periodic:
-            q = nodes[0] + (q - nodes[0]) % TWO_PI
-            i = min(max(int(np.searchsorted(nodes, q, side="right")) - 1, 0), n - 1)
+        """:meth:`terms` of a table at one input, in plain floats (the table's interpolation written out on Python
+        lists: the integrator's evaluation)."""
+        nodes, vals, knots, pieces, periodic, lo = self._scalar_table
+        n = len(nodes)
+        if periodic:
+            q = lo + (q - lo) % TWO_PI
+            i = min(max(bisect_right(nodes, q) - 1, 0), n - 1)
             j = (i + 1) % n
-            h = (nodes[j] if j else nodes[0] + TWO_PI) - nodes[i]
+            h = (nodes[j] if j else lo + TWO_PI) - nodes[i]
         else:
-            i = min(max(int(np.searchsorted(nodes, q, side="right")) - 1, 0), n - 2)
+            i = min(max(bisect_right(nodes, q) - 1, 0), n - 2)
             j = i + 1
             h = nodes[j] - nodes[i]
         s = (q - nodes[i]) / h
-        a, b = v[i], v[j]
-        s2 = s * s
-        s3 = s2 * s
-        J = (2 * s3 - 3 * s2 + 1) * a[0] + (s3 - 2 * s2 + s) * h * a[1] + (3 * s2 - 2 * s3) * b[0] \
-            + (s3 - s2) * h * b[1]
-        dJ = (6 * s2 - 6 * s) / h * a[0] + (3 * s2 - 4 * s + 1) * a[1] + (6 * s - 6 * s2) / h * b[0] \
-            + (3 * s2 - 2 * s) * b[1]
-        return J + self.extra_inertia, dJ, a[2] + s * (b[2] - a[2]), a[3] + s * (b[3] - a[3])
+        a0, a1 = vals[i]
+        b0, b1 = vals[j]
+        d, ha1, hb1 = b0 - a0, h * a1, h * b1
+        c2 = 3.0 * d - 2.0 * ha1 - hb1
+        c3 = ha1 + hb1 - 2.0 * d
+        J = a0 + s * (ha1 + s * (c2 + s * c3))
+        dJ = (ha1 + s * (2.0 * c2 + 3.0 * s * c3)) / h
+        k = min(max(bisect_right(knots, q) - 1, 0), len(knots) - 2)
+        x = q - knots[k]
+        p0, p1, p2, p3, r0, r1, r2, r3 = pieces[k]
+        return J + self.extra_inertia, dJ, ((p0 * x + p1) * x + p2) * x + p3, ((r0 * x + r1) * x + r2) * x + r3
+
+    @property
+    def _scalar_table(self):
+        """The table as Python lists (nodes, (J, J′) per node, the forces' spline knots and pieces), on first use."""
+        form = self.__dict__.get("_table_lists")
+        if form is None:
+            t = self.fit.series
+            sp = t.forces
+            c = sp.c
+            pieces = [tuple(float(v) for v in (c[0, k, 0], c[1, k, 0], c[2, k, 0], c[3, k, 0],
+                                               c[0, k, 1], c[1, k, 1], c[2, k, 1], c[3, k, 1])) for k in range(c.shape[1])]
+            form = ([float(x) for x in t.nodes], [(float(a), float(b)) for a, b in t.values[:, :2]],
+                    [float(x) for x in sp.x], pieces, bool(t.periodic), float(t.nodes[0]))
+            object.__setattr__(self, "_table_lists", form)
+        return form
 
     @property
     def _scalar_form(self):

@@ -184,14 +184,15 @@ def _covering(segments, t0, t1):
     return sol
 
 
-def converged(turns, tol: float = STEADY) -> bool:
+def converged(turns, tol: float = STEADY, noise: float = 0.0) -> bool:
     """Whether the turns have reached their periodic steady state: the last three periods change geometrically
-    (ratio r < 1) and the change still to come, |ΔT|·r/(1 − r), plus the last change, is below ``tol``·T."""
+    (ratio r < 1) and the change still to come, |ΔT|·r/(1 − r), plus the last change, is below ``tol``·T; or the
+    last three changes are all below ``noise``·T (the integration's own error)."""
     if len(turns) < 4:
         return False
     T = [tr.period for tr in turns[-4:]]
     d1, d2, d3 = T[1] - T[0], T[2] - T[1], T[3] - T[2]
-    if d3 == 0:
+    if d3 == 0 or max(abs(d1), abs(d2), abs(d3)) <= noise * T[-1]:
         return True
     r = abs(d3 / d2) if d2 else math.inf
     r_prev = abs(d2 / d1) if d1 else math.inf
@@ -296,7 +297,7 @@ def integrate(eq, *, q0: float, speed0: float, time: float | None = None, turns:
                 run.stop = Event("turns", t, float(y[0]), float(y[1]), f"ran {len(run.turns)} turns")
                 return run
             if time is None and turns is None:
-                if converged(run.turns, steady):
+                if converged(run.turns, steady, 100.0 * rtol):
                     run.stop = Event("steady", t, float(y[0]), float(y[1]),
                                      f"reached its periodic steady state after {len(run.turns)} turns ({t:.6g} s)")
                     return run

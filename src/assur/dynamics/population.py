@@ -33,16 +33,20 @@ _A = [[], [1 / 5], [3 / 40, 9 / 40], [44 / 45, -56 / 15, 32 / 9],
       [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
       [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84]]
 _E = np.array([71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
+_A_ROWS = [np.array(row, dtype=float) for row in _A]
 #: a population's run to steady state stops when the periods' remaining change is below this share
 POPULATION_STEADY = 1e-6
+#: period changes below this multiple of the relative tolerance are the integration's own error, not convergence
+NOISE = 100.0
 #: samples of the turn on which a population's terms are sampled (unless a solved grid is given)
 POPULATION_GRID = 128
 
 
 @dataclass(frozen=True)
 class PopulationEquation:
-    """The terms of D designs: ``series`` (coefficients (D, K + 1, 4)) tabulated in ``table``
-    (:class:`~.series.PeriodicTable`), ``valid (D,)`` the designs that turn fully with a positive J*, ``drive``
+    """The terms of D designs: ``series`` (their Fourier coefficients (D, K + 1, 4)) and ``table``
+    (:class:`~.series.PeriodicTable`: J* and J*′ from the series, the forces from a periodic cubic spline through
+    their samples), ``valid (D,)`` the designs that turn fully with a positive J*, ``drive``
     (its inertia is added to J*), ``tail (D,)`` the magnitude of the last kept harmonic relative to its term's
     largest (an estimate of the series' truncation error)."""
     plan: object
@@ -86,7 +90,17 @@ def population_equation(plan, params, drive, *, state=None, samples: int = POPUL
     coef = series.coefficients * np.stack([J, J, Q, Q], axis=-1)[:, None, :]
     tail = np.max(np.abs(series.coefficients[:, -1, :]), axis=-1)
     series = PeriodicSeries(0.0, coef)
-    return PopulationEquation(plan, series, PeriodicTable.from_series(series), valid, drive, tail)
+    table = PeriodicTable.from_series(series)
+    # the forces by a periodic cubic spline through their samples: local at the kinks of a load against velocity
+    # (a truncated Fourier series rings there, and the step control follows the ringing)
+    from scipy.interpolate import CubicSpline
+    n = table.table.shape[1]
+    spline = CubicSpline(np.append(q, TWO_PI), np.concatenate([values[:, :, 2:], values[:, :1, 2:]], axis=1),
+                         axis=1, bc_type="periodic")
+    fine = TWO_PI * np.arange(n) / n
+    table.table[:, :, 2:, 0] = spline(fine)
+    table.table[:, :, 2:, 1] = spline(fine, 1)
+    return PopulationEquation(plan, series, table, valid, drive, tail)
 
 
 @dataclass(frozen=True)
@@ -95,7 +109,9 @@ class PopulationResult:
     (D, n) (NaN after a design's run ended); with a motor ``effort``, ``motor_torque``, ``power`` (D, n) and
     ``current`` (D, n) or None. Per design (D,): ``mean_speed``, ``delta`` (of the last turn), ``startup_time``
     (to 95 % of the steady mean speed, NaN unless steady), ``starts``, ``steady``, ``turns`` (completed),
-    ``stop`` ('steady', 'stall', 'cannot start', 'time', 'not steady', 'does not turn'), ``t_end``."""
+    ``stop`` ('steady', 'stall', 'cannot start', 'time', 'turns', 'not steady', 'does not turn'), ``t_end``,
+    ``steps`` (accepted steps: per design on the compiled route, the vectorised iterations on numpy's) and
+    ``tail`` (the magnitude of each design's last kept Fourier harmonic, relative)."""
     plan: object
     params: np.ndarray
     t: np.ndarray
@@ -114,15 +130,15 @@ class PopulationResult:
     turns: np.ndarray
     stop: tuple
     t_end: np.ndarray
-    steps: int
+    steps: object
     tail: np.ndarray
 
 
 def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns=None, rtol=1e-8,
-                         max_turns: int = 2000, steady: float = POPULATION_STEADY, record: bool = True):
+                         max_turns: int = 1000, steady: float = POPULATION_STEADY, record: bool = True):
     """The vectorised run of every valid design of ``eq`` (module docstring). Returns a dict of per-design
-    arrays and, with ``record``, the accepted steps' (t, q, w, a) as lists of (D,) arrays (NaN where a design
-    did not step)."""
+    arrays and, with ``record``, ``history``: every accepted step as rows (design, t, q, q̇, q̈), sorted by design
+    and time."""
     D = eq.valid.size
     motor = eq.drive is not None
     if time is None and turns is None and not motor:
@@ -151,23 +167,22 @@ def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns
     last_extremes = np.full((D, 2), np.nan)
     stop = np.array(["does not turn" if not v else "" for v in eq.valid], dtype=object)
     limit_t = np.inf if time is None else float(time)
-    hist = [(t.copy(), q.copy(), w.copy(), a.copy())] if record else None
+    hist = [(np.flatnonzero(active), t[active], q[active], w[active], a[active])] if record else None
     steps = 0
     while active.any():
         steps += 1
         rows = rows_all[active]
         hh = np.minimum(h[rows], limit_t - t[rows])
         y0q, y0w = q[rows], w[rows]
-        kq, kw = [y0w], [a[rows]]
+        kq, kw = np.empty((7, rows.size)), np.empty((7, rows.size))
+        kq[0], kw[0] = y0w, a[rows]
         for s in range(1, 7):
-            dq = sum(_A[s][j] * kq[j] for j in range(s)) * hh
-            dw = sum(_A[s][j] * kw[j] for j in range(s)) * hh
-            qs, ws = y0q + dq, y0w + dw
-            kq.append(ws)
-            kw.append(eq.acceleration(qs, ws, rows))
+            coef = _A_ROWS[s]
+            qs, ws = y0q + hh * (coef @ kq[:s]), y0w + hh * (coef @ kw[:s])
+            kq[s], kw[s] = ws, eq.acceleration(qs, ws, rows)
         q1, w1, a1 = qs, ws, kw[6]
-        eq_err = hh * sum(_E[j] * kq[j] for j in range(7))
-        ew_err = hh * sum(_E[j] * kw[j] for j in range(7))
+        eq_err = hh * (_E @ kq)
+        ew_err = hh * (_E @ kw)
         sq = atol[0, rows] + rtol * np.maximum(np.abs(y0q), np.abs(q1))
         sw = atol[1, rows] + rtol * np.maximum(np.abs(y0w), np.abs(w1))
         with np.errstate(invalid="ignore"):
@@ -178,14 +193,15 @@ def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns
         h[rows] = hh * np.where(ok, factor, np.minimum(factor, 0.9))
         acc_rows = rows[ok]
         if acc_rows.size:
-            t0, qa, wa, aa = t[acc_rows], y0q[ok], y0w[ok], kw[0][ok]
+            t0, qa, wa, aa = t[acc_rows], y0q[ok], y0w[ok], kw[0, ok]
             dt = hh[ok]
             qb, wb, ab = q1[ok], w1[ok], a1[ok]
             # the turn's speed extremes: the step ends and the interior zero of q̈ (linear in the step)
-            inside = (aa * ab < 0)
-            with np.errstate(all="ignore"):
-                s_ext = np.where(inside, aa / (aa - ab), 0.0)
-            w_ext = np.where(inside, _hermite(wa, aa, wb, ab, dt, s_ext, None), wb)
+            inside = np.flatnonzero(aa * ab < 0)
+            w_ext = wb.copy()
+            if inside.size:
+                s_ext = aa[inside] / (aa[inside] - ab[inside])
+                w_ext[inside] = _hermite(wa[inside], aa[inside], wb[inside], ab[inside], dt[inside], s_ext, None)
             wmin[acc_rows] = np.minimum.reduce([wmin[acc_rows], wb, w_ext])
             wmax[acc_rows] = np.maximum.reduce([wmax[acc_rows], wb, w_ext])
             # a completed turn
@@ -213,7 +229,7 @@ def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns
                         stop[idx] = np.where(n_turns[idx] > 0, why, "cannot start")
                         done |= mask
             if time is None and turns is None:
-                conv = _converged(periods[acc_rows], steady) & ~done
+                conv = _converged(periods[acc_rows], steady, NOISE * rtol) & ~done
                 stop[acc_rows[conv]] = "steady"
                 done |= conv
                 many = (n_turns[acc_rows] >= max_turns) & ~done
@@ -228,11 +244,8 @@ def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns
                 stop[acc_rows[fin]] = "time"
                 done |= fin
             active[acc_rows[done]] = False
-        if record:
-            tt, qq, ww, aa_ = (np.full(D, np.nan) for _ in range(4))
-            tt[acc_rows], qq[acc_rows], ww[acc_rows], aa_[acc_rows] = t[acc_rows], q[acc_rows], w[acc_rows], \
-                a[acc_rows]
-            hist.append((tt, qq, ww, aa_))
+        if record and acc_rows.size:
+            hist.append((acc_rows, t[acc_rows], q[acc_rows], w[acc_rows], a[acc_rows]))
         tiny = h[rows] < 1e-14 * np.maximum(t[rows], 1e-3)
         if tiny.any():
             stop[rows[tiny]] = "step too small"
@@ -240,6 +253,10 @@ def integrate_population(eq: PopulationEquation, *, q0, speed0, time=None, turns
     T = periods[:, -1]
     mean = np.where(n_turns > 0, forward * TWO_PI / _limit_period(periods), np.nan)
     delta = (last_extremes[:, 1] - last_extremes[:, 0]) / np.abs(mean)
+    if record:         # the accepted steps of every design, in order: (design, t, q, q̇, q̈), sorted by design
+        rows, *cols = (np.concatenate(c) for c in zip(*hist))
+        order = np.argsort(rows, kind="stable")
+        hist = (rows[order],) + tuple(c[order] for c in cols)
     return {"t_end": t, "q": q, "speed": w, "turns": n_turns, "stop": tuple(stop), "mean_speed": mean,
             "delta": np.where(n_turns > 0, delta, np.nan), "period": T, "history": hist, "steps": steps,
             "forward": forward}
@@ -265,15 +282,18 @@ def _crossing(qa, wa, qb, wb, h, target):
     return np.where(np.isfinite(s), s, 1.0)
 
 
-def _converged(periods, tol):
-    """(m,) bool: the rows of the last four periods (m, 4) that have converged (:func:`~.integrate.converged`)."""
+def _converged(periods, tol, noise):
+    """(m,) bool: the rows of the last four periods (m, 4) that have converged (:func:`~.integrate.converged`;
+    ``noise``: the share of a period below which changes are the integration's own error)."""
     d = np.diff(periods, axis=1)
     with np.errstate(all="ignore"):
         r = np.abs(d[:, 2] / d[:, 1])
         r_prev = np.abs(d[:, 1] / d[:, 0])
         contracting = (r < 1) & (r_prev < 1)
         remaining = np.abs(d[:, 2]) * (1.0 + r / (1.0 - r))
-        ok = np.where(contracting, remaining <= tol * periods[:, 3], np.abs(d[:, 2]) <= 1e-3 * tol * periods[:, 3])
+        T = periods[:, 3]
+        ok = np.where(contracting, remaining <= tol * T, np.abs(d[:, 2]) <= 1e-3 * tol * T)
+        ok |= np.max(np.abs(d), axis=1) <= noise * T
     return np.all(np.isfinite(periods), axis=1) & (ok | (d[:, 2] == 0))
 
 
@@ -288,77 +308,47 @@ def _limit_period(periods):
 
 def startup_times(hist, level, forward: float = 1.0):
     """(D,) the first time each design's speed reaches ``level (D,)`` (on the cubic Hermite interpolant of the
-    speed between the recorded steps; NaN when it never does)."""
+    speed between its recorded steps; NaN when it never does). ``hist``: the run's (design, t, q, q̇, q̈) rows
+    sorted by design and time."""
+    rows, T, _, W, A = hist
     D = level.shape[0]
     out = np.full(D, np.nan)
-    prev_t, prev_w, prev_a = hist[0][0].copy(), hist[0][2].copy(), hist[0][3].copy()
-    todo = np.isfinite(level)
-    hit0 = todo & (forward * (prev_w - level) >= 0)
-    out[hit0] = prev_t[hit0]
-    todo &= ~hit0
-    for tt, _, ww, aa in hist[1:]:
-        if not todo.any():
-            break
-        stepped = np.isfinite(tt)
-        hit = todo & stepped & (forward * (ww - level) >= 0)
-        if hit.any():
-            h = tt[hit] - prev_t[hit]
-            s = _crossing(prev_w[hit], prev_a[hit], ww[hit], aa[hit], h, level[hit])
-            out[hit] = prev_t[hit] + s * h
-            todo &= ~hit
-        prev_t = np.where(stepped, tt, prev_t)
-        prev_w = np.where(stepped, ww, prev_w)
-        prev_a = np.where(stepped, aa, prev_a)
+    with np.errstate(invalid="ignore"):
+        reached = forward * (W - level[rows]) >= 0
+    hit = np.flatnonzero(reached)
+    if not hit.size:
+        return out
+    designs, first = np.unique(rows[hit], return_index=True)
+    i = hit[first]
+    at_start = (i == 0) | (rows[np.maximum(i - 1, 0)] != designs)
+    out[designs[at_start]] = T[i[at_start]]
+    j, d = i[~at_start], designs[~at_start]
+    h = T[j] - T[j - 1]
+    s = _crossing(W[j - 1], A[j - 1], W[j], A[j], h, level[d])
+    out[d] = T[j - 1] + s * h
     return out
 
 
-def simulate_population(plan, params, drive, *, time=None, cycles=None, q0=None, speed0=None, samples=None,
-                        state=None, rtol: float = 1e-8) -> PopulationResult:
-    """The batch route of :func:`assur.simulate` (see :class:`PopulationResult`)."""
-    params = np.asarray(params, dtype=float)
-    eq = population_equation(plan, params, drive, state=state)
-    D = params.shape[0]
-    q0 = np.broadcast_to(float(plan.sketch_inputs[0]) if q0 is None else q0, (D,)).astype(float)
-    if speed0 is None:
-        speed0 = 0.0 if drive is not None else float(plan.speeds[0])
-    r = integrate_population(eq, q0=q0, speed0=speed0, time=time, turns=cycles, rtol=rtol)
-    steady = np.array([s == "steady" for s in r["stop"]])
-    level = np.where(steady, STARTUP_SHARE * r["mean_speed"], np.nan)
-    startup = startup_times(r["history"], level, r["forward"])
-    starts = np.array([s not in ("cannot start", "does not turn") for s in r["stop"]])
-    t_end = r["t_end"]
-    n = samples or 1000
-    tg = np.linspace(0.0, float(np.nanmax(t_end)) if t_end.size else 0.0, n)
-    q, w, a = _resample(r["history"], tg)
-    effort = torque = power = current = None
-    if drive is not None:
-        effort, torque, mspeed = (np.asarray(x, dtype=float) for x in drive.generalised(w))
-        power = torque * mspeed
-        current = drive.current(torque)
-    return PopulationResult(plan, params, tg, q, w, a, effort, torque, power, current, r["mean_speed"],
-                            r["delta"], startup, starts, steady, r["turns"], r["stop"], t_end, r["steps"], eq.tail)
-
-
-def _resample(hist, tg):
-    """(q, w, a) (D, n) at the times ``tg`` (n,): the cubic Hermite interpolant of each design's accepted steps."""
-    T = np.stack([h[0] for h in hist], axis=1)        # (D, S)
-    Qh, Wh, Ah = (np.stack([h[i] for h in hist], axis=1) for i in (1, 2, 3))
-    D = T.shape[0]
+def _resample(hist, tg, D):
+    """(q, w, a) (D, n) at the times ``tg`` (n,): the cubic Hermite interpolant of each design's accepted steps
+    (NaN after its run ended)."""
+    rows, T, Q, W, A = hist
     out = [np.full((D, tg.size), np.nan) for _ in range(3)]
+    starts = np.searchsorted(rows, np.arange(D + 1))
     for d in range(D):
-        keep = np.isfinite(T[d])
-        td, qd, wd, ad = T[d, keep], Qh[d, keep], Wh[d, keep], Ah[d, keep]
-        if td.size < 2:
+        lo, hi = starts[d], starts[d + 1]
+        if hi - lo < 2:
             continue
+        td = T[lo:hi]
         sel = tg <= td[-1]
-        j = np.clip(np.searchsorted(td, tg[sel], side="right") - 1, 0, td.size - 2)
-        h = td[j + 1] - td[j]
-        s = (tg[sel] - td[j]) / h
-        out[0][d, sel] = _hermite(qd[j], wd[j], qd[j + 1], wd[j + 1], h, s, None)
-        out[1][d, sel] = _hermite(wd[j], ad[j], wd[j + 1], ad[j + 1], h, s, None)
-        out[2][d, sel] = ad[j] + s * (ad[j + 1] - ad[j])
+        j = lo + np.clip(np.searchsorted(td, tg[sel], side="right") - 1, 0, hi - lo - 2)
+        h = T[j + 1] - T[j]
+        s = (tg[sel] - T[j]) / h
+        out[0][d, sel] = _hermite(Q[j], W[j], Q[j + 1], W[j + 1], h, s, None)
+        out[1][d, sel] = _hermite(W[j], A[j], W[j + 1], A[j + 1], h, s, None)
+        out[2][d, sel] = A[j] + s * (A[j + 1] - A[j])
     return out
 
 
 __all__ = ["PopulationEquation", "PopulationResult", "integrate_population", "population_equation",
-           "simulate_population", "startup_times"]
+           "startup_times"]

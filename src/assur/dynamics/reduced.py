@@ -8,9 +8,11 @@ equation reduced to q is (docs/dynamics.md)::
 * J* = Σ m·|c′|² + I·θ′² over the bodies (c the centre of mass, θ the body angle, ′ = d/dq: the exact analogues
   of the solved state), and ½·J*′ = Σ m·c′·c″ + I·θ′·θ″ from the second analogues;
 * Q_applied: the generalised force of gravity and of the file's loads (constant, or a law of the input), by
-  virtual power: the force analysis at q̇ = q̈ = 0 gives the driving effort that holds them, Q_applied = −that;
-* Q_opposing: the generalised force at q̇ > 0 of the loads that act against a point's velocity (``opposes``),
-  from the force analysis at q̇ = ±1: (Q(−1) − Q(+1))/2 of the driving efforts (it is odd in q̇).
+  virtual power: the force analysis at the state's rates (q̇ = w, q̈ = a; w = 1, a = 0 unless a solved state is
+  given) needs the driving effort Q_d = J*·a + ½J*′·w² − Q_applied − sign(w)·Q_opposing, so Q_applied + sign(w)·
+  Q_opposing = J*·a + ½J*′·w² − Q_d;
+* Q_opposing: the generalised force at q̇ > 0 of the loads that act against a point's velocity (``opposes``): the
+  force analysis at q̇ = q̈ = 0 (where they vanish) gives Q_applied = −Q_d(0, 0) alone, and the rest is theirs.
 
 Planar plans compute J* and J*′ from the analogues with the force analysis' own mass recipes
 (:mod:`assur.kinetostatics.kernel`: com_motion, body_inertia), so the force analysis and the equation of motion
@@ -121,14 +123,19 @@ def reduced_terms(plan, params=None, q=None, *, state=None, backend: str = "auto
         elif state.d2pos_dq2 is None:
             raise SpecError([("state", "the equation of motion needs the second analogues: solve with order=2")])
         J, half_rate = planar_inertia(plan, state)
-        d00, ok = _driver(plan, params, inputs, 0.0, 0.0, backend)
-        applied = -d00
+        # the force analysis at the state's own rates (q̇ = w, q̈ = a): Q_d = J*·a + ½J*′·w² − Q_applied − sign(w)·Q_opp
+        w = np.asarray(state.qdot, dtype=float)[..., 0]
+        acc = np.asarray(state.qddot, dtype=float)[..., 0]
+        f = forces(plan, state=state, backend=backend)
+        dw, ok = np.asarray(f.driver[..., 0], dtype=float), np.asarray(f.valid)
+        loads = J * acc + half_rate * w * w - dw              # Q_applied + sign(w)·Q_opposing
         if has_opposing(plan):
-            dp, _ = _driver(plan, params, inputs, 1.0, 0.0, backend)
-            dm, _ = _driver(plan, params, inputs, -1.0, 0.0, backend)
-            opposing = 0.5 * (dm - dp)
+            d00, _ = _driver(plan, params, inputs, 0.0, 0.0, backend)
+            applied = -d00
+            with np.errstate(invalid="ignore"):
+                opposing = np.sign(w) * (loads - applied)
         else:
-            opposing = np.zeros_like(applied)
+            applied, opposing = loads, np.zeros_like(loads)
     shape = np.broadcast_shapes(np.shape(J), np.shape(applied))
     J, half_rate, applied, opposing = (np.broadcast_to(x, shape).astype(float) for x in
                                        (J, half_rate, applied, opposing))

@@ -103,20 +103,34 @@ class PeriodicTable:
         slope = np.fft.irfft(spectrum * (1j * k), n, axis=-2) * n
         return cls(series.start, np.ascontiguousarray(np.stack([value, slope], axis=-1)))
 
+    def flat(self) -> np.ndarray:
+        """(D·n, 2·n_terms): one row per design and node, its values then its slopes (built on first use)."""
+        flat = self.__dict__.get("_flat")
+        if flat is None:
+            D, n, n_terms, _ = self.table.shape
+            flat = np.ascontiguousarray(np.concatenate([self.table[..., 0], self.table[..., 1]], axis=-1)
+                                        .reshape(D * n, 2 * n_terms))
+            object.__setattr__(self, "_flat", flat)
+        return flat
+
     def __call__(self, q, rows):
         """(values (m, n_terms), derivatives (m, n_terms)) of the designs ``rows`` (m,) at q (m,)."""
-        n = self.table.shape[1]
+        D, n, n_terms, _ = self.table.shape
+        flat = self.flat()
         h = TWO_PI / n
         x = (np.asarray(q, dtype=float) - self.start) / h
         i = np.floor(x)
         s = (x - i)[:, None]
         i = i.astype(np.int64) % n
-        a, b = self.table[rows, i], self.table[rows, (i + 1) % n]          # (m, n_terms, 2)
-        s2, s3 = s * s, s * s * s
-        value = (2 * s3 - 3 * s2 + 1) * a[..., 0] + (s3 - 2 * s2 + s) * h * a[..., 1] \
-            + (3 * s2 - 2 * s3) * b[..., 0] + (s3 - s2) * h * b[..., 1]
-        slope = (6 * s2 - 6 * s) / h * a[..., 0] + (3 * s2 - 4 * s + 1) * a[..., 1] \
-            + (6 * s - 6 * s2) / h * b[..., 0] + (3 * s2 - 2 * s) * b[..., 1]
+        base = np.asarray(rows, dtype=np.int64) * n
+        a, b = flat[base + i], flat[base + (i + 1) % n]             # (m, 2·n_terms)
+        a0, a1, b0, b1 = a[:, :n_terms], a[:, n_terms:], b[:, :n_terms], b[:, n_terms:]
+        # the cubic Hermite polynomial in Horner form: a0 + s·(h·a1 + s·(c2 + s·c3))
+        d, ha1, hb1 = b0 - a0, h * a1, h * b1
+        c2 = 3.0 * d - 2.0 * ha1 - hb1
+        c3 = ha1 + hb1 - 2.0 * d
+        value = a0 + s * (ha1 + s * (c2 + s * c3))
+        slope = (ha1 + s * (2.0 * c2 + 3.0 * s * c3)) / h
         return value, slope
 
 
@@ -124,19 +138,35 @@ class PeriodicTable:
 class TableSeries:
     """The terms at ``nodes (n,)`` (increasing; one turn [lo, lo + 2π) when ``periodic``, else a closed interval):
     J* (column 0) by cubic Hermite interpolation on its exact samples and slopes (column 1; the equation's J*′ is
-    that interpolant's derivative), the other columns by linear interpolation (exact for the file's
-    piecewise-linear load laws, and no overshoot at the kinks of a load against velocity, where a spectral series
-    converges slowly). ``values (n, n_terms)``."""
+    that interpolant's derivative), the forces (columns 2, 3) by a cubic spline through their samples (periodic, or
+    not-a-knot): C², so a high-order integrator keeps its order between the nodes, and local at the kinks of a load
+    against velocity, where a Fourier series converges slowly. ``values (n, n_terms)``."""
     nodes: np.ndarray
     periodic: bool
     values: np.ndarray
 
+    @property
+    def forces(self):
+        """The cubic spline of the columns 2 and 3, built on first use."""
+        spline = self.__dict__.get("_forces")
+        if spline is None:
+            from scipy.interpolate import CubicSpline
+            x, y = self.nodes, self.values[:, 2:]
+            if self.periodic:
+                x, y = np.append(x, x[0] + TWO_PI), np.vstack([y, y[:1]])
+            spline = CubicSpline(x, y, axis=0, bc_type="periodic" if self.periodic else "not-a-knot")
+            object.__setattr__(self, "_forces", spline)
+        return spline
+
+    def _wrap(self, q):
+        q = np.asarray(q, dtype=float)
+        return self.nodes[0] + np.mod(q - self.nodes[0], TWO_PI) if self.periodic else q
+
     def _locate(self, q):
         """(i, j, s, h): the nodes around q (...), the fraction s of the interval and its length h."""
-        x = np.asarray(q, dtype=float)
+        x = self._wrap(q)
         nodes, n = self.nodes, self.nodes.size
         if self.periodic:
-            x = nodes[0] + np.mod(x - nodes[0], TWO_PI)
             i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, n - 1)
             j = (i + 1) % n
             right = np.where(j == 0, nodes[0] + TWO_PI, nodes[j])
@@ -150,36 +180,43 @@ class TableSeries:
     def __call__(self, q, derivative: bool = False):
         i, j, s, h = self._locate(q)
         a, b = self.values[i], self.values[j]
-        value = a + s[..., None] * (b - a)
-        slope = (b - a) / h[..., None]
+        x = self._wrap(q)
+        value = np.empty(np.shape(x) + (self.values.shape[1],))
+        slope = np.empty_like(value)
+        value[..., 2:] = self.forces(x)
+        slope[..., 2:] = self.forces(x, 1)
         s2, s3 = s * s, s * s * s
         value[..., 0] = (2 * s3 - 3 * s2 + 1) * a[..., 0] + (s3 - 2 * s2 + s) * h * a[..., 1] \
             + (3 * s2 - 2 * s3) * b[..., 0] + (s3 - s2) * h * b[..., 1]
         slope[..., 0] = (6 * s2 - 6 * s) / h * a[..., 0] + (3 * s2 - 4 * s + 1) * a[..., 1] \
             + (6 * s - 6 * s2) / h * b[..., 0] + (3 * s2 - 2 * s) * b[..., 1]
+        value[..., 1] = slope[..., 0]
+        slope[..., 1] = np.nan
         return (value, slope) if derivative else value
 
     def mean(self):
-        """(n_terms,) the mean over a turn of the linear interpolants (periodic tables)."""
+        """(n_terms,) the mean over a turn (J* of its Hermite interpolant by trapezoids, the forces of their
+        spline; periodic tables)."""
         h = np.diff(np.append(self.nodes, self.nodes[0] + TWO_PI))
         nxt = np.roll(self.values, -1, axis=0)
-        return np.sum(0.5 * (self.values + nxt) * h[:, None], axis=0) / TWO_PI
+        out = np.sum(0.5 * (self.values + nxt) * h[:, None], axis=0) / TWO_PI
+        f = self.forces
+        out[2:] = (f.integrate(self.nodes[0], self.nodes[0] + TWO_PI)) / TWO_PI
+        return out
 
     def integral(self, q, column: int = 2):
-        """∫ from the first node to q of the linear interpolant of ``column``, (…); for a periodic table of the
-        column less its mean (periodic)."""
-        v = self.values[:, column]
-        if self.periodic:
-            v = v - self.mean()[column]
-            h = np.diff(np.append(self.nodes, self.nodes[0] + TWO_PI))
-            nxt = np.roll(v, -1)
-        else:
-            h = np.append(np.diff(self.nodes), 0.0)
-            nxt = np.append(v[1:], v[-1])
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * (v + nxt) * h)])
-        i, j, s, hh = self._locate(q)
-        turns = np.floor((np.asarray(q, dtype=float) - self.nodes[0]) / TWO_PI) if self.periodic else 0.0
-        return cum[i] + turns * cum[-1] + hh * (v[i] * s + 0.5 * (v[j] - v[i]) * s * s)
+        """∫ from the first node to q of the spline of force ``column`` (…); for a periodic table of the column less
+        its mean (periodic)."""
+        f = self.forces.antiderivative()
+        q = np.asarray(q, dtype=float)
+        x0 = self.nodes[0]
+        k = column - 2
+        if not self.periodic:
+            return f(q)[..., k] - f(x0)[k]
+        mean = self.mean()[column]
+        turns = np.floor((q - x0) / TWO_PI)
+        x = self._wrap(q)
+        return f(x)[..., k] - f(x0)[k] + turns * (f(x0 + TWO_PI)[k] - f(x0)[k]) - mean * (q - x0)
 
 
 @dataclass(frozen=True)
