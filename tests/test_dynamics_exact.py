@@ -202,6 +202,7 @@ def fourbar_terms(t2):
     return J, dJ, dV
 
 
+@pytest.mark.slow
 def test_fourbar_follows_lagranges_equation_written_by_hand():
     plan = plan_of(fourbar_text())
     motor = {"kind": "dc", "stall_torque": 0.3, "no_load_speed": "120 rad/s"}
@@ -256,6 +257,7 @@ def test_reactions_at_the_simulated_motion_satisfy_virtual_power():
     assert np.all(np.isfinite(f.reactions))
 
 
+@pytest.mark.slow
 def test_steady_fluctuation_against_the_kinetostatic_flywheel_estimate():
     """A flywheel sized by the kinetostatic estimate for δ = 0.05 at the steady speed: the simulated δ agrees
     within the estimate's stated approximations (order δ, and the motor's damping (c/(Iω))²)."""

@@ -114,7 +114,7 @@ def test_work_and_energy_balance_on_a_stroke():
     from scipy.integrate import cumulative_simpson
     plan = assur.compile(assur.loads(actuator_crank(
         '[motor]\nkind = "hydraulic"\npressure = "10 bar"\narea = "2 cm^2"\nflow = "1 L/min"\n')))
-    s = assur.simulate(plan, time=2.0, rtol=1e-12, samples=80001)
+    s = assur.simulate(plan, time=2.0, rtol=1e-12, samples=40001)
     assert s.stop.kind == "limit"
     vA = assur.solve(plan, None, s.q[:, None], speeds=s.speed[:, None], order=1).point("A").vel
     T = 0.5 * 1.0 * np.sum(vA * vA, axis=1)
@@ -133,7 +133,7 @@ def test_a_batch_of_designs_matches_single_runs():
     P = np.tile(plan.defaults, (3, 1))
     P[1, plan.param_index("crank.length")] *= 0.9
     P[2, plan.param_index("rod.length")] *= 1.2
-    batch = assur.simulate(plan, params=P)
+    batch = assur.simulate(plan, params=P, backend="numpy")      # the compiled route: test_dynamics_faces.py
     assert batch.q.shape == (3, batch.t.size) and batch.speed.shape == batch.q.shape
     for d in range(3):
         one = assur.simulate(plan, params=P[d])
@@ -147,7 +147,7 @@ def test_a_batch_of_designs_matches_single_runs():
 
 def test_a_batch_reports_designs_that_do_not_turn():
     plan = assur.compile(assur.loads(rocker_text()))
-    r = assur.simulate(plan, params=plan.defaults[None, :], time=1.0)
+    r = assur.simulate(plan, params=plan.defaults[None, :], time=1.0, backend="numpy")
     assert r.stop == ("does not turn",) and not r.starts[0]
 
 

@@ -89,7 +89,11 @@ def _drive_one_cycle(plan, every: int = 50):
     return float(np.max(np.hypot(X[..., 0] - P[..., 0], X[..., 2] - P[..., 1]))) / plan.length_scale
 
 
-@pytest.mark.parametrize("name", [n for n in planar_examples() if n not in REFUSED])
+QUICK = ("crank_rocker.toml", "slider_crank.toml", "walker_fourbar.toml")
+
+
+@pytest.mark.parametrize("name", [n if n in QUICK else pytest.param(n, marks=pytest.mark.slow)
+                                  for n in planar_examples() if n not in REFUSED])
 def test_driven_at_constant_speed_every_joint_follows_the_kinematics(name):
     plan = assur.compile(assur.load(EXAMPLES / name))
     assert _drive_one_cycle(plan) <= 1e-4

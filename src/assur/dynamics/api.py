@@ -64,7 +64,8 @@ def _source(plan_or_cycle, params):
 
 def simulate(plan, *, time: float | None = None, cycles: int | None = None, motor=None, q0: float | None = None,
              speed0: float | None = None, params=None, method: str = "auto", rtol: float = 1e-10,
-             mode: str = "series", friction: bool = False, samples: int | None = None, steady: float | None = None):
+             mode: str = "series", friction: bool = False, samples: int | None = None, steady: float | None = None,
+             backend: str = "auto"):
     """Run the mechanism of ``plan`` on its motor.
 
     Parameters
@@ -92,6 +93,9 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
     steady : float, optional
         A run to steady state stops when the period's remaining change is below this share of the period
         (default :data:`~.integrate.STEADY`).
+    backend : {'auto', 'numpy', 'numba'}
+        A batch's integrator: compiled (numba, where installed: 'auto') or vectorised numpy; the same numbers to
+        the tolerance.
 
     Returns
     -------
@@ -112,8 +116,10 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
         from .batch import simulate_population
         if friction or mode != "series":
             raise SpecError([("params", "a batch of designs runs on interpolated terms without friction")])
+        if backend not in ("auto", "numpy", "numba"):
+            raise SpecError([("backend", f"must be one of auto, numpy, numba: {backend!r}")])
         return simulate_population(plan, params, drive, time=time, cycles=cycles, q0=q0, speed0=speed0,
-                                   samples=samples)
+                                   samples=samples, compiled=None if backend == "auto" else backend == "numba")
     if params.ndim != 1 or params.shape[0] != plan.n_params:
         raise SpecError([("params", f"must be ({plan.n_params},) or (n_designs, {plan.n_params}): "
                                     f"shape {params.shape}")])

@@ -1,5 +1,4 @@
-"""Running a population's equations: the compiled route (:mod:`assur.kernels.dopri`, designs in parallel) where
-numba is installed, else the vectorised numpy route (:func:`~.population.integrate_population`); both give the
+"""Running a population's equations: the compiled route (:mod:`assur.kernels.dopri`) where numba is installed, else the vectorised numpy route (:func:`~.population.integrate_population`); both give the
 same numbers to the integration's tolerance.
 
 The compiled route runs twice: the first run finds each design's end and steady mean speed; the second, the same
@@ -129,7 +128,7 @@ def run_designs(eq, *, q0, speed0, time=None, turns=None, rtol: float = 1e-8, sa
 
 
 def simulate_population(plan, params, drive, *, time=None, cycles=None, q0=None, speed0=None, samples=None,
-                        state=None, rtol: float = 1e-8) -> PopulationResult:
+                        state=None, rtol: float = 1e-8, compiled: bool | None = None) -> PopulationResult:
     """The batch route of :func:`assur.simulate` (see :class:`PopulationResult`)."""
     params = np.asarray(params, dtype=float)
     eq = population_equation(plan, params, drive, state=state)
@@ -137,7 +136,8 @@ def simulate_population(plan, params, drive, *, time=None, cycles=None, q0=None,
     q0 = np.broadcast_to(float(plan.sketch_inputs[0]) if q0 is None else q0, (D,)).astype(float)
     if speed0 is None:
         speed0 = 0.0 if drive is not None else float(plan.speeds[0])
-    r = run_designs(eq, q0=q0, speed0=speed0, time=time, turns=cycles, rtol=rtol, samples=samples or 1000)
+    r = run_designs(eq, q0=q0, speed0=speed0, time=time, turns=cycles, rtol=rtol, samples=samples or 1000,
+                    compiled=compiled)
     steady = np.array([s == "steady" for s in r["stop"]])
     starts = np.array([s not in ("cannot start", "does not turn") for s in r["stop"]])
     w = r["speed"]

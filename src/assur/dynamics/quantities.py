@@ -38,9 +38,10 @@ def check_dynamics(plan) -> str | None:
     return None
 
 
-def population_quantities(plan, params, state=None, *, rtol: float = 1e-8) -> dict:
+def population_quantities(plan, params, state=None, *, rtol: float = 1e-8, compiled: bool | None = None) -> dict:
     """{quantity: (D,) array} of the designs ``params (D, n_params)`` (SI; ``state``: their solved cycle grid
-    (D, M) at q = 2πj/M with order 2, or None to solve it here)."""
+    (D, M) at q = 2πj/M with order 2, or None to solve it here; ``compiled``: the integrator's route, None for the
+    compiled one where numba is installed)."""
     why = check_dynamics(plan)
     if why is not None:
         raise SpecError([("dynamics", why)])
@@ -52,7 +53,7 @@ def population_quantities(plan, params, state=None, *, rtol: float = 1e-8) -> di
         finite = np.all(np.isfinite(params), axis=1)
         eq = type(eq)(eq.plan, eq.series, eq.table, eq.valid & finite, eq.drive, eq.tail)
         q0 = np.full(D, float(plan.sketch_inputs[0]))
-        r = run_designs(eq, q0=q0, speed0=0.0, rtol=rtol)
+        r = run_designs(eq, q0=q0, speed0=0.0, rtol=rtol, compiled=compiled)
     steady = np.array([s == "steady" for s in r["stop"]])
     return {"dynamics.startup_time": np.where(steady, r["startup"], np.nan),
             "dynamics.mean_speed": np.where(steady, r["mean_speed"], np.nan),

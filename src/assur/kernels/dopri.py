@@ -4,8 +4,8 @@ Each design d integrates q̈ = (Q_m(q̇) + Q_a(q) + sign(q̇)·Q_o(q) − ½·J�
 step size (mixed tolerance atol + rtol·|y|, the standard controller), its terms read from a periodic table of
 values and slopes at n uniform inputs per turn (cubic Hermite; ``flat`` (D·n, 8): J, J′, Q_a, Q_o, then their
 slopes), the motor from a characteristic code (``motor``: see :data:`MOTOR_CODES` and :func:`effort`). The designs
-are independent, so they run in parallel (``prange``). Everything here is plain arrays and numbers: no plan, no
-names (the layer of kernels).
+are independent and run one after the other (a parallel loop compiled three times slower for little gain on two
+busy cores). Everything here is plain arrays and numbers: no plan, no names (the layer of kernels).
 
 Per design it records its turns (q0 + 2πk crossed, located on the step's Hermite interpolant of q), the extreme
 speeds of its last complete turn, the first time its speed reaches ``level[d]`` (NaN: not asked), samples at the
@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 TWO_PI = 2.0 * math.pi
 #: motor characteristic codes: none, constant, DC (stall, free speed), induction (breakdown torque, slip,
@@ -65,6 +65,13 @@ def effort(code, p, xs, ys, w):
     return 0.0
 
 
+@njit(inline="always", cache=True, error_model="numpy")
+def _hermite_at(a0, a1, b0, b1, h, s):
+    """The cubic Hermite interpolant (values a0, b0, slopes a1, b1 over a step h) at the fraction s, in Horner form."""
+    ha1, hb1, d = h * a1, h * b1, b0 - a0
+    return a0 + s * (ha1 + s * ((3.0 * d - 2.0 * ha1 - hb1) + s * (ha1 + hb1 - 2.0 * d)))
+
+
 @njit(cache=True, error_model="numpy")
 def _accel(flat, base, n, start, q, w, code, p, xs, ys, ratio, eta, extra):
     h = TWO_PI / n
@@ -73,25 +80,21 @@ def _accel(flat, base, n, start, q, w, code, p, xs, ys, ratio, eta, extra):
     s = x - i
     i = int(i) % n
     j = (i + 1) % n
-    a = flat[base + i]
-    b = flat[base + j]
-    J = 0.0
-    dJ = 0.0
-    v = np.empty(4)
-    for k in range(4):
-        a0, b0, ha1, hb1 = a[k], b[k], h * a[4 + k], h * b[4 + k]
-        d = b0 - a0
-        c2 = 3.0 * d - 2.0 * ha1 - hb1
-        c3 = ha1 + hb1 - 2.0 * d
-        v[k] = a0 + s * (ha1 + s * (c2 + s * c3))
-        if k == 0:
-            dJ = (ha1 + s * (2.0 * c2 + 3.0 * s * c3)) / h
-    J = v[0] + extra
+    ra, rb = base + i, base + j
+    # J and its slope (the derivative of its Hermite interpolant), Q_applied and Q_opposing: no arrays
+    a0, b0, ha1, hb1 = flat[ra, 0], flat[rb, 0], h * flat[ra, 4], h * flat[rb, 4]
+    d = b0 - a0
+    c2 = 3.0 * d - 2.0 * ha1 - hb1
+    c3 = ha1 + hb1 - 2.0 * d
+    J = a0 + s * (ha1 + s * (c2 + s * c3)) + extra
+    dJ = (ha1 + s * (2.0 * c2 + 3.0 * s * c3)) / h
+    Qa = _hermite_at(flat[ra, 2], flat[ra, 6], flat[rb, 2], flat[rb, 6], h, s)
+    Qo = _hermite_at(flat[ra, 3], flat[ra, 7], flat[rb, 3], flat[rb, 7], h, s)
     wm = ratio * w
     tau = effort(code, p, xs, ys, wm)
     Q = ratio * tau * (eta if tau * wm >= 0.0 else 1.0 / eta)
     sg = 1.0 if w > 0 else (-1.0 if w < 0 else 0.0)
-    return (Q + v[2] + sg * v[3] - 0.5 * dJ * w * w) / J
+    return (Q + Qa + sg * Qo - 0.5 * dJ * w * w) / J
 
 
 @njit(cache=True, error_model="numpy")
@@ -129,7 +132,7 @@ def _converged(T, tol, noise):
     return abs(d3) <= 1e-3 * tol * T[3]
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def run(flat, n, start, valid, code, p, xs, ys, ratio, eta, extra, q0, w0, atol_w, rtol, t_limit, turns_limit,
         steady, noise, max_turns, creep, forward, level, grid, stop, t_end, turns, periods, extremes, crossing,
         samples, steps):
@@ -140,7 +143,7 @@ def run(flat, n, start, valid, code, p, xs, ys, ratio, eta, extra, q0, w0, atol_
     ``t_limit`` = inf: run to the steady state."""
     D = q0.shape[0]
     G = grid.shape[0]
-    for d in prange(D):
+    for d in range(D):
         for g in range(G):
             samples[d, g, 0] = np.nan
             samples[d, g, 1] = np.nan

@@ -280,7 +280,7 @@ class Evaluator:
         if any(k.startswith("forces.") for k in self._quantities):
             Q.update(_sampled_forces(plan, st, valid, self.backend))
         if any(k.startswith("dynamics.") for k in self._quantities):
-            Q.update(_sampled_dynamics(plan, params, st, valid, prob.angle_unit))
+            Q.update(_sampled_dynamics(plan, params, st, valid, prob.angle_unit, self.backend))
         if "transmission.min" in self._quantities:
             from ..analysis.transmission import transmission_angles
             from ..io.units import ANGLE
@@ -403,13 +403,13 @@ def _sampled_gait(plan, st, ls):
     return {f"gait.{k}": v for k, v in out.items()}
 
 
-def _sampled_dynamics(plan, params, st, valid, angle_unit) -> dict:
+def _sampled_dynamics(plan, params, st, valid, angle_unit, backend) -> dict:
     """``dynamics.*`` of every design from rest on the template's motor (:mod:`assur.dynamics.quantities`), on the
     cycle samples st (D, M) solved with order 2; a design with an unassembled sample does not turn fully, so it does
     not start (0, NaN). The mean speed in the file's angle unit per second."""
     from ..dynamics.quantities import population_quantities
     from ..io.units import ANGLE
-    out = population_quantities(plan, params, st)
+    out = population_quantities(plan, params, st, compiled=backend == "numba")
     bad = ~np.all(valid, axis=1)
     for k in out:
         out[k] = np.where(bad, 0.0 if k == "dynamics.starts" else np.nan, out[k])
