@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 import assur
-from assur.analysis.sampling import Cycle
 from assur.dynamics.batch import compiled_available, run_designs
 from assur.dynamics.cycle import cycle_simulation
 from assur.dynamics.motors import drive_train
@@ -26,20 +25,20 @@ def plan():
 
 
 def test_a_solved_cycle_runs_on_its_motor(plan):
-    cycle = Cycle(plan)
+    cycle = assur.Study(plan)
     run = cycle_simulation(cycle, time=0.3)
     direct = assur.simulate(plan, time=0.3)
     assert run.simulation.stop.kind == "time"
     assert np.allclose(run.simulation.speed, direct.speed, rtol=1e-8, atol=1e-9)
     assert run.forces is not None and run.forces.reactions.shape[0] == run.simulation.t.size
     assert set(run.summary()) >= {"stop", "mean_speed", "delta", "joint_peaks", "events"}
-    assert cycle_simulation(Cycle(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml")))) is None
+    assert cycle_simulation(assur.Study(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml")))) is None
 
 
 def test_the_report_fragment(plan):
-    html = dynamics_html(cycle_simulation(Cycle(plan), time=0.3))
+    html = dynamics_html(cycle_simulation(assur.Study(plan), time=0.3))
     assert "<table" in html and "run on the motor" in html and 'src="data:image/png;base64,' in html
-    assert dynamics_html(Cycle(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml")))) == ""
+    assert dynamics_html(assur.Study(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml")))) == ""
 
 
 def _designs(plan, n=4):

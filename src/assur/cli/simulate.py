@@ -17,7 +17,8 @@ PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
 
 
 def register(sub) -> None:
-    """Add ``assur simulate`` (and ``assur export --to mjcf`` where no export command exists) to ``sub``."""
+    """Add ``assur simulate`` to the argparse sub-parsers ``sub`` (``assur export --to mjcf`` is a row of the
+    export table, :mod:`assur.cli.exchange`)."""
     help_ = "run the mechanism on its motor: start-up, steady speed and fluctuation, stall, reactions over time"
     sp = sub.add_parser("simulate", help=help_, description=help_)
     sp.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
@@ -44,13 +45,6 @@ def register(sub) -> None:
     sp.add_argument("--plot", type=output_path(PLOT_EXTENSIONS), metavar="F",
                     help="draw speed against time at start-up beside the kinetostatic estimate (.png, .svg, .pdf)")
     sp.set_defaults(func=cmd_simulate)
-    if "export" not in sub.choices:
-        help_ = "write the mechanism in another format: mjcf (a MuJoCo model)"
-        ex = sub.add_parser("export", help=help_, description=help_)
-        ex.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
-        ex.add_argument("--to", required=True, choices=("mjcf",), help="the format")
-        ex.add_argument("output", metavar="OUT", type=path_arg, help="the file to write (.xml)")
-        ex.set_defaults(func=cmd_export)
 
 
 def _start(plan, args):
@@ -117,13 +111,4 @@ def cmd_simulate(args) -> int:
             print(f"wrote {args.csv} ({sim.t.size} rows)")
         if args.plot:
             print(f"wrote {args.plot}")
-    return 0
-
-
-def cmd_export(args) -> int:
-    from ..dynamics.mjcf import write_mjcf
-    from .args import compile_file
-    _, plan = compile_file(args.file)
-    write_mjcf(plan, args.output)
-    print(f"wrote {args.output}")
     return 0

@@ -47,14 +47,19 @@ def resolve_motor(plan, motor) -> Motor | None:
 
 
 def _source(plan_or_cycle, params):
-    """(plan, params, solved grid or None) of a plan or a solved cycle (``.plan``, ``.params``, ``.grid()``)."""
+    """(plan, params, solved grid or None) of a plan or a solved cycle (a :class:`~assur.analysis.study.Study`:
+    ``.plan``, ``.params``, ``.grid()``); its grid is used when it is the uniform grid of one turn from 0."""
     if hasattr(plan_or_cycle, "grid") and hasattr(plan_or_cycle, "plan"):
         cyc = plan_or_cycle
         if params is not None:
             raise SpecError([("params", "a solved cycle carries its own parameters: give params only with a plan")])
         grid = None
-        if cyc.plan.input_kinds[0] == "rotary" and getattr(cyc, "order", 2) >= 2:
-            grid = cyc.grid()
+        if cyc.plan.n_inputs == 1 and cyc.plan.input_kinds[0] == "rotary" and getattr(cyc, "order", 2) >= 2:
+            q, state = cyc.grid()
+            q = np.asarray(q, dtype=float)
+            if q.ndim == 1 and q.size >= 16 and np.allclose(q, TWO_PI * np.arange(q.size) / q.size, rtol=0,
+                                                            atol=1e-15):
+                grid = (q, state)
         return cyc.plan, np.asarray(cyc.params, dtype=float), grid
     plan = plan_or_cycle
     if not hasattr(plan, "input_kinds"):
@@ -70,7 +75,7 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
 
     Parameters
     ----------
-    plan : PlanarPlan or SpatialPlan (one input), or a solved cycle (``analysis.sampling.Cycle``)
+    plan : PlanarPlan or SpatialPlan (one input), or a solved cycle (``assur.Study``: its solved turn is reused)
     time : float, optional
         Seconds to run. ``cycles``: turns of the input to run instead. Neither: to the periodic steady state
         (a motor-driven crank), detected from the convergence of the turns' periods.

@@ -1,7 +1,7 @@
 """A solved cycle's mechanism run on its motor: what the report, the designer and the command line show.
 
-:func:`cycle_simulation` takes a solved cycle (``analysis.sampling.Cycle``, or anything with ``.plan``, ``.params``
-and ``.grid()``; a plan works too) and returns a :class:`MotorRun`: the :class:`~.result.Simulation` to its steady
+:func:`cycle_simulation` takes a solved cycle (an :class:`~assur.analysis.study.Study`, or anything with ``.plan``,
+``.params`` and ``.grid()``; a plan works too) and returns a :class:`MotorRun`: the :class:`~.result.Simulation` to its steady
 state (or for the time or turns asked), the kinetostatic δ estimate beside it (:mod:`.compare`) and every joint's
 reaction over the run (the force analysis at the simulated speed and acceleration). None when the file has no
 motor and none is given.

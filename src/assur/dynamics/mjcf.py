@@ -436,13 +436,19 @@ def write_mjcf(plan, path, params=None, *, options: MJCFOptions | None = None, q
     return Path(path)
 
 
+def write(mechanism, path):
+    """``assur export FILE --to mjcf OUT``: the MJCF of a mechanism (compiled here), written atomically; returns
+    nothing to print."""
+    from ..engine import compile as compile_
+    write_mjcf(compile_(mechanism), path)
+    return None
+
+
 def mjcf_model(plan, params=None, *, options: MJCFOptions | None = None, q0=None):
     """The loaded ``mujoco.MjModel`` of the MJCF (needs the ``sim`` extra)."""
-    try:
-        import mujoco
-    except ImportError as exc:
-        raise ImportError("the MuJoCo model needs mujoco: pip install 'assur[sim]'") from exc
+    from ..errors import require
+    mujoco = require("mujoco", "the MuJoCo model", "pip install 'assur[sim]'")
     return mujoco.MjModel.from_xml_string(mjcf_text(plan, params, options=options, q0=q0))
 
 
-__all__ = ["MJCFOptions", "mjcf_model", "mjcf_text", "write_mjcf"]
+__all__ = ["MJCFOptions", "mjcf_model", "mjcf_text", "write", "write_mjcf"]
