@@ -18,11 +18,9 @@ TWO_PI = 2.0 * math.pi
 
 
 def compiled_available() -> bool:
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    """Whether numba is installed (the ``fast`` extra)."""
+    from importlib.util import find_spec
+    return find_spec("numba") is not None
 
 
 def motor_code(drive):

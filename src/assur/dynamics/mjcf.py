@@ -357,10 +357,9 @@ def _inertial_and_geoms(body, plan, prog, b, z, params, orient, xyz, origin, fra
         for a, c in zip(ring, ring[1:]):
             if np.linalg.norm(c - a) > 1e-9 * size:
                 ET.SubElement(body, "geom", type="capsule", fromto=_fmt(np.concatenate([a, c])), size=_fmt(r))
-    if b not in set(int(x) for x in prog.massive):
-        return DENSITY * sum(np.pi * r * r * float(el.get("size") and _capsule_length(el)) + 4 / 3 * np.pi * r ** 3
+    if b not in set(int(x) for x in prog.massive):     # MuJoCo weighs the geoms: about this much (kg)
+        return DENSITY * sum(np.pi * r * r * _capsule_length(el) + 4 / 3 * np.pi * r ** 3
                              for el in body.findall("geom"))
-    p = np.asarray(params, dtype=float)[:, None]
     o = orient[:, None]
     zero = np.zeros_like(o, dtype=float)
     c, _, _ = K.com_motion(b, prog.cpts, prog.cw, prog.coff, z, np.zeros_like(z), np.zeros_like(z), o, zero, zero)

@@ -22,7 +22,6 @@ import numpy as np
 from ..errors import SpecError
 from .integrate import CREEP
 from .reduced import check_one_input, reduced_terms
-from .result import STARTUP_SHARE
 from .series import PeriodicSeries, PeriodicTable
 
 TWO_PI = 2.0 * math.pi
