@@ -25,11 +25,12 @@ def one_error(capsys) -> str:
 
 
 def test_the_export_table_is_the_python_api_s():
-    assert list(WRITERS) == list(EXPORTERS)
-    assert all(WRITERS[k]() is EXPORTERS[k][0]() for k in WRITERS)
+    # the interchange formats, plus mjcf (a MuJoCo model, written only: tests/test_mjcf.py)
+    assert [k for k in WRITERS if k != "mjcf"] == list(EXPORTERS)
+    assert all(WRITERS[k]() is EXPORTERS[k][0]() for k in EXPORTERS)
 
 
-@pytest.mark.parametrize("fmt", list(WRITERS))
+@pytest.mark.parametrize("fmt", list(EXPORTERS))
 def test_export_then_import_gives_the_mechanism_back(fmt, tmp_path, capsys):
     src = ROOT / "examples" / "crank_rocker.toml"
     out = tmp_path / f"m{EXPORTERS[fmt][1]}"

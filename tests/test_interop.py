@@ -35,7 +35,8 @@ REFUSED_BY = {
     "pyslvs": {},
     "fourbar": {n: "links" for n in ("jansen.toml", "klann.toml", "stephenson3.toml", "triad_sixbar.toml",
                                       "walker_sixbar.toml", "walker_sixbar_beta1_60.toml", "watt2.toml")}
-               | {"slider_crank.toml": "prismatic", "walker_crank_slider.toml": "prismatic",
+               | {"slider_crank.toml": "prismatic", "slider_crank_motor.toml": "prismatic",
+                  "walker_crank_slider.toml": "prismatic",
                   "walker_fourbar_adjustable.toml": "drivers"},
 }
 

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
                          UnbuildableWarning)
     from .io.builder import Builder
     from .kinetostatics.api import forces
+    from .dynamics.api import simulate
     from .io.mechanism_file import dump, dumps, load, loads
     from .model.mechanism import Mechanism
     from .structure.assur import AssurGroup, GroupKind, Structure
@@ -47,6 +48,7 @@ _LAZY = {
     "transmission_angles": ("assur.analysis.transmission", "transmission_angles"),
     "dead_centres": ("assur.analysis.api", "dead_centres"),
     "forces": ("assur.kinetostatics.api", "forces"),
+    "simulate": ("assur.dynamics.api", "simulate"),
 }
 
 #: former names, still served with a DeprecationWarning naming the replacement: name → (module, attribute, advice)
@@ -87,4 +89,4 @@ def __dir__():
 __all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "PlanarPlan", "SpatialPlan", "SpatialState",
            "SpecError", "State", "Structure", "StructureError", "Study", "SynthesisError", "UnbuildableError",
            "UnbuildableWarning", "__version__", "analyse_structure", "compile", "dead_centres", "dump", "dumps",
-           "forces", "gait_curves", "gait_metrics", "load", "loads", "solve", "transmission_angles"]
+           "forces", "gait_curves", "gait_metrics", "load", "loads", "simulate", "solve", "transmission_angles"]

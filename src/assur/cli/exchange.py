@@ -21,6 +21,7 @@ WRITERS = {
     "pmks": lambda: importlib.import_module("assur.interop.pmks").write,
     "pyslvs": lambda: importlib.import_module("assur.interop.pyslvs").write,
     "fourbar": lambda: importlib.import_module("assur.interop.fourbar").write,
+    "mjcf": lambda: importlib.import_module("assur.dynamics.mjcf").write,
 }
 #: --format FORMAT of ``assur import`` (told from the content when not given)
 READERS = ("pylinkage", "pmks", "pyslvs", "fourbar")

@@ -219,6 +219,16 @@ class Builder:
                 table[k] = v
         return self
 
+    def motor(self, kind: str, **keys) -> "Builder":
+        """``[motor]``: the motor of a driver for forward dynamics, ``kind`` and its keys as in the file
+        (``stall_torque="2 N*m"``, ``no_load_speed="3000 rpm"``, ``gear_ratio=10``, ``driver="crank"`` …;
+        docs/dynamics.md)."""
+        if "motor" in self._doc:
+            self._problems.append(("motor", "is defined twice"))
+        else:
+            self._doc["motor"] = {"kind": kind, **_given(**keys)}
+        return self
+
     # -- results -------------------------------------------------------------------------------------------
     def to_dict(self) -> dict:
         """The mechanism file's document (what the TOML reader would produce from the equivalent file)."""

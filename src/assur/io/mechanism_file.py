@@ -19,13 +19,14 @@ from .dynamics_file import MASS_KEYS, read_dynamics, read_gait_load
 from .mechanism_writer import as_dict, dump, dumps, to_dict
 from .cam_pairs import read_cam_pairs
 from .gear_pairs import read_gear_pairs
+from .motor_file import read_motor
 from .problems import Problems
 from .toml_reader import parse_toml, read_text, read_toml
 
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
 _TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
-        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears", "cams"}
+        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears", "cams", "motor"}
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
@@ -374,6 +375,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,
                              links=links, prismatic=prismatic, actuators=actuators, drivers=drivers)
 
+    motor = read_motor(data["motor"], P, units, drivers) if "motor" in data else None
+
     # every point must be on something (as listed, even by a link with other problems)
     on_something = set()
     for spec in ldata.values():
@@ -400,8 +403,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     P.raise_if_any(source)
     m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                   actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
-                  joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, cams=cams, description=desc, units=units,
-                  dimension=dimension)
+                  joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, cams=cams, description=desc,
+                  units=units, dimension=dimension, motor=motor)
     _warn_lengths_off_the_sketch(m, L, source)
     return m
 

@@ -10,6 +10,7 @@ from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT as TOL
 from . import units as U
 from .cam_pairs import law_table
+from .motor_file import motor_table
 from .output import atomic_file
 from .toml_writer import dumps as write_toml
 
@@ -146,6 +147,8 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
         d["gait"] = g
     if m.dynamics is not None:
         _write_dynamics(d, m, ln)
+    if m.motor is not None:
+        d["motor"] = motor_table(m.motor, m, _out)
     return d
 
 

@@ -25,9 +25,19 @@ FORCE = {"N": 1.0, "kN": 1e3, "mN": 1e-3, "lbf": 4.4482216152605}
 #: torque units, factor to N·m
 TORQUE = {"N*m": 1.0, "N*mm": 1e-3, "N*cm": 1e-2, "kN*m": 1e3, "mN*m": 1e-3, "lbf*in": 4.4482216152605 * 0.0254,
           "lbf*ft": 4.4482216152605 * 0.3048}
-#: the tables of :func:`parse_quantity`: kind → (units, example); a bare number is in SI (kg, kg·m², N, N·m)
+#: a motor's electrical and hydraulic quantities (``[motor]``), factor to V, Ω, A, N·m/A, Pa, m², m³/s
+VOLTAGE = {"V": 1.0, "mV": 1e-3, "kV": 1e3}
+RESISTANCE = {"ohm": 1.0, "Ω": 1.0, "mohm": 1e-3, "mΩ": 1e-3, "kohm": 1e3, "kΩ": 1e3}
+CURRENT = {"A": 1.0, "mA": 1e-3}
+TORQUE_CONSTANT = {"N*m/A": 1.0, "mN*m/A": 1e-3, "N*cm/A": 1e-2, "N*mm/A": 1e-3}
+PRESSURE = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5, "psi": 6894.757293168}
+AREA = {"m^2": 1.0, "cm^2": 1e-4, "mm^2": 1e-6, "in^2": 0.00064516}
+FLOW = {"m^3/s": 1.0, "L/min": 1e-3 / 60.0, "l/min": 1e-3 / 60.0, "L/s": 1e-3, "l/s": 1e-3, "cm^3/s": 1e-6}
+#: the tables of :func:`parse_quantity`: kind → (units, example); a bare number is in SI (kg, kg·m², N, N·m …)
 QUANTITIES = {"mass": (MASS, "1 kg"), "inertia": (INERTIA, "0.02 kg*m^2"), "force": (FORCE, "100 N"),
-              "torque": (TORQUE, "5 N*m")}
+              "torque": (TORQUE, "5 N*m"), "voltage": (VOLTAGE, "24 V"), "resistance": (RESISTANCE, "1.5 ohm"),
+              "current": (CURRENT, "2 A"), "torque_constant": (TORQUE_CONSTANT, "0.05 N*m/A"),
+              "pressure": (PRESSURE, "100 bar"), "area": (AREA, "20 cm^2"), "flow": (FLOW, "10 L/min")}
 #: a mass, inertia, force or torque above this in magnitude (SI) is a typo, not a machine
 MAX_QUANTITY = 1e12
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from .dynamics import Dynamics
 from .camming import CamPair
 from .gearing import GearPair
+from .motor import Motor
 
 FRAME = "frame"
 
@@ -189,6 +190,8 @@ class Mechanism:
     units: Units = Units()
     dimension: int = 2
     format: str = "assur/1"
+    #: the motor of a driver for forward dynamics (``[motor]``; None: none given)
+    motor: Motor | None = None
 
     # -- look-ups -------------------------------------------------------------------------------
     @property

@@ -84,7 +84,7 @@ class Evaluator:
         quantities = {t.quantity for t in p.terms} | {lim.quantity for lim in p.limits}
         self._order = 2 if "acceleration" in quantities else 0
         # forces.* need the accelerations (d'Alembert loads), gait speeds the first derivatives
-        self._cycle_order = (2 if any(q.startswith("forces.") for q in quantities)
+        self._cycle_order = (2 if any(q.startswith(("forces.", "dynamics.")) for q in quantities)
                              else 1 if any(_speed_term(q) for q in quantities) else 0)
         self._quantities = quantities
         from ..engine.planar.numba_backend import covers, cycle_covers
@@ -93,7 +93,7 @@ class Evaluator:
         # the whole-cycle quantities of the compiled cycle reduction (`_cycle_compiled`): buildability, gait
         # terms, the worst transmission angle, path distances of point targets
         self._cycle_fast = (self.backend == "numba" and self._needs_cycle and "defects" not in p.constraints
-                            and not any(q.startswith("forces.") for q in quantities)
+                            and not any(q.startswith(("forces.", "dynamics.")) for q in quantities)
                             and (t is None or t.timing != "path" or getattr(t, "kind", "points") == "points")
                             and cycle_covers(p.plan, "transmission.min" in quantities))
         cycle_quantities = ({q for q in quantities if q.startswith("gait.")} | {"transmission.min"}
@@ -279,6 +279,8 @@ class Evaluator:
             Q.update(_sampled_gait(plan, st, ls))
         if any(k.startswith("forces.") for k in self._quantities):
             Q.update(_sampled_forces(plan, st, valid, self.backend))
+        if any(k.startswith("dynamics.") for k in self._quantities):
+            Q.update(_sampled_dynamics(plan, params, st, valid, prob.angle_unit, self.backend))
         if "transmission.min" in self._quantities:
             from ..analysis.transmission import transmission_angles
             from ..io.units import ANGLE
@@ -399,6 +401,20 @@ def _sampled_gait(plan, st, ls):
     w = abs(float(plan.speeds[0])) if len(plan.speeds) else 1.0
     out = population_gait(st.pos[:, :, i, :], st.valid, dpos, ground=ground, up=up, omega=w, scale=ls)
     return {f"gait.{k}": v for k, v in out.items()}
+
+
+def _sampled_dynamics(plan, params, st, valid, angle_unit, backend) -> dict:
+    """``dynamics.*`` of every design from rest on the template's motor (:mod:`assur.dynamics.quantities`), on the
+    cycle samples st (D, M) solved with order 2; a design with an unassembled sample does not turn fully, so it does
+    not start (0, NaN). The mean speed in the file's angle unit per second."""
+    from ..dynamics.quantities import population_quantities
+    from ..io.units import ANGLE
+    out = population_quantities(plan, params, st, compiled=backend == "numba")
+    bad = ~np.all(valid, axis=1)
+    for k in out:
+        out[k] = np.where(bad, 0.0 if k == "dynamics.starts" else np.nan, out[k])
+    out["dynamics.mean_speed"] = out["dynamics.mean_speed"] / ANGLE[angle_unit]
+    return out
 
 
 def _sampled_forces(plan, st, valid, backend) -> dict:

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..dynamics.quantities import DYNAMICS_QUANTITIES, check_dynamics
 from ..engine import PARAM_KINDS
 from ..engine import compile as compile_
 from ..errors import ExpressionError, SpecError
@@ -73,9 +74,10 @@ QUANTITIES = {
                           "module's shaft torque)",
     "forces.torque_rms": "RMS of the driving torque over the cycle (N·m; N for a linear driver)",
     "forces.reaction_peak": "largest joint reaction magnitude over all joints and the cycle (N)",
+    **DYNAMICS_QUANTITIES,
 }
 #: the quantity families that sample the whole input cycle (and so imply the buildable constraint)
-CYCLE_FAMILIES = ("gait.", "transmission.", "forces.")
+CYCLE_FAMILIES = ("gait.", "transmission.", "forces.", "dynamics.")
 CONSTRAINTS = {
     "assembly": "every target position can be assembled (always active)",
     "buildable": "the whole input cycle can be assembled (sampled at cycle_samples)",
@@ -390,8 +392,14 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         samples = 360
     offset = number("options.infeasible_offset", opts.get("infeasible_offset", 1e7)) or 1e7
     vw = number("options.violation_weight", opts.get("violation_weight", 1e3)) or 1e3
-    _check_forces(mechanism, [(f"objective.terms[{i}]", t) for i, t in enumerate(obj.get("terms", []))]
-                  + [(f"constraints.limits[{i}]", t) for i, t in enumerate(con.get("limits", []))], samples, P)
+    items = [(f"objective.terms[{i}]", t) for i, t in enumerate(obj.get("terms", []))] \
+        + [(f"constraints.limits[{i}]", t) for i, t in enumerate(con.get("limits", []))]
+    _check_forces(mechanism, items, samples, P)
+    why = check_dynamics(plan)
+    for where, t in items:
+        q = t.get("quantity") if isinstance(t, dict) else None
+        if why is not None and isinstance(q, str) and q in DYNAMICS_QUANTITIES:
+            P.add(f"{where}.quantity", f"{q} {why}")
     if not (deviation != "none" or terms):
         P.add("objective", "nothing to minimise: give a deviation or terms")
     for vn in sorted(unused):
