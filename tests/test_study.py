@@ -157,3 +157,17 @@ def test_the_root_shows_its_public_names_and_warns_on_the_former_ones():
                               ("summarize", "Study"), ("Designer", "assur.designer.Designer")):
         with pytest.warns(DeprecationWarning, match=replacement):
             getattr(assur, name)
+
+
+@pytest.mark.slow
+def test_the_report_of_a_file_with_a_motor_has_its_run_on_the_motor(tmp_path):
+    """examples/slider_crank_motor.toml has a [motor]: the report shows the run from rest (start-up time, steady
+    speed, δ beside the kinetostatic estimate) read from the Study's motor run; a file without a motor has none."""
+    plan = assur.compile(assur.load(EXAMPLES / "slider_crank_motor.toml"))
+    study = Study(plan)
+    run = study.motor_run
+    assert run is not None and run.simulation.stop is not None
+    assert main(["report", str(EXAMPLES / "slider_crank_motor.toml"), "-o", str(tmp_path / "m"), "--frames", "4"]) == 0
+    page = (tmp_path / "m" / "index.html").read_text(encoding="utf-8")
+    assert "Dynamics on the motor" in page and "start-up" in page
+    assert Study(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml"))).motor_run is None

@@ -37,6 +37,7 @@ Fields (None where they do not apply; SI units):
 ``forces``          :class:`~assur.kinetostatics.result.Forces` over the run (a file with masses or loads)
 ``force_cycle``     :class:`~assur.kinetostatics.overview.ForceCycle` (forces, drive summary, the module's gait
                     forces); ``force_summary`` its JSON form
+``motor_run``       the run on the file's ``[motor]`` from rest to steady speed (:mod:`assur.dynamics`), or None
 ==================  ===============================================================================================
 """
 from __future__ import annotations
@@ -337,6 +338,17 @@ class Study(Cycle):
         """The JSON form of :attr:`force_cycle`."""
         from ..kinetostatics.overview import force_summary
         return force_summary(self.force_cycle)
+
+    # -- dynamics ------------------------------------------------------------------------------------------
+    @cached_property
+    def motor_run(self):
+        """The run on the file's ``[motor]`` from rest to its periodic steady state, with the kinetostatic speed
+        fluctuation beside it and the joints' reactions over time
+        (:class:`~assur.dynamics.cycle.MotorRun`), reusing this Study's solved turn; None without a motor."""
+        if self.plan.mechanism.motor is None or not self.turn:
+            return None
+        from ..dynamics.cycle import cycle_simulation
+        return cycle_simulation(self)
 
     # -- the one dict --------------------------------------------------------------------------------------
     def as_dict(self, *, forces: bool | None = None) -> dict:

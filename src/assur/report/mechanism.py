@@ -132,6 +132,22 @@ def _planar_figures(run: Study, gait, frames: int, units: str = "file", progress
     return panels, js
 
 
+def dynamics_section(study) -> str:
+    """The run on the file's motor (start-up, steady speed, δ beside the kinetostatic estimate, peak reactions), ''
+    without a ``[motor]``; a run that stops (a stall, a dead centre) says where."""
+    from ..errors import AssurError
+    if study.plan.mechanism.motor is None:
+        return ""
+    try:
+        run = study.motor_run
+    except AssurError as exc:
+        return f'<p class="note">no run on the motor: {escape(exc)}</p>'
+    if run is None:
+        return ""
+    from .dynamics import dynamics_html
+    return dynamics_html(run)
+
+
 def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: str = "file",
                      at=None) -> list[str]:
     plan = study.plan
@@ -146,6 +162,9 @@ def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: st
     frc = forces_html(study)
     if frc:
         out.append(section("Forces", frc))
+    dyn = dynamics_section(study)
+    if dyn:
+        out.append(section("Dynamics on the motor", dyn))
     if plan.mechanism.cams:
         from .cams import cams_html
         out.append(section("Cams", cams_html(study)))
