@@ -2,7 +2,8 @@
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
 (forces), :mod:`assur.cli.synth`
 (synth), :mod:`assur.cli.gears` (gears, wheelstep), :mod:`assur.cli.exchange` (import, export) and
-:mod:`assur.cli.sensitivity` (sensitivity), :mod:`assur.cli.cams` (cam), :mod:`assur.cli.simulate` (simulate).
+:mod:`assur.cli.sensitivity` (sensitivity), :mod:`assur.cli.cams` (cam), :mod:`assur.cli.simulate` (simulate),
+:mod:`assur.cli.make` (make).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
 invalid file, a structure that cannot be solved, a missing file or optional package, an output that cannot be
@@ -33,7 +34,7 @@ def build_parser():
     import argparse
 
     from ..version import __version__
-    from . import atlas, cams, codesign, design, exchange, forces, gears, mechanism, sensitivity, simulate, synth
+    from . import atlas, cams, codesign, design, exchange, forces, gears, make, mechanism, sensitivity, simulate, synth
     p = argparse.ArgumentParser(prog="assur", description=DESCRIPTION, epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"assur {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -48,6 +49,7 @@ def build_parser():
     atlas.register(sub)
     exchange.register(sub)   # `assur import` and `assur export`
     simulate.register(sub)
+    make.register(sub)
     return p
 
 

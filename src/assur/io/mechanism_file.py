@@ -20,13 +20,14 @@ from .mechanism_writer import as_dict, dump, dumps, to_dict
 from .cam_pairs import read_cam_pairs
 from .gear_pairs import read_gear_pairs
 from .motor_file import read_motor
+from .make_file import read_make
 from .problems import Problems
 from .toml_reader import parse_toml, read_text, read_toml
 
 FORMAT = "assur/1"
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_']*$")
 _TOP = {"format", "name", "description", "units", "points", "links", "prismatic", "actuators", "drivers",
-        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears", "cams", "motor"}
+        "branches", "joints", "gait", "style", "dimension", "dynamics", "loads", "gears", "cams", "motor", "make"}
 _JOINT_KINDS = {"revolute", "spherical", "cylindrical", "universal", "prismatic"}
 
 
@@ -374,6 +375,9 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("cams", "cam pairs need a planar mechanism (dimension = 2)")
     dynamics = read_dynamics(data, P, units=units, dimension=dimension, length_factor=L, point_names=point_names,
                              links=links, prismatic=prismatic, actuators=actuators, drivers=drivers)
+    make = read_make(data, P, units=units)
+    if make is not None and dimension == 3:
+        P.add("make", "assur make builds planar mechanisms (dimension = 2)")
 
     motor = read_motor(data["motor"], P, units, drivers) if "motor" in data else None
 
@@ -404,7 +408,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
     m = Mechanism(name=name, points=tuple(points), links=tuple(links), prismatic=tuple(prismatic),
                   actuators=tuple(actuators), drivers=tuple(drivers), branches=tuple(branches),
                   joints=tuple(joints), gait=gait, dynamics=dynamics, gears=gears, cams=cams, description=desc,
-                  units=units, dimension=dimension, motor=motor)
+                  units=units, dimension=dimension, motor=motor, make=make)
     _warn_lengths_off_the_sketch(m, L, source)
     return m
 

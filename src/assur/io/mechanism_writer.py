@@ -149,6 +149,9 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
         _write_dynamics(d, m, ln)
     if m.motor is not None:
         d["motor"] = motor_table(m.motor, m, _out)
+    if m.make is not None:
+        from .make_file import make_table
+        d["make"] = make_table(m.make, lambda v: _out(v, L), _out)
     return d
 
 

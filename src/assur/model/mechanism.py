@@ -14,6 +14,7 @@ from .dynamics import Dynamics
 from .camming import CamPair
 from .gearing import GearPair
 from .motor import Motor
+from .making import MakeSpec
 
 FRAME = "frame"
 
@@ -192,6 +193,8 @@ class Mechanism:
     format: str = "assur/1"
     #: the motor of a driver for forward dynamics (``[motor]``; None: none given)
     motor: Motor | None = None
+    #: the ``[make]`` table: how ``assur make`` builds the parts (None: the file has none)
+    make: "MakeSpec | None" = None
 
     # -- look-ups -------------------------------------------------------------------------------
     @property

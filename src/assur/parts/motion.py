@@ -1,0 +1,247 @@
+"""The bodies of a planar plan as rigid frames moving over a solved cycle: which points each body carries, its
+pose (x, y, θ) at the sketch and at every sample, and the exact time derivatives of that pose.
+
+A body's frame has its origin at its reference point (a link's first point, a slider block's pin, an actuator
+cylinder's or rod's hinge) and turns with the body's angle; the frame body's frame is the sketch frame. A part
+is drawn once in its body's frame (:func:`BodyFrames.to_local`) and moved by the body's poses.
+
+:class:`RunCycle` gives a plan that :class:`~assur.analysis.sampling.Cycle` does not take (a linear driver's
+stroke, a mechanism with settings held at their sketch values) the same members: ``plan``, ``params``,
+``grid()`` and ``state(q)``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SpecError, StructureError
+from ..model.mechanism import FRAME
+
+
+def body_points(mechanism, plan) -> dict[int, tuple[str, ...]]:
+    """{body index: the points it carries}, in the plan's body order: a link's points, a pin-in-slot block's pin,
+    an actuator cylinder's first hinge and its rod's second."""
+    out: dict[int, list[str]] = {b: [] for b in range(plan.n_bodies)}
+    names = {n: b for b, n in enumerate(plan.body_names)}
+    for lk in mechanism.links:
+        if lk.name in names:
+            out[names[lk.name]].extend(lk.points)
+    for pr in mechanism.prismatic:
+        if pr.point is not None and f"{pr.name}.block" in names:
+            out[names[f"{pr.name}.block"]].append(pr.point)
+    for ac in mechanism.actuators:
+        for k, part in enumerate(("cylinder", "rod")):
+            if f"{ac.name}.{part}" in names:
+                out[names[f"{ac.name}.{part}"]].append(ac.between[k])
+    return {b: tuple(p) for b, p in out.items()}
+
+
+def joints(mechanism, plan) -> dict[str, tuple[int, ...]]:
+    """{point: the bodies hinged there} for every point that two or more bodies carry (a revolute joint), in the
+    mechanism's point order."""
+    carried = body_points(mechanism, plan)
+    out = {}
+    for name in mechanism.point_names:
+        bodies = tuple(b for b in range(plan.n_bodies) if name in carried[b])
+        if len(bodies) >= 2:
+            out[name] = bodies
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class BodyFrames:
+    """The poses of every body over a solved run (n samples, B bodies).
+
+    ``q`` (n,) the run's inputs; ``dt`` (n,) the time from sample i to the next (the last to the first + one
+    period for a turn, 0 at the end of a stroke); ``closed``: the run is one turn (the last interval wraps).
+    ``origin``, ``vel``, ``acc`` (n, B, 2): each body frame's origin and its time derivatives; ``angle``,
+    ``omega``, ``alpha`` (n, B): its angle and angular velocity and acceleration. ``sketch_origin`` (B, 2),
+    ``sketch_angle`` (B,): the pose at the sketch inputs (``sketch_state``: that State). ``ref``: each body's
+    reference point (None for the frame)."""
+    plan: object
+    q: np.ndarray
+    dt: np.ndarray
+    closed: bool
+    origin: np.ndarray
+    vel: np.ndarray
+    acc: np.ndarray
+    angle: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray
+    sketch_origin: np.ndarray
+    sketch_angle: np.ndarray
+    sketch_state: object
+    ref: tuple
+    #: (n_params,) the design parameters of the run (SI)
+    params: np.ndarray = None
+
+    @property
+    def n(self) -> int:
+        return self.q.shape[0]
+
+    def to_local(self, body: int, xy) -> np.ndarray:
+        """Sketch-pose world points ``xy (..., 2)`` → body ``body``'s frame (..., 2)."""
+        c, s = np.cos(self.sketch_angle[body]), np.sin(self.sketch_angle[body])
+        d = np.asarray(xy, dtype=float) - self.sketch_origin[body]
+        return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1]], axis=-1)
+
+    def to_world(self, body: int, xy, origin=None, angle=None) -> np.ndarray:
+        """Body-frame points ``xy (k, 2)`` at the poses ``origin (m, 2)``, ``angle (m,)`` (default: every sample of
+        the run) → (m, k, 2)."""
+        origin = self.origin[:, body] if origin is None else origin
+        angle = self.angle[:, body] if angle is None else angle
+        xy = np.asarray(xy, dtype=float)
+        c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+        return np.stack([origin[:, None, 0] + c * xy[:, 0] - s * xy[:, 1],
+                         origin[:, None, 1] + s * xy[:, 0] + c * xy[:, 1]], axis=-1)
+
+    def at_sketch(self, body: int, xy) -> np.ndarray:
+        """Body-frame points ``xy (k, 2)`` at the sketch pose (k, 2)."""
+        return self.to_world(body, xy, self.sketch_origin[body][None], self.sketch_angle[body][None])[0]
+
+
+def _poses(plan, state, refs):
+    """(origin, vel, acc (..., B, 2), angle, omega, alpha (..., B)) of a State; zeros for the frame."""
+    pos = np.asarray(state.pos)
+    shape = pos.shape[:-2]
+    B = plan.n_bodies
+    origin, vel, acc = (np.zeros(shape + (B, 2)) for _ in range(3))
+    angle = np.array(state.body_angle, dtype=float).reshape(shape + (B,))
+    omega = np.array(state.body_omega, dtype=float).reshape(shape + (B,))
+    alpha = np.array(state.body_alpha, dtype=float).reshape(shape + (B,))
+    v, a = np.asarray(state.vel), np.asarray(state.acc)
+    for b, r in enumerate(refs):
+        if r is None:
+            angle[..., b] = omega[..., b] = alpha[..., b] = 0.0
+            continue
+        origin[..., b, :] = pos[..., r, :]
+        vel[..., b, :] = v[..., r, :]
+        acc[..., b, :] = a[..., r, :]
+    return origin, vel, acc, angle, omega, alpha
+
+
+def reference_points(mechanism, plan) -> tuple:
+    """Each body's reference point index (its frame's origin), None for the frame."""
+    carried = body_points(mechanism, plan)
+    refs = []
+    for b, name in enumerate(plan.body_names):
+        if name == FRAME:
+            refs.append(None)
+        elif not carried[b]:
+            raise StructureError(f"body {name!r} carries no point: assur make cannot place it")
+        else:
+            refs.append(plan.point_index(carried[b][0]))
+    return tuple(refs)
+
+
+def body_frames(cycle) -> BodyFrames:
+    """The body poses over the solved run of ``cycle`` (a Cycle, a :class:`RunCycle` or a Study: ``plan``,
+    ``grid()``, ``state(q)``), and at the sketch inputs (one solve of ``cycle.state``). SpecError when a sample
+    does not assemble (parts need the whole run)."""
+    plan = cycle.plan
+    q, st = cycle.grid()
+    valid = np.asarray(st.valid)
+    if not valid.all():
+        bad = np.asarray(q)[~valid]
+        raise SpecError([("drivers", f"the mechanism does not assemble at {int((~valid).sum())} of {valid.size} "
+                                     f"inputs of its run (first at {_input_text(plan, bad[0])}): assur make needs "
+                                     "the whole run")])
+    refs = reference_points(plan.mechanism, plan)
+    origin, vel, acc, angle, omega, alpha = _poses(plan, st, refs)
+    angle = np.unwrap(angle, axis=0)
+    inputs = np.asarray(st.inputs, dtype=float).reshape(len(q), -1)
+    qdot = np.broadcast_to(np.asarray(st.qdot, dtype=float), inputs.shape)
+    closed = bool(getattr(cycle, "closed", True))
+    step = np.diff(inputs, axis=0, append=inputs[:1] + (_period(plan, inputs) if closed else 0.0))
+    if not closed:
+        step[-1] = 0.0
+    moving = np.abs(qdot) > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        per = np.where(moving, np.abs(step) / np.abs(qdot), np.where(np.abs(step) > 0, np.inf, 0.0))
+    dt = per.max(axis=1)
+    if not np.all(np.isfinite(dt)):
+        k = int(np.argmax(~np.isfinite(per).all(axis=0)))
+        raise SpecError([("drivers", f"the input {plan.input_names[k]!r} moves over the run but its driver's "
+                                     "speed is 0: give it a speed (the parts' certificate uses the velocities)")])
+    if hasattr(cycle, "sketch_state"):
+        sketch = cycle.sketch_state()
+    else:   # a one-input cycle: its state(q) takes the input's values
+        sketch = cycle.state(np.asarray(plan.sketch_inputs, dtype=float)[:1])
+    s_origin, _, _, s_angle, _, _ = _poses(plan, sketch, refs)
+    s_origin = s_origin.reshape(plan.n_bodies, 2)
+    s_angle = s_angle.reshape(plan.n_bodies)
+    return BodyFrames(plan, np.asarray(q, dtype=float), dt, closed, origin, vel, acc, angle, omega, alpha,
+                      s_origin, s_angle, sketch, refs, np.asarray(getattr(cycle, "params", plan.defaults), dtype=float))
+
+
+def _period(plan, inputs):
+    """The step from the last sample of a turn back to the first: 2π on the turning input, 0 on the others."""
+    out = np.zeros(inputs.shape[1])
+    spread = np.ptp(inputs, axis=0)
+    k = int(np.argmax(spread))
+    out[k] = 2.0 * np.pi
+    return out
+
+
+def _input_text(plan, q) -> str:
+    from ..io.units import ANGLE, LENGTH
+    u = plan.mechanism.units
+    q = float(np.ravel(q)[0])
+    if plan.input_kinds[0] == "rotary":
+        return f"{q / ANGLE[u.angle]:.6g} {u.angle}"
+    return f"{q / LENGTH[u.length]:.6g} {u.length}"
+
+
+class RunCycle:
+    """A cycle of a plan that :class:`~assur.analysis.sampling.Cycle` does not take: the run of
+    :func:`~assur.analysis.sampling.sweep_inputs` (one turn of the one moving crank with the settings at their sketch
+    values, or a linear driver's working stroke). ``grid()`` → (s (steps,), State (steps,)) with s the moving
+    input's values; ``state(s)`` solves the run at other values s (...); ``closed``: a turn (else a stroke)."""
+
+    def __init__(self, plan, params=None, steps: int = 720, order: int = 2):
+        from ..analysis.sampling import sweep_inputs
+        self.plan = plan
+        self.params = plan.defaults if params is None else np.asarray(params, dtype=float)
+        self.steps = int(steps)
+        self.order = order
+        self._inputs, self.moving, self.closed = sweep_inputs(plan, self.steps)
+        self._grid = None
+
+    def _inputs_at(self, s):
+        s = np.asarray(s, dtype=float)
+        base = np.asarray(self._inputs[0], dtype=float)
+        out = np.broadcast_to(base, s.shape + base.shape).copy()
+        out[..., self.moving] = s
+        return out
+
+    def state(self, s, order=None):
+        """The State at run values ``s (...)`` (the moving input; the others at their run values)."""
+        from ..engine import solve
+        return solve(self.plan, self.params, self._inputs_at(s), order=self.order if order is None else order)
+
+    def sketch_state(self):
+        """The State at the plan's sketch inputs."""
+        from ..engine import solve
+        return solve(self.plan, self.params, np.asarray(self.plan.sketch_inputs, dtype=float)[None, :],
+                     order=self.order)
+
+    def grid(self):
+        if self._grid is None:
+            s = np.asarray(self._inputs[:, self.moving], dtype=float)
+            self._grid = (s, self.state(s))
+        return self._grid
+
+
+def cycle_of(plan, params=None, steps: int = 720):
+    """The cycle ``assur make`` solves for a plan: a :class:`~assur.analysis.sampling.Cycle` of a one-input plan
+    turning its crank, else a :class:`RunCycle`."""
+    from ..analysis.sampling import Cycle
+    if plan.dimension != 2:
+        raise SpecError([("dimension", "assur make builds planar mechanisms (dimension = 2)")])
+    if plan.n_inputs == 1 and plan.input_kinds[0] == "rotary":
+        return Cycle(plan, params, steps=steps)
+    return RunCycle(plan, params, steps=steps)
+
+
+__all__ = ["BodyFrames", "RunCycle", "body_frames", "body_points", "cycle_of", "joints", "reference_points"]
