@@ -136,7 +136,8 @@ def build(mechanism, plan, frames, settings) -> Design:
         x, y = local(carrier, point)
         pin = Part(file_name(f"{'shaft' if is_driver else 'pin'}_{point}"), "pin", carrier, names[carrier],
                    Shape2D(hulls=(((float(x), float(y), 0.5 * (d + s.shaft_allowance)),),)), 0.0,
-                   joint=point, holds=tuple(names[b] for b in bodies), reach=s.sleeve, material="steel")
+                   joint=point, holds=tuple(names[b] for b in (carrier,) + tuple(b for b in bodies if b != carrier)),
+                   reach=s.sleeve, material="steel")
         if is_driver:
             pin.note = f"motor shaft ⌀{d * 1e3:g} mm"
             design.driver = (point, carrier)
@@ -233,7 +234,7 @@ def _actuators(mechanism, plan, frames, s, design, local, hole_of):
         for j, p in enumerate((p1, p2)):
             pin = Part(file_name(f"guidepin_{ac.name}_{j + 1}"), "pin", rod, names[rod],
                        Shape2D(hulls=(((-p, 0.0, 0.5 * (s.pin + s.shaft_allowance)),),)), 0.0,
-                       joint=ac.name, holds=(names[cyl], names[rod]), reach=s.sleeve, material="steel",
+                       joint=ac.name, holds=(names[rod], names[cyl]), reach=s.sleeve, material="steel",
                        note=f"guide pin of {ac.name} in the cylinder's slot")
             design.pins.append(PinSpec(pin, [cpart.name, rpart.name]))
 

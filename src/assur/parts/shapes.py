@@ -88,7 +88,8 @@ class Part:
     """One part: ``shape`` drawn in the frame of body ``body`` (``body_name``).
 
     ``kind``: plate, gear, block, cylinder, rod (take a layer); pin (a dowel or the motor shaft: ``joint`` and
-    ``holds`` the body names it joins; ``reach`` the radius of what it carries through a layer it crosses);
+    ``holds`` the body names it joins, the one it moves with first; ``reach`` the radius of what it carries
+    through a layer it crosses);
     washer; base, top, standoff, motor_mount (frame parts). ``partner``: the part it touches by design (a gear's
     mate, a block's guide). ``layer`` and ``z`` ([z_min, z_max], m) are set by the stack."""
     name: str
