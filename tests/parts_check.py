@@ -20,13 +20,15 @@ import numpy as np
 
 
 def step_meshes(path) -> dict:
-    """{name: trimesh.Trimesh (mm)} of the parts of a STEP file: each named child of the assembly (its solids
-    merged), or each solid (s0, s1, …) of a file without names."""
+    """{name: trimesh.Trimesh (mm)} of the parts of a STEP file: each child of the assembly (its solids merged),
+    by its name, or numbered s0, s1, … when the file gives no distinct names."""
     import build123d as bd
     import trimesh
     shape = bd.import_step(str(path))
-    named = [c for c in shape.children if c.label] if shape.children else []
-    items = [(c.label, c.solids()) for c in named] if named else [(f"s{i}", [s]) for i, s in enumerate(shape.solids())]
+    kids = list(shape.children) or [s for s in shape.solids()]
+    labels = [c.label for c in kids]
+    unique = all(labels) and len(set(labels)) == len(labels)        # else (pylinkage: all "COMPOUND") numbered
+    items = [(c.label if unique else f"s{i}", c.solids()) for i, c in enumerate(kids)]
     out = {}
     for name, solids in items:
         meshes = []
@@ -123,8 +125,10 @@ def same_body_overlaps(parts: list, *, volume_mm3: float = 1e-3):
     out = []
 
     def manifold(mesh):
-        return mf.Manifold(mf.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
-                                   tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+        out = mf.Manifold(mf.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
+                                  tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+        assert out.status() == mf.Error.NoError and out.volume() > 0      # a closed solid, else nothing is tested
+        return out
     for i, a in enumerate(parts):
         for b in parts[i + 1:]:
             if a["body"] != b["body"]:

@@ -35,6 +35,8 @@ class Parts:
     cycle: object = None
     _solids: dict = field(default_factory=dict, repr=False)
     _mass: dict = field(default_factory=dict, repr=False)
+    _meshes: dict = field(default_factory=dict, repr=False)
+    _flat: dict = field(default_factory=dict, repr=False)
 
     @property
     def layers(self) -> int:
@@ -58,6 +60,26 @@ class Parts:
             for p in self.parts:
                 self._solids[p.name] = flat_solid(p)
         return self._solids
+
+    def flat_meshes(self) -> dict:
+        """{part name: its flat solid as a closed trimesh (mm)}: what the STL and 3MF files hold (centred)."""
+        from .solids import tessellation
+        if not self._flat:
+            for name, solid in self.solids().items():
+                self._flat[name] = tessellation(solid)
+        return self._flat
+
+    def meshes(self) -> dict:
+        """{part name: (vertices (v, 3), triangles (t, 3))} of every part at its sketch pose and height (mm): the
+        flat meshes moved into the assembly."""
+        from .solids import pose_matrix
+        if not self._meshes:
+            for p in self.parts:
+                mesh = self.flat_meshes()[p.name]
+                T = pose_matrix(p, self.frames)
+                v = np.asarray(mesh.vertices) @ T[:3, :3].T + T[:3, 3]
+                self._meshes[p.name] = (v, np.asarray(mesh.faces))
+        return self._meshes
 
     def mass(self) -> dict:
         """{part name: :class:`~assur.parts.solids.MassProperties`}."""

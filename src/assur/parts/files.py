@@ -11,13 +11,12 @@
 """
 from __future__ import annotations
 
-import csv
-import math
 from pathlib import Path
 
 import numpy as np
 
 from .api import LAYERED
+from .bom import write_bom
 
 MM = 1000.0
 
@@ -60,53 +59,6 @@ def certificate_json(result) -> dict:
             "conflicts": {"parts": verdicts(c.parts), "pin_parts": verdicts(c.pins), "pins": verdicts(c.pin_pairs)}}
 
 
-def bom_rows(result, masses: bool = True) -> list[list]:
-    """The bill of materials: made parts one row each, dowels and washers grouped by size, the motor."""
-    s = result.settings
-    mass = result.mass() if masses else {}
-    header = ["part", "kind", "quantity", "material", "thickness [mm]", "mass [g]", "size", "file"]
-    rows, groups = [header], {}
-    for p in result.parts:
-        g = mass[p.name].mass * 1e3 if p.name in mass else math.nan
-        if p.kind == "pin":
-            d = 2 * p.shape.hulls[0][0][2] - s.shaft_allowance
-            label = "motor shaft (the motor's own)" if p.name.startswith("shaft_") else "dowel pin ISO 8734"
-            key = (label, round(d * MM, 3), round(p.thickness * MM, 1))
-            groups.setdefault(key, []).append((p, g))
-            continue
-        if p.kind == "washer" and p.material == "steel":
-            key = ("washer DIN 125-A", round(s.pin * MM, 3), round(p.thickness * MM, 2))
-            groups.setdefault(key, []).append((p, g))
-            continue
-        size = _size(p, s)
-        rows.append([p.name, p.kind, 1, p.material, _round(p.thickness * MM, 3),
-                     "" if math.isnan(g) else _round(g, 3), size, f"stl/{p.name}.stl"])
-    for (label, d, length), members in groups.items():
-        names = " ".join(p.name for p, _ in members)
-        total = sum(g for _, g in members)
-        size = f"⌀{d:g} × {length:g} mm" if "washer" not in label else f"M{d:g} ⌀{s.washer_od * MM:g} × {length:g} mm"
-        rows.append([names, label, len(members), "steel", length, "" if math.isnan(total) else _round(total, 3),
-                     size, ""])
-    if result.design.driver is not None:
-        rows.append(["motor", "NEMA 17 motor (bought)", 1, "", "", "", f"shaft ⌀{s.shaft * MM:g} mm", ""])
-    return rows
-
-
-def _size(p, s) -> str:
-    ring = np.asarray(p.shape.region().exterior.coords)
-    span = ring.max(axis=0) - ring.min(axis=0)
-    text = f"{span[0] * MM:.1f} × {span[1] * MM:.1f} mm"
-    if p.shape.holes:
-        ds = sorted({round(d * MM, 3) for _, _, d in p.shape.holes})
-        text += "; holes ⌀" + ", ⌀".join(f"{d:g}" for d in ds)
-    return text
-
-
-def write_bom(result, path, masses: bool = True) -> None:
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        csv.writer(fh).writerows(bom_rows(result, masses))
-
-
 def write_all(result, out: Path, *, layers_only: bool = False, log=lambda _: None) -> dict:
     """Write every file into the directory ``out`` (which the caller makes atomic); returns a summary."""
     import json
@@ -119,13 +71,15 @@ def write_all(result, out: Path, *, layers_only: bool = False, log=lambda _: Non
         (out / "3mf").mkdir()
         log(f"writing {len(solids)} parts (STL, 3MF)")
         for p in result.parts:
-            flat = _centred(solids[p.name])
+            flat = _centred(result.flat_meshes()[p.name])
             write_stl(flat, out / "stl" / f"{p.name}.stl")
             write_3mf(flat, out / "3mf" / f"{p.name}.3mf", p.name)
         log("writing the assembly (STEP)")
         write_step([placed(p, solids[p.name], result.frames) for p in result.parts], out / "assembly.step",
                    name=result.mechanism.name or "assembly")
         write_bom(result, out / "bom.csv")
+        log("checking the meshes (watertight, volumes, no common volume in the assembly)")
+        checks = mesh_checks(result, out)
     (out / "parts.json").write_text(json.dumps(parts_json(result, stl=not layers_only), indent=1) + "\n",
                                     encoding="utf-8")
     (out / "certificate.json").write_text(json.dumps(certificate_json(result), indent=1, allow_nan=False) + "\n",
@@ -133,17 +87,32 @@ def write_all(result, out: Path, *, layers_only: bool = False, log=lambda _: Non
     from .page import write_page
     log("writing the page")
     write_page(result, out / "parts.html", meshes=not layers_only)
-    return summary(result, masses=not layers_only)
+    out_summary = summary(result, masses=not layers_only)
+    if not layers_only:
+        out_summary["mesh_checks"] = checks
+    return out_summary
 
 
-def _centred(solid):
-    """``solid`` moved so its bounding box is centred on the origin in x, y and rests on z = 0 (for printing)."""
-    import build123d as bd
-    bb = solid.bounding_box()
-    c = bb.center()
-    out = solid.moved(bd.Location((-c.X, -c.Y, -bb.min.Z)))
-    out.label = solid.label
-    return out
+def mesh_checks(result, out: Path) -> dict:
+    """The checks of :mod:`assur.parts.meshcheck` on the written STL files and the assembly; RuntimeError (a
+    defect) when one fails."""
+    from .meshcheck import assembly_overlaps, check_stl
+    mass = result.mass()
+    worst = 0.0
+    for p in result.parts:
+        worst = max(worst, check_stl(out / "stl" / f"{p.name}.stl", mass[p.name].volume * MM ** 3)["mismatch"])
+    overlaps = assembly_overlaps(result.parts, result.meshes())
+    if overlaps:
+        a, b, v = overlaps[0]
+        raise RuntimeError(f"parts {a} and {b} share {v:.3g} mm³ in the assembly (a defect of assur make)")
+    return {"stl_files": len(result.parts), "watertight": len(result.parts), "max_volume_mismatch": worst,
+            "assembly_overlaps": 0}
+
+
+def _centred(mesh):
+    """A copy of ``mesh`` moved so its bounding box is centred on the origin in x, y and rests on z = 0."""
+    lo, hi = mesh.bounds
+    return mesh.copy().apply_translation([-0.5 * (lo[0] + hi[0]), -0.5 * (lo[1] + hi[1]), -lo[2]])
 
 
 def summary(result, masses: bool = True) -> dict:
@@ -161,4 +130,4 @@ def summary(result, masses: bool = True) -> dict:
             "kinds": sorted({p.kind for p in result.parts if p.kind in LAYERED})}
 
 
-__all__ = ["bom_rows", "certificate_json", "parts_json", "summary", "write_all", "write_bom"]
+__all__ = ["certificate_json", "parts_json", "summary", "write_all"]

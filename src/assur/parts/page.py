@@ -98,11 +98,7 @@ def layer_chart(result) -> dict:
 def _mesh_of(result, part, meshes: bool):
     """(vertices (v, 3) at the sketch pose in mm, (i, j, k)) of a part: its tessellated solid or its prism."""
     if meshes:
-        from .solids import placed
-        solid = placed(part, result.solids()[part.name], result.frames)
-        verts, tris = solid.tessellate(0.05, 0.3)
-        v = np.array([[p.X, p.Y, p.Z] for p in verts])
-        t = np.asarray(tris, dtype=int)
+        v, t = result.meshes()[part.name]
         return v, (t[:, 0], t[:, 1], t[:, 2])
     ring = result.frames.at_sketch(part.body, _ring(part)) * MM
     z0, z1 = part.z[0] * MM, part.z[1] * MM
@@ -267,7 +263,7 @@ def certificate_html(result) -> str:
 
 def section_html(result, *, meshes: bool = True, include_plotlyjs=True) -> str:
     """The page's body: headings, figures and tables (an HTML fragment)."""
-    from .files import bom_rows
+    from .bom import bom_rows
     figs = [("Layers", layer_chart(result)), ("Exploded assembly", exploded_view(result, meshes)),
             ("The assembly over the run", moving_assembly(result))]
     pairs = tightest_pairs(result)

@@ -109,16 +109,47 @@ def mass_properties(part, solid) -> MassProperties:
     return MassProperties(volume, part.density * volume, (c.X / MM, c.Y / MM, c.Z / MM), part.density * izz)
 
 
-def write_stl(solid, path) -> None:
-    _bd().export_stl(solid, str(path), tolerance=STL_TOLERANCE, angular_tolerance=STL_ANGULAR)
+def tessellation(solid):
+    """The solid as a closed triangle mesh (trimesh, mm): OCCT's tessellation within :data:`STL_TOLERANCE`, its
+    faces' shared vertices merged."""
+    import trimesh
+    verts, tris = solid.tessellate(STL_TOLERANCE, STL_ANGULAR)
+    return trimesh.Trimesh(np.array([[v.X, v.Y, v.Z] for v in verts]), np.asarray(tris, dtype=np.int64), process=True)
 
 
-def write_3mf(solid, path, name: str) -> None:
-    bd = _bd()
-    mesher = bd.Mesher(unit=bd.Unit.MM)
-    mesher.add_shape(solid, linear_deflection=STL_TOLERANCE, angular_deflection=STL_ANGULAR)
-    mesher.add_meta_data("assur", "part", name, "xs:string", False)
-    mesher.write(str(path))
+def pose_matrix(part, frames) -> np.ndarray:
+    """(4, 4) the rigid motion from the part's flat frame to its place in the assembly (mm)."""
+    if part.body == 0:
+        x, y, th = 0.0, 0.0, 0.0
+    else:
+        (x, y), th = frames.sketch_origin[part.body], float(frames.sketch_angle[part.body])
+    c, s = math.cos(th), math.sin(th)
+    return np.array([[c, -s, 0, x * MM], [s, c, 0, y * MM], [0, 0, 1, part.z[0] * MM], [0, 0, 0, 1.0]])
+
+
+def write_stl(mesh, path) -> None:
+    """A binary STL of ``mesh`` (trimesh, mm)."""
+    mesh.export(str(path), file_type="stl")
+
+
+def write_3mf(mesh, path, name: str) -> None:
+    """A 3MF file (lib3mf, mm) of ``mesh`` as one object called ``name``."""
+    import ctypes
+
+    from lib3mf import Lib3MF
+    import os
+    wrapper = Lib3MF.Wrapper(os.path.join(os.path.dirname(Lib3MF.__file__), "lib3mf"))
+    model = wrapper.CreateModel()
+    model.SetUnit(Lib3MF.ModelUnit.MilliMeter)
+    obj = model.AddMeshObject()
+    obj.SetName(name)
+    f3, u3 = ctypes.c_float * 3, ctypes.c_uint * 3
+    obj.SetGeometry([Lib3MF.Position(f3(*v)) for v in np.asarray(mesh.vertices, dtype=float).tolist()],
+                    [Lib3MF.Triangle(u3(*t)) for t in np.asarray(mesh.faces, dtype=int).tolist()])
+    if not obj.IsManifoldAndOriented():
+        raise RuntimeError(f"the 3MF mesh of {name} is not a closed oriented solid")
+    model.AddBuildItem(obj, wrapper.GetIdentityTransform())
+    model.QueryWriter("3mf").WriteToFile(str(path))
 
 
 def write_step(solids, path, name: str) -> None:
@@ -133,4 +164,4 @@ def write_step(solids, path, name: str) -> None:
 
 
 __all__ = ["EXTRA", "INSTALL", "MM", "MassProperties", "face_of", "flat_solid", "mass_properties", "placed",
-           "require_make", "write_3mf", "write_stl", "write_step"]
+           "pose_matrix", "require_make", "tessellation", "write_3mf", "write_stl", "write_step"]
