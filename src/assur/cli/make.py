@@ -117,6 +117,12 @@ def _print(result, summary, args) -> None:
         print(f"  layer {k}: {', '.join(by_layer[k])}")
     print(f"  {summary['pairs_checked']} pairs certified over the cycle, {summary['conflicts']} in conflict"
           + (f", {summary['refined_intervals']} intervals refined" if summary['refined_intervals'] else ""))
+    big = summary["larger_than_print_bed"]
+    if big:
+        n0 = big[0]
+        print(f"  note: {len(big)} part{'s do' if len(big) > 1 else ' does'} not fit a 250 mm print bed (largest "
+              f"{n0['name']}, {n0['size'][0] * 1e3:.0f} × {n0['size'][1] * 1e3:.0f} mm): print in pieces, scale "
+              "the file, or choose --process laser-cut or machined")
     print(f"wrote {args.output}/" + (f" and {args.mass_back}" if args.mass_back else ""))
 
 

@@ -96,7 +96,7 @@ class Parts:
 
     def input_text(self, q) -> str:
         """A run value as the driver's input in the file's units ("37.5 deg")."""
-        return _input_text(self.plan, q)
+        return _input_text(self.plan, q, self.frames.moving)
 
 
 #: the part kinds that take a layer of the stack
@@ -140,22 +140,22 @@ def make_parts(cycle, *, clearance: float | None = None, process: str | None = N
     try:
         layout, cert = solve_layers(program, max_layers=max_layers, time_limit=time_limit)
     except Unstackable as exc:
-        raise _unstackable_error(exc, program, conflicts, plan, max_layers) from None
+        raise _unstackable_error(exc, program, conflicts, plan, max_layers, frames.moving) from None
     parts = assemble(design, program, layout, frames, settings)
     return Parts(m, plan, settings, frames, design, conflicts, program, layout, cert, parts, cycle)
 
 
-def _unstackable_error(exc, program, conflicts, plan, max_layers) -> SpecError:
+def _unstackable_error(exc, program, conflicts, plan, max_layers, moving) -> SpecError:
     """The SpecError of a stack that does not fit: the parts of a set that cannot be stacked, and where each
     conflicting pair among them meets (the input of their least distance)."""
     names = [n for g in exc.groups for n in program.groups[g]]
     lines = []
     for v in conflicts.all():
         if v.conflict and v.a in names and v.b in names:
-            lines.append(f"{v.a} and {v.b} meet at {_input_text(plan, v.at)} (gap {1e3 * max(v.sampled, 0.0):.3g} mm)")
+            lines.append(f"{v.a} and {v.b} meet at {_input_text(plan, v.at, moving)} (gap {1e3 * max(v.sampled, 0.0):.3g} mm)")
     for v in conflicts.pins:           # a pin of the set's parts that another of them covers
         if v.conflict and v.b in names and v.a not in names:
-            lines.append(f"{v.b} covers {v.a} at {_input_text(plan, v.at)}")
+            lines.append(f"{v.b} covers {v.a} at {_input_text(plan, v.at, moving)}")
     within = f"in {exc.limit} layer{'s' if exc.limit != 1 else ''}" if max_layers is not None else "at all"
     why = "conflict pairwise" if exc.clique else "cannot share fewer layers"
     head = f"the parts cannot be stacked {within}: {', '.join(names)} {why}"

@@ -135,19 +135,21 @@ def frame_arrays(frames) -> dict:
     return {k: getattr(frames, k) for k in ("origin", "vel", "acc", "angle", "omega", "alpha")}
 
 
-def _certify(cycle, frames, A, B, q0, q1, dt, clearance, rounds):
-    """(certified least gap, (least sampled distance, its run value)) on the interval of the run from ``q0`` to
-    ``q1`` (``dt`` long in time), solved at REFINE_SPLIT steps inside it and refined again where needed."""
+def _certify(frames, A, B, lo, hi, dt, clearance, rounds):
+    """(certified least gap, (least sampled distance, its run value)) on the interval of the run between the
+    full inputs ``lo`` and ``hi`` (``dt`` long in time), solved at REFINE_SPLIT steps inside it and refined again
+    where needed."""
     from .motion import _poses
-    qs = np.linspace(q0, q1, REFINE_SPLIT + 1)
-    origin, vel, acc, angle, omega, alpha = _poses(frames.plan, cycle.state(qs), frames.ref)
+    f = np.linspace(0.0, 1.0, REFINE_SPLIT + 1)[:, None]
+    inputs = lo + f * (hi - lo)
+    origin, vel, acc, angle, omega, alpha = _poses(frames.plan, frames.solve(inputs), frames.ref)
     F = dict(origin=origin, vel=vel, acc=acc, angle=angle, omega=omega, alpha=alpha)
-    d = _distances(F, A, B, np.ones(qs.size, bool))
+    d = _distances(F, A, B, np.ones(len(inputs), bool))
     V, W = _speed_bounds(F, A, B)
     h = dt / REFINE_SPLIT
-    g = _interval_gaps(d, V, W, np.full(qs.size, h), closed=False)[:-1]
+    g = _interval_gaps(d, V, W, np.full(len(inputs), h), closed=False)[:-1]
     k = int(np.argmin(d))
-    best = (float(d[k]), float(qs[k]))
+    best = (float(d[k]), float(inputs[k, frames.moving]))
     if best[0] < clearance:
         return best[0], best
     worst = np.inf
@@ -155,7 +157,7 @@ def _certify(cycle, frames, A, B, q0, q1, dt, clearance, rounds):
         if g[j] >= clearance or rounds <= 1:
             worst = min(worst, float(g[j]))
             continue
-        gj, bj = _certify(cycle, frames, A, B, qs[j], qs[j + 1], h, clearance, rounds - 1)
+        gj, bj = _certify(frames, A, B, inputs[j], inputs[j + 1], h, clearance, rounds - 1)
         worst = min(worst, gj)
         best = min(best, bj)
         if bj[0] < clearance:
@@ -189,9 +191,8 @@ def pair_verdict(cycle, frames, F, A: Item, B: Item, clearance: float, keep_curv
     if bad.size:
         gaps = []
         for i in bad:
-            q0 = float(frames.q[i])
-            q1 = float(frames.q[i + 1]) if i + 1 < n else float(frames.q[0]) + 2.0 * np.pi
-            gi, (di, qi) = _certify(cycle, frames, A, B, q0, q1, float(dt[i]), clearance, REFINE_ROUNDS)
+            lo, hi = frames.inputs_between(int(i), [0.0, 1.0])
+            gi, (di, qi) = _certify(frames, A, B, lo, hi, float(dt[i]), clearance, REFINE_ROUNDS)
             gaps.append(gi)
             refined += 1
             if di < sampled:

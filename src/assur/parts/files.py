@@ -115,6 +115,23 @@ def _centred(mesh):
     return mesh.copy().apply_translation([-0.5 * (lo[0] + hi[0]), -0.5 * (lo[1] + hi[1]), -lo[2]])
 
 
+#: the print bed a part must fit for FDM (m): 250 mm square (the common 250–256 mm class of printers)
+PRINT_BED = 0.250
+
+
+def oversize(result, bed: float = PRINT_BED) -> list:
+    """[(name, long side, short side)] (m) of the parts whose footprint does not fit a ``bed`` square in any
+    orientation (its least-area enclosing rectangle is longer than the bed), largest first."""
+    out = []
+    for p in result.parts:
+        rect = p.shape.region().minimum_rotated_rectangle
+        xy = np.asarray(rect.exterior.coords)[:4]
+        sides = sorted((float(np.hypot(*(xy[1] - xy[0]))), float(np.hypot(*(xy[2] - xy[1])))), reverse=True)
+        if sides[0] > bed:
+            out.append((p.name, sides[0], sides[1]))
+    return sorted(out, key=lambda t: -t[1])
+
+
 def summary(result, masses: bool = True) -> dict:
     """A JSON-ready summary (SI): settings, layers and certificate, the parts with their layers and heights."""
     mass = result.mass() if masses else {}
@@ -127,6 +144,8 @@ def summary(result, masses: bool = True) -> dict:
                        "z": [float(p.z[0]), float(p.z[1])], **({"mass": mass[p.name].mass} if p.name in mass else {})}
                       for p in result.parts],
             "layered": sorted(result.layer_of().items(), key=lambda kv: (kv[1], kv[0])),
+            "larger_than_print_bed": [{"name": n, "size": [a, b]} for n, a, b in oversize(result)]
+            if result.settings.process == "fdm" else [],
             "kinds": sorted({p.kind for p in result.parts if p.kind in LAYERED})}
 
 

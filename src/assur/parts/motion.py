@@ -56,7 +56,8 @@ class BodyFrames:
     ``q`` (n,) the run's inputs; ``dt`` (n,) the time from sample i to the next (the last to the first + one
     period for a turn, 0 at the end of a stroke); ``closed``: the run is one turn (the last interval wraps).
     ``origin``, ``vel``, ``acc`` (n, B, 2): each body frame's origin and its time derivatives; ``angle``,
-    ``omega``, ``alpha`` (n, B): its angle and angular velocity and acceleration. ``sketch_origin`` (B, 2),
+    ``omega``, ``alpha`` (n, B): its angle and angular velocity and acceleration (time derivatives at the drivers'
+    speeds: the exact velocities the engine solved). ``sketch_origin`` (B, 2),
     ``sketch_angle`` (B,): the pose at the sketch inputs (``sketch_state``: that State). ``ref``: each body's
     reference point (None for the frame)."""
     plan: object
@@ -75,6 +76,22 @@ class BodyFrames:
     ref: tuple
     #: (n_params,) the design parameters of the run (SI)
     params: np.ndarray = None
+    #: (n, n_inputs) the full inputs of the samples, (n_inputs,) the step from the last back to the first of a
+    #: turn (2π on the turning input), and the index of the input the run moves (``q`` is its column)
+    inputs: np.ndarray = None
+    period: np.ndarray = None
+    moving: int = 0
+    #: ``solve(inputs (m, n_inputs)) -> State`` for refinements between samples: the cycle's ``state(q)`` for a
+    #: one-input plan, else the engine at those inputs
+    solve: object = None
+
+    def inputs_between(self, i: int, fractions) -> np.ndarray:
+        """(m, n_inputs) the inputs at ``fractions`` (m,) of the way from sample i to the next (the first of the
+        next turn after the last sample of a turn)."""
+        a = self.inputs[i]
+        b = self.inputs[i + 1] if i + 1 < self.n else self.inputs[0] + self.period
+        f = np.asarray(fractions, dtype=float)[:, None]
+        return a + f * (b - a)
 
     @property
     def n(self) -> int:
@@ -137,8 +154,8 @@ def reference_points(mechanism, plan) -> tuple:
 
 def body_frames(cycle) -> BodyFrames:
     """The body poses over the solved run of ``cycle`` (a Cycle, a :class:`RunCycle` or a Study: ``plan``,
-    ``grid()``, ``state(q)``), and at the sketch inputs (one solve of ``cycle.state``). SpecError when a sample
-    does not assemble (parts need the whole run)."""
+    ``grid()``), and at the sketch inputs (one solve). SpecError when a sample does not assemble (parts need the
+    whole run)."""
     plan = cycle.plan
     q, st = cycle.grid()
     valid = np.asarray(st.valid)
@@ -152,8 +169,15 @@ def body_frames(cycle) -> BodyFrames:
     angle = np.unwrap(angle, axis=0)
     inputs = np.asarray(st.inputs, dtype=float).reshape(len(q), -1)
     qdot = np.broadcast_to(np.asarray(st.qdot, dtype=float), inputs.shape)
-    closed = bool(getattr(cycle, "closed", True))
-    step = np.diff(inputs, axis=0, append=inputs[:1] + (_period(plan, inputs) if closed else 0.0))
+    spread = np.ptp(inputs, axis=0)
+    k = int(np.argmax(spread))                 # the input the run moves
+    closed = getattr(cycle, "closed", None)
+    if closed is None:                         # a turn of a crank, else a stroke
+        closed = plan.input_kinds[k] == "rotary"
+    period = np.zeros(inputs.shape[1])
+    if closed:
+        period[k] = 2.0 * np.pi
+    step = np.diff(inputs, axis=0, append=inputs[:1] + period)
     if not closed:
         step[-1] = 0.0
     moving = np.abs(qdot) > 0
@@ -161,36 +185,43 @@ def body_frames(cycle) -> BodyFrames:
         per = np.where(moving, np.abs(step) / np.abs(qdot), np.where(np.abs(step) > 0, np.inf, 0.0))
     dt = per.max(axis=1)
     if not np.all(np.isfinite(dt)):
-        k = int(np.argmax(~np.isfinite(per).all(axis=0)))
-        raise SpecError([("drivers", f"the input {plan.input_names[k]!r} moves over the run but its driver's "
+        j = int(np.argmax(~np.isfinite(per).all(axis=0)))
+        raise SpecError([("drivers", f"the input {plan.input_names[j]!r} moves over the run but its driver's "
                                      "speed is 0: give it a speed (the parts' certificate uses the velocities)")])
-    if hasattr(cycle, "sketch_state"):
-        sketch = cycle.sketch_state()
-    else:   # a one-input cycle: its state(q) takes the input's values
-        sketch = cycle.state(np.asarray(plan.sketch_inputs, dtype=float)[:1])
+    params = np.asarray(getattr(cycle, "params", plan.defaults), dtype=float)
+    if plan.n_inputs == 1 and hasattr(cycle, "state"):
+        def refine(x):
+            return cycle.state(np.asarray(x, dtype=float)[:, 0])
+    else:
+        def refine(x):
+            return solve_at(plan, params, x)
+    sketch = refine(np.asarray(plan.sketch_inputs, dtype=float)[None, :])
     s_origin, _, _, s_angle, _, _ = _poses(plan, sketch, refs)
     s_origin = s_origin.reshape(plan.n_bodies, 2)
     s_angle = s_angle.reshape(plan.n_bodies)
-    return BodyFrames(plan, np.asarray(q, dtype=float), dt, closed, origin, vel, acc, angle, omega, alpha,
-                      s_origin, s_angle, sketch, refs, np.asarray(getattr(cycle, "params", plan.defaults), dtype=float))
+    return BodyFrames(plan, inputs[:, k].copy(), dt, bool(closed), origin, vel, acc, angle, omega, alpha,
+                      s_origin, s_angle, sketch, refs, params, inputs, period, k, refine)
 
 
-def _period(plan, inputs):
-    """The step from the last sample of a turn back to the first: 2π on the turning input, 0 on the others."""
-    out = np.zeros(inputs.shape[1])
-    spread = np.ptp(inputs, axis=0)
-    k = int(np.argmax(spread))
-    out[k] = 2.0 * np.pi
-    return out
+def solve_at(plan, params, inputs):
+    """The State (order 2) of ``plan`` at a few full input vectors ``inputs (m, n_inputs)``: the sketch pose and
+    the refinements between two samples (never a whole cycle)."""
+    from ..engine import solve
+    return solve(plan, params, np.asarray(inputs, dtype=float), order=2)
 
 
-def _input_text(plan, q) -> str:
+def _input_text(plan, q, k: int | None = None) -> str:
+    """A value of input ``k`` (default: the first that moves) in the file's units, with its name when the plan has
+    several inputs."""
     from ..io.units import ANGLE, LENGTH
     u = plan.mechanism.units
     q = float(np.ravel(q)[0])
-    if plan.input_kinds[0] == "rotary":
-        return f"{q / ANGLE[u.angle]:.6g} {u.angle}"
-    return f"{q / LENGTH[u.length]:.6g} {u.length}"
+    if k is None:
+        k = next((j for j in range(plan.n_inputs) if plan.speeds[j] != 0), 0)
+    name = f"{plan.input_names[k]} = " if plan.n_inputs > 1 else ""
+    if plan.input_kinds[k] == "rotary":
+        return f"{name}{q / ANGLE[u.angle]:.6g} {u.angle}"
+    return f"{name}{q / LENGTH[u.length]:.6g} {u.length}"
 
 
 class RunCycle:
@@ -219,12 +250,6 @@ class RunCycle:
         """The State at run values ``s (...)`` (the moving input; the others at their run values)."""
         from ..engine import solve
         return solve(self.plan, self.params, self._inputs_at(s), order=self.order if order is None else order)
-
-    def sketch_state(self):
-        """The State at the plan's sketch inputs."""
-        from ..engine import solve
-        return solve(self.plan, self.params, np.asarray(self.plan.sketch_inputs, dtype=float)[None, :],
-                     order=self.order)
 
     def grid(self):
         if self._grid is None:
