@@ -53,6 +53,8 @@ def _size(p, s) -> str:
     if p.shape.holes:
         ds = sorted({round(d * MM, 3) for _, _, d in p.shape.holes})
         text += "; holes ⌀" + ", ⌀".join(f"{d:g}" for d in ds)
+    for _, _, d, flat in p.shape.flats:
+        text += f"; D-bore ⌀{d * MM:g}, {(0.5 * d + flat) * MM:g} across the flat (the motor shaft)"
     return text
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import SpecError
 from ..model.mechanism import FRAME
-from .motion import body_points, joints
+from .motion import joints
 from .shapes import Part, Shape2D, file_name, rectangle
 
 
@@ -67,7 +67,6 @@ def build(mechanism, plan, frames, settings) -> Design:
     an actuator whose stroke is longer than its closed length)."""
     from .gearplates import gear_parts
     s = settings
-    carried = body_points(mechanism, plan)
     hinged = joints(mechanism, plan)
     pos = np.asarray(frames.sketch_state.pos).reshape(plan.n_points, 2)
     names = plan.body_names
@@ -87,9 +86,20 @@ def build(mechanism, plan, frames, settings) -> Design:
         return frames.to_local(b, pos[plan.point_index(point)])
 
     def hole_of(point, b):
-        d = shaft_hole if driver is not None and point == driver.pivot and names[b] == driver.link else hole
         x, y = local(b, point)
-        return (float(x), float(y), d)
+        return (float(x), float(y), hole)
+
+    def bores(points, b):
+        """(holes, D-bores) of body b at ``points``: the turning crank's pivot is a D-bore for the motor's
+        shaft (the crank turns with it), every other joint a round hole for its pin."""
+        holes, flats = [], []
+        for p in points:
+            x, y = local(b, p)
+            if driver is not None and p == driver.pivot and names[b] == driver.link:
+                flats.append((float(x), float(y), shaft_hole, s.shaft_flat_distance + 0.5 * s.hole_allowance))
+            else:
+                holes.append((float(x), float(y), hole))
+        return tuple(holes), tuple(flats)
 
     plate_of: dict[int, Part] = {}
     # -- link plates and gear plates ------------------------------------------------------------------------
@@ -101,13 +111,18 @@ def build(mechanism, plan, frames, settings) -> Design:
         joints_here = [p for p in lk.points if p in hinged]
         gear = gears.parts.get(lk.name)
         if gear is not None:
-            gear.shape = Shape2D(gear.shape.hulls, gear.shape.polygons,
-                                 tuple(hole_of(p, b) for p in joints_here if p == gears.pivot[lk.name]))
+            holes, flats = bores([p for p in joints_here if p == gears.pivot[lk.name]], b)
+            gear.shape = Shape2D(gear.shape.hulls, gear.shape.polygons, holes, flats=flats)
             design.stack.append(gear)
             if all(p == gears.pivot[lk.name] for p in joints_here):
                 continue                                        # the gear is the whole link
-        hulls = (tuple((float(x), float(y), s.boss) for x, y in pts),)
-        shape = Shape2D(hulls=hulls, holes=tuple(hole_of(p, b) for p in joints_here))
+        # the boss about the motor shaft keeps the wall a pin's boss has
+        shaft_boss = max(s.boss, 0.5 * s.shaft + s.boss - 0.5 * s.pin)
+        radii = [shaft_boss if driver is not None and p == driver.pivot and lk.name == driver.link else s.boss
+                 for p in lk.points]
+        hulls = (tuple((float(x), float(y), r) for (x, y), r in zip(pts, radii)),)
+        holes, flats = bores(joints_here, b)
+        shape = Shape2D(hulls=hulls, holes=holes, flats=flats)
         part = Part(file_name(f"plate_{lk.name}"), "plate", b, lk.name, shape, s.thickness,
                     material=s.material, density=s.density)
         plate_of[b] = part
@@ -128,21 +143,22 @@ def build(mechanism, plan, frames, settings) -> Design:
             for p in by_body.get(b, ()):
                 lx, ly = local(b, point)
                 if any(abs(hx - lx) < 1e-12 + 1e-9 * s.width and abs(hy - ly) < 1e-12 + 1e-9 * s.width
-                       for hx, hy, _ in p.shape.holes):
+                       for hx, hy, _ in p.shape.bores()):
                     through.append(p.name)
         carrier = next(b for b in bodies if b != 0)
         is_driver = driver is not None and point == driver.pivot and index.get(driver.link) in bodies
         d = s.shaft if is_driver else s.pin
         x, y = local(carrier, point)
+        trim = ((float(x), float(y), d + s.shaft_allowance, s.shaft_flat_distance + 0.5 * s.shaft_allowance),) \
+            if is_driver else ()
         pin = Part(file_name(f"{'shaft' if is_driver else 'pin'}_{point}"), "pin", carrier, names[carrier],
-                   Shape2D(hulls=(((float(x), float(y), 0.5 * (d + s.shaft_allowance)),),)), 0.0,
+                   Shape2D(hulls=(((float(x), float(y), 0.5 * (d + s.shaft_allowance)),),), trim=trim), 0.0,
                    joint=point, holds=tuple(names[b] for b in (carrier,) + tuple(b for b in bodies if b != carrier)),
                    reach=s.sleeve, material="steel")
         if is_driver:
             pin.note = f"motor shaft ⌀{d * 1e3:g} mm"
             design.driver = (point, carrier)
         design.pins.append(PinSpec(pin, through, frame=0 in bodies, driver=is_driver))
-    del carried
     return design
 
 
@@ -193,7 +209,7 @@ def _slides(mechanism, plan, frames, s, design, plate_of, local, hole_of):
         x0, y0, x1, y1, w = slot
         wall = s.boss
         host.shape = Shape2D(host.shape.hulls + (((x0, y0, 0.5 * w + wall), (x1, y1, 0.5 * w + wall)),),
-                             host.shape.polygons, host.shape.holes, host.shape.slots + (slot,))
+                             host.shape.polygons, host.shape.holes, host.shape.slots + (slot,), host.shape.flats)
         block.partner, host.partner = host.name, block.name
         design.stack.append(block)
         design.same_layer.append((block.name, host.name))

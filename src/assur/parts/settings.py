@@ -76,6 +76,16 @@ class Settings:
         return 0.5 * self.washer_od
 
     @property
+    def shaft_flat(self) -> float:
+        """Across the flat of the motor's D-shaft (m): 0.9 of its diameter (a NEMA 17's 5 mm shaft: 4.5 mm)."""
+        return 0.9 * self.shaft
+
+    @property
+    def shaft_flat_distance(self) -> float:
+        """The distance of the D-shaft's flat from its axis (m): across the flat less the radius."""
+        return self.shaft_flat - 0.5 * self.shaft
+
+    @property
     def slide_fit(self) -> float:
         """The diametral play of a block in its slot (m): the hole allowance, at least 0.05 mm."""
         return max(self.hole_allowance, 5e-5)

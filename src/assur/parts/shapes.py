@@ -39,12 +39,20 @@ class Shape2D:
 
     ``hulls``: each a tuple of circles (x, y, r) whose convex hull is filled (one circle: a disc, two: a bar);
     ``polygons``: (k, 2) filled simple polygons; ``holes``: round holes (x, y, diameter); ``slots``: straight
-    slots cut through (x0, y0, x1, y1, width) with round ends. The part is the union of the hulls and polygons
-    minus the holes and slots."""
+    slots cut through (x0, y0, x1, y1, width) with round ends; ``flats``: D-bores for a motor's D-shaft (x, y,
+    diameter, the flat's distance from the centre; the flat parallel to the body's x axis, on its +y side);
+    ``trim``: the same D cut off the filled area (a D-shaft itself). The part is the union of the hulls and
+    polygons, trimmed, minus the holes, slots and D-bores."""
     hulls: tuple = ()
     polygons: tuple = ()
     holes: tuple = ()
     slots: tuple = ()
+    flats: tuple = ()
+    trim: tuple = ()
+
+    def bores(self) -> tuple:
+        """(x, y, diameter) of every round hole and D-bore."""
+        return self.holes + tuple(f[:3] for f in self.flats)
 
     def region(self):
         """The shapely polygon of the filled area without its holes and slots, conservatively: circles as

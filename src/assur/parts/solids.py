@@ -44,7 +44,7 @@ def _bd():
 
 def face_of(shape):
     """The build123d face (mm) of a :class:`~assur.parts.shapes.Shape2D` (m): the union of its hulls and polygons
-    minus its holes and slots."""
+    minus its holes, D-bores and slots."""
     bd = _bd()
     faces = []
     for hull in shape.hulls:
@@ -60,6 +60,13 @@ def face_of(shape):
         face = face + f
     for x, y, d in shape.holes:
         face = face - bd.Circle(0.5 * d * MM).locate(bd.Location((x * MM, y * MM)))
+    for x, y, d, flat in shape.trim:                       # a D-shaft: the disc below its flat
+        r, keep = 0.5 * d * MM, flat * MM
+        face = face & bd.Rectangle(2 * r, r + keep).locate(bd.Location((x * MM, y * MM + 0.5 * (keep - r))))
+    for x, y, d, flat in shape.flats:                      # a D-bore: the same cut out
+        r, keep = 0.5 * d * MM, flat * MM
+        face = face - (bd.Circle(r).locate(bd.Location((x * MM, y * MM)))
+                       & bd.Rectangle(2 * r, r + keep).locate(bd.Location((x * MM, y * MM + 0.5 * (keep - r)))))
     for x0, y0, x1, y1, w in shape.slots:
         ends = [bd.Circle(0.5 * w * MM).locate(bd.Location((x * MM, y * MM))) for x, y in ((x0, y0), (x1, y1))]
         face = face - bd.make_hull([e for c in ends for e in c.edges()])

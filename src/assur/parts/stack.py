@@ -134,7 +134,7 @@ def assemble(design, program: Program, layout, frames, settings, *, motor: bool 
             out.append(w)
     box = swept_box(frames, design)
     out += _frame_plates(design, layout, program, s, box, base_holes, top_holes, top_used, base_z, top_z, L,
-                         driver_side if motor else None, frames)
+                         driver_side if motor else None)
     return out
 
 
@@ -146,7 +146,7 @@ def _motor_holes(x, y):
 
 
 def _frame_plates(design, layout, program, s, box, base_holes, top_holes, top_used, base_z, top_z, L,
-                  driver_side, frames):
+                  driver_side):
     """The base plate, the top plate with four standoffs (when a frame end uses it) and the motor mount."""
     r_post = s.boss
     inset = r_post + s.clearance
@@ -190,7 +190,6 @@ def _frame_plates(design, layout, program, s, box, base_holes, top_holes, top_us
         else:
             mount.layer, mount.z = L + 1, (top_z[1], top_z[1] + s.thickness)
         out.append(mount)
-    del frames
     return out
 
 
