@@ -96,6 +96,7 @@ def dense_distances(result, a, b, per_interval=8):
     return shapely.distance(out[0], out[1])
 
 
+@pytest.mark.slow
 def test_the_certified_gap_is_a_lower_bound_of_the_continuous_distance(coarse):
     _, result = coarse
     checked = 0
@@ -151,6 +152,7 @@ def test_jansen_needs_three_layers_the_clique_proves_it(jansen):
     assert sorted(n for g in cert.clique for n in g) == ["plate_crank", "plate_j", "plate_k"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["walker_sixbar_beta1_60", "watt2"])
 def test_unstackable_examples_are_refused_with_the_reason(name):
     with pytest.raises(SpecError) as exc:
