@@ -114,7 +114,7 @@ def _shortest(mechanism) -> float:
 
 def make_parts(cycle, *, clearance: float | None = None, process: str | None = None,
                max_layers: int | None = None, time_limit: float = 60.0) -> Parts:
-    """The parts of ``cycle``'s mechanism (a solved Cycle, :class:`~assur.parts.motion.RunCycle` or Study), laid
+    """The parts of ``cycle``'s mechanism (a solved :class:`~assur.analysis.study.Study` or Cycle), laid
     out on the fewest layers with every conflict certified over the continuous run.
 
     ``clearance`` (m) and ``process`` override the file's ``[make]``; ``max_layers`` caps the stack;

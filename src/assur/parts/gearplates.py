@@ -65,7 +65,7 @@ def _thin(xy, tol):
 def gear_parts(mechanism, plan, frames, settings) -> GearParts:
     """The gear plates of every ``[[gears]]`` pair in their links' frames. SpecError (at ``gears[i]``) for a pair
     without a design file, an internal pair, or a design whose centre distance or law is not the mechanism's."""
-    from ..gears.design import load_design
+    from ..io.gear_file import load_design
     out = GearParts()
     if not mechanism.gears:
         return out

@@ -5,9 +5,9 @@ A body's frame has its origin at its reference point (a link's first point, a sl
 cylinder's or rod's hinge) and turns with the body's angle; the frame body's frame is the sketch frame. A part
 is drawn once in its body's frame (:func:`BodyFrames.to_local`) and moved by the body's poses.
 
-:class:`RunCycle` gives a plan that :class:`~assur.analysis.sampling.Cycle` does not take (a linear driver's
-stroke, a mechanism with settings held at their sketch values) the same members: ``plan``, ``params``,
-``grid()`` and ``state(q)``.
+A run is any solved cycle with ``plan``, ``params`` and ``grid() -> (q, State)`` (a
+:class:`~assur.analysis.sampling.Cycle` or :class:`~assur.analysis.study.Study`; its ``state_at(q)`` refines
+between samples).
 """
 from __future__ import annotations
 
@@ -81,8 +81,8 @@ class BodyFrames:
     inputs: np.ndarray = None
     period: np.ndarray = None
     moving: int = 0
-    #: ``solve(inputs (m, n_inputs)) -> State`` for refinements between samples: the cycle's ``state(q)`` for a
-    #: one-input plan, else the engine at those inputs
+    #: ``solve(inputs (m, n_inputs)) -> State`` for refinements between samples: the cycle's ``state_at(q)``
+    #: (the moving input's values), else the engine at those inputs
     solve: object = None
 
     def inputs_between(self, i: int, fractions) -> np.ndarray:
@@ -153,7 +153,7 @@ def reference_points(mechanism, plan) -> tuple:
 
 
 def body_frames(cycle) -> BodyFrames:
-    """The body poses over the solved run of ``cycle`` (a Cycle, a :class:`RunCycle` or a Study: ``plan``,
+    """The body poses over the solved run of ``cycle`` (a Study or Cycle: ``plan``, ``params``,
     ``grid()``), and at the sketch inputs (one solve). SpecError when a sample does not assemble (parts need the
     whole run)."""
     plan = cycle.plan
@@ -171,7 +171,7 @@ def body_frames(cycle) -> BodyFrames:
     qdot = np.broadcast_to(np.asarray(st.qdot, dtype=float), inputs.shape)
     spread = np.ptp(inputs, axis=0)
     k = int(np.argmax(spread))                 # the input the run moves
-    closed = getattr(cycle, "closed", None)
+    closed = getattr(cycle, "cyclic", None)
     if closed is None:                         # a turn of a crank, else a stroke
         closed = plan.input_kinds[k] == "rotary"
     period = np.zeros(inputs.shape[1])
@@ -189,9 +189,9 @@ def body_frames(cycle) -> BodyFrames:
         raise SpecError([("drivers", f"the input {plan.input_names[j]!r} moves over the run but its driver's "
                                      "speed is 0: give it a speed (the parts' certificate uses the velocities)")])
     params = np.asarray(getattr(cycle, "params", plan.defaults), dtype=float)
-    if plan.n_inputs == 1 and hasattr(cycle, "state"):
-        def refine(x):
-            return cycle.state(np.asarray(x, dtype=float)[:, 0])
+    if hasattr(cycle, "state_at") and not np.any(np.ptp(inputs, axis=0)[np.arange(inputs.shape[1]) != k]):
+        def refine(x):                         # the cycle's own refinement: the moving input's values
+            return cycle.state_at(np.asarray(x, dtype=float)[:, k])
     else:
         def refine(x):
             return solve_at(plan, params, x)
@@ -224,49 +224,14 @@ def _input_text(plan, q, k: int | None = None) -> str:
     return f"{name}{q / LENGTH[u.length]:.6g} {u.length}"
 
 
-class RunCycle:
-    """A cycle of a plan that :class:`~assur.analysis.sampling.Cycle` does not take: the run of
-    :func:`~assur.analysis.sampling.sweep_inputs` (one turn of the one moving crank with the settings at their sketch
-    values, or a linear driver's working stroke). ``grid()`` → (s (steps,), State (steps,)) with s the moving
-    input's values; ``state(s)`` solves the run at other values s (...); ``closed``: a turn (else a stroke)."""
-
-    def __init__(self, plan, params=None, steps: int = 720, order: int = 2):
-        from ..analysis.sampling import sweep_inputs
-        self.plan = plan
-        self.params = plan.defaults if params is None else np.asarray(params, dtype=float)
-        self.steps = int(steps)
-        self.order = order
-        self._inputs, self.moving, self.closed = sweep_inputs(plan, self.steps)
-        self._grid = None
-
-    def _inputs_at(self, s):
-        s = np.asarray(s, dtype=float)
-        base = np.asarray(self._inputs[0], dtype=float)
-        out = np.broadcast_to(base, s.shape + base.shape).copy()
-        out[..., self.moving] = s
-        return out
-
-    def state(self, s, order=None):
-        """The State at run values ``s (...)`` (the moving input; the others at their run values)."""
-        from ..engine import solve
-        return solve(self.plan, self.params, self._inputs_at(s), order=self.order if order is None else order)
-
-    def grid(self):
-        if self._grid is None:
-            s = np.asarray(self._inputs[:, self.moving], dtype=float)
-            self._grid = (s, self.state(s))
-        return self._grid
-
-
 def cycle_of(plan, params=None, steps: int = 720):
-    """The cycle ``assur make`` solves for a plan: a :class:`~assur.analysis.sampling.Cycle` of a one-input plan
-    turning its crank, else a :class:`RunCycle`."""
-    from ..analysis.sampling import Cycle
+    """The solved run ``assur make`` works on: a :class:`~assur.analysis.study.Study` of the plan (one turn of its
+    crank, a linear driver's working stroke, or one turn of the one moving crank with the settings at their sketch
+    values), solved on first use."""
+    from ..analysis.study import Study
     if plan.dimension != 2:
         raise SpecError([("dimension", "assur make builds planar mechanisms (dimension = 2)")])
-    if plan.n_inputs == 1 and plan.input_kinds[0] == "rotary":
-        return Cycle(plan, params, steps=steps)
-    return RunCycle(plan, params, steps=steps)
+    return Study(plan, params, steps)
 
 
-__all__ = ["BodyFrames", "RunCycle", "body_frames", "body_points", "cycle_of", "joints", "reference_points"]
+__all__ = ["BodyFrames", "body_frames", "body_points", "cycle_of", "joints", "reference_points", "solve_at"]

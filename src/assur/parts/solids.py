@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import MissingPackageError
+from ..errors import require
 
 #: millimetres per metre: solids are built and exported in millimetres
 MM = 1000.0
@@ -27,14 +27,8 @@ INSTALL = "pip install 'assur[make]'"
 
 def require_make() -> None:
     """MissingPackageError with the install command unless build123d, trimesh and manifold3d import."""
-    import importlib
     for name in EXTRA:
-        try:
-            importlib.import_module(name)
-        except ImportError as exc:
-            detail = "" if getattr(exc, "name", None) == name else f" ({exc})"
-            raise MissingPackageError(f"assur make needs the optional package {name!r}, which cannot be imported"
-                                      f"{detail}; install it with: {INSTALL}") from None
+        require(name, "assur make", INSTALL)
 
 
 def _bd():
