@@ -114,7 +114,8 @@ def _print(result, summary, args) -> None:
     for name_, k in summary["layered"]:
         by_layer.setdefault(k, []).append(name_)
     for k in sorted(by_layer):
-        print(f"  layer {k}: {', '.join(by_layer[k])}")
+        where = "in the base plate" if k < 0 else "in the top plate" if k >= c.layers else f"layer {k}"
+        print(f"  {where}: {', '.join(by_layer[k])}")
     print(f"  {summary['pairs_checked']} pairs certified over the cycle, {summary['conflicts']} in conflict"
           + (f", {summary['refined_intervals']} intervals refined" if summary['refined_intervals'] else ""))
     big = summary["larger_than_print_bed"]
