@@ -1,8 +1,8 @@
 """The ``assur`` command line: the parser and the dispatch to the commands of
 :mod:`assur.cli.mechanism` (validate, info, solve, analyze, plot, animate, report), :mod:`assur.cli.forces`
 (forces), :mod:`assur.cli.synth`
-(synth), :mod:`assur.cli.gears` (gears, wheelstep), :mod:`assur.cli.exchange` (import, export) and
-:mod:`assur.cli.sensitivity` (sensitivity), :mod:`assur.cli.cams` (cam), :mod:`assur.cli.simulate` (simulate),
+(synth), :mod:`assur.cli.gears` (gears, wheelstep), :mod:`assur.cli.exchange` (import, export),
+:mod:`assur.cli.sensitivity` (sensitivity), :mod:`assur.cli.cams` (cam), :mod:`assur.cli.simulate` (simulate) and
 :mod:`assur.cli.make` (make).
 
 Every failure prints one line starting with ``error:`` to stderr and exits with its status: 1 bad input (an
