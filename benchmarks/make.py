@@ -44,14 +44,14 @@ def phases() -> list[tuple[str, float]]:
     """The phases of one in-process run of Jansen (imports already paid)."""
     sys.path.insert(0, str(ROOT / "src"))
     import assur
-    from assur.parts import cycle_of
+    from assur.analysis.study import Study
     from assur.parts.api import make_parts
     from assur.parts.files import write_all
     import build123d  # noqa: F401  (imported here so the phases below do not pay for it)
     out = []
     t = time.perf_counter()
     plan = assur.compile(assur.load(ROOT / "examples" / "jansen.toml"))
-    cyc = cycle_of(plan)
+    cyc = Study(plan)
     cyc.grid()
     out.append(("load, compile, solve 720 inputs", time.perf_counter() - t))
     t = time.perf_counter()

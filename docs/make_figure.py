@@ -23,9 +23,10 @@ def main() -> int:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     import assur
-    from assur.parts import cycle_of, make_parts
+    from assur.analysis.study import Study
+    from assur.parts import make_parts
     from assur.parts.page import color_of
-    result = make_parts(cycle_of(assur.compile(assur.load(ROOT / "examples" / "jansen.toml"))))
+    result = make_parts(Study(assur.compile(assur.load(ROOT / "examples" / "jansen.toml"))))
     meshes = result.meshes()
     factor = 30.0
     fig = plt.figure(figsize=(8, 7), dpi=110)

@@ -13,7 +13,8 @@ from assur.analysis.sampling import Cycle
 from assur.errors import SpecError
 from assur.parts import make_parts
 from assur.parts.conflicts import frame_arrays, items_of, pair_verdict
-from assur.parts.motion import body_frames, cycle_of
+from assur.analysis.study import Study
+from assur.parts.motion import body_frames
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -52,7 +53,7 @@ def test_body_velocities_match_finite_differences_of_the_poses():
 
 def test_a_body_point_at_every_sample_is_the_engines():
     plan = plan_of("walker_fourbar_adjustable")            # two inputs: the setting held at its sketch value
-    cyc = cycle_of(plan)
+    cyc = Study(plan)
     assert cyc.cyclic and cyc.moving == 0
     fr = body_frames(cyc)
     q, st = cyc.grid()
@@ -68,7 +69,7 @@ def test_a_body_point_at_every_sample_is_the_engines():
 
 
 def test_a_stroke_does_not_wrap():
-    fr = body_frames(cycle_of(plan_of("lever_manipulator")))
+    fr = body_frames(Study(plan_of("lever_manipulator")))
     assert not fr.closed and fr.dt[-1] == 0.0 and np.all(fr.dt[:-1] > 0)
 
 
@@ -157,6 +158,6 @@ def test_jansen_needs_three_layers_the_clique_proves_it(jansen):
 @pytest.mark.parametrize("name", ["walker_sixbar_beta1_60", "watt2"])
 def test_unstackable_examples_are_refused_with_the_reason(name):
     with pytest.raises(SpecError) as exc:
-        make_parts(cycle_of(plan_of(name)))
+        make_parts(Study(plan_of(name)))
     text = str(exc.value)
     assert "cannot be stacked at all" in text and "covers" in text

@@ -392,8 +392,9 @@ def test_the_page_renders_in_chromium(made, tmp_path):
 
 
 def test_report_section_is_a_fragment_of_the_page():
-    from assur.parts import cycle_of, report_section
+    from assur.parts import report_section
+    from assur.analysis.study import Study
     plan = assur.compile(assur.load(EXAMPLES / "slider_crank.toml"))
-    html = report_section(cycle_of(plan), include_plotlyjs=False)
+    html = report_section(Study(plan), include_plotlyjs=False)
     assert "<html" not in html and "Minimality certificate" in html and "Bill of materials" in html
     assert html.count("plotly-graph-div") >= 4

@@ -171,3 +171,18 @@ def test_the_report_of_a_file_with_a_motor_has_its_run_on_the_motor(tmp_path):
     page = (tmp_path / "m" / "index.html").read_text(encoding="utf-8")
     assert "Dynamics on the motor" in page and "start-up" in page
     assert Study(assur.compile(assur.load(EXAMPLES / "crank_rocker.toml"))).motor_run is None
+
+
+@pytest.mark.slow
+def test_the_report_of_a_file_with_a_make_table_has_its_parts(tmp_path):
+    """A mechanism file with a [make] table: the report's Parts section reads the Study's parts (the layer count
+    there is the one `assur make --layers-only` finds)."""
+    text = (EXAMPLES / "crank_rocker.toml").read_text(encoding="utf-8") + '\n[make]\nthickness = "4 mm"\n'
+    path = tmp_path / "made.toml"
+    path.write_text(text, encoding="utf-8")
+    study = Study(assur.compile(assur.load(path)))
+    cert = study.parts.certificate
+    assert cert.proven and cert.layers == cert.bound == 2          # rocker and coupler cross: two layers
+    assert main(["report", str(path), "-o", str(tmp_path / "r"), "--frames", "4"]) == 0
+    page = (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+    assert ">Parts<" in page and "Minimality certificate" in page and "Bill of materials" in page

@@ -38,6 +38,7 @@ Fields (None where they do not apply; SI units):
 ``force_cycle``     :class:`~assur.kinetostatics.overview.ForceCycle` (forces, drive summary, the module's gait
                     forces); ``force_summary`` its JSON form
 ``motor_run``       the run on the file's ``[motor]`` from rest to steady speed (:mod:`assur.dynamics`), or None
+``parts``           the parts of ``assur make`` on the fewest certified layers (:mod:`assur.parts`)
 ==================  ===============================================================================================
 """
 from __future__ import annotations
@@ -349,6 +350,17 @@ class Study(Cycle):
             return None
         from ..dynamics.cycle import cycle_simulation
         return cycle_simulation(self)
+
+    # -- parts ---------------------------------------------------------------------------------------------
+    @cached_property
+    def parts(self):
+        """The parts of ``assur make`` with the file's ``[make]`` settings (:class:`~assur.parts.Parts`: plates,
+        pins, the certified conflicts over this run and the fewest layers with their certificate), for a planar
+        mechanism; SpecError for what cannot be made or stacked."""
+        if self.plan.dimension != 2:
+            raise SpecError([("dimension", "assur make builds planar mechanisms (dimension = 2)")])
+        from ..parts import make_parts
+        return make_parts(self)
 
     # -- the one dict --------------------------------------------------------------------------------------
     def as_dict(self, *, forces: bool | None = None) -> dict:

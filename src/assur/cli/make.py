@@ -62,7 +62,8 @@ def cmd_make(args) -> int:
         require_make()                                   # before any work: the install command, exit 1
     if not (args.time_limit > 0):
         raise SpecError([("--time-limit", f"must be a positive number of seconds: {args.time_limit!r}")])
-    from ..parts import cycle_of, make_parts
+    from ..analysis.study import Study
+    from ..parts import make_parts
     from ..parts.files import write_all
     from .args import compile_file
     if args.mass_back is not None:
@@ -78,7 +79,9 @@ def cmd_make(args) -> int:
     quiet = args.json
     log = (lambda _: None) if quiet else _progress()
     log("solving the cycle")
-    cycle = cycle_of(plan, steps=args.steps)
+    if plan.dimension != 2:
+        raise SpecError([("dimension", "assur make builds planar mechanisms (dimension = 2)")])
+    cycle = Study(plan, steps=args.steps)
     log("certifying the conflicts and solving the layer program")
     result = make_parts(cycle, clearance=clearance, process=args.process, max_layers=args.max_layers,
                         time_limit=args.time_limit)

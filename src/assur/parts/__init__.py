@@ -10,7 +10,6 @@
 The CAD packages (build123d, trimesh, manifold3d: ``pip install 'assur[make]'``) load only where solids are built.
 """
 from .api import LAYERED, Parts, make_parts
-from .motion import cycle_of
 
 
 def report_section(cycle, **kwargs) -> str:
@@ -19,4 +18,4 @@ def report_section(cycle, **kwargs) -> str:
     return section(cycle, **kwargs)
 
 
-__all__ = ["LAYERED", "Parts", "cycle_of", "make_parts", "report_section"]
+__all__ = ["LAYERED", "Parts", "make_parts", "report_section"]

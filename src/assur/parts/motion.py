@@ -224,14 +224,4 @@ def _input_text(plan, q, k: int | None = None) -> str:
     return f"{name}{q / LENGTH[u.length]:.6g} {u.length}"
 
 
-def cycle_of(plan, params=None, steps: int = 720):
-    """The solved run ``assur make`` works on: a :class:`~assur.analysis.study.Study` of the plan (one turn of its
-    crank, a linear driver's working stroke, or one turn of the one moving crank with the settings at their sketch
-    values), solved on first use."""
-    from ..analysis.study import Study
-    if plan.dimension != 2:
-        raise SpecError([("dimension", "assur make builds planar mechanisms (dimension = 2)")])
-    return Study(plan, params, steps)
-
-
-__all__ = ["BodyFrames", "body_frames", "body_points", "cycle_of", "joints", "reference_points", "solve_at"]
+__all__ = ["BodyFrames", "body_frames", "body_points", "joints", "reference_points", "solve_at"]

@@ -299,7 +299,7 @@ def report_section(cycle, *, include_plotlyjs=True) -> str:
     """The parts section of ``assur report`` for a mechanism file with a ``[make]`` table: the HTML fragment of
     the page, from the solved ``cycle`` (solids and masses when build123d is installed, footprints otherwise)."""
     from .api import make_parts
-    result = make_parts(cycle)
+    result = cycle.parts if hasattr(type(cycle), "parts") else make_parts(cycle)   # a Study keeps its parts
     try:
         from .solids import require_make
         require_make()

@@ -148,6 +148,17 @@ def dynamics_section(study) -> str:
     return dynamics_html(run)
 
 
+def parts_section(study) -> str:
+    """The parts of ``assur make`` for a file with a ``[make]`` table (layer chart, exploded view, clearances,
+    certificate, bill of materials), or why they cannot be made."""
+    from ..errors import AssurError
+    from ..parts import report_section
+    try:
+        return report_section(study)
+    except AssurError as exc:
+        return f'<p class="note">the parts cannot be made: {escape(exc)}</p>'
+
+
 def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: str = "file",
                      at=None) -> list[str]:
     plan = study.plan
@@ -165,6 +176,8 @@ def _planar_sections(study: Study, run: Study, panels: str, anim: str, units: st
     dyn = dynamics_section(study)
     if dyn:
         out.append(section("Dynamics on the motor", dyn))
+    if study.plan.mechanism.make is not None:
+        out.append(section("Parts", parts_section(study)))
     if plan.mechanism.cams:
         from .cams import cams_html
         out.append(section("Cams", cams_html(study)))
