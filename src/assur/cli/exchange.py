@@ -69,8 +69,30 @@ def cmd_import(args) -> int:
     return 0
 
 
+def _with_made_masses(m):
+    """For a MuJoCo model of a file with a ``[make]`` table: the mechanism with its made parts' masses, centres of
+    mass and inertias (as ``assur make --mass-back`` writes them) when the CAD packages are installed, else the
+    file's own with a note."""
+    import sys
+
+    from ..errors import MissingPackageError
+    try:
+        from ..parts.solids import require_make
+        require_make()
+    except (ImportError, MissingPackageError):
+        print("note: the file has a [make] table but the CAD packages are not installed: the model takes the file's "
+              "masses (pip install 'assur[make]' for the parts')", file=sys.stderr)
+        return m
+    from ..analysis.study import Study
+    from ..engine import compile as compile_
+    from ..parts.massback import with_masses
+    return with_masses(Study(compile_(m)).parts)
+
+
 def cmd_export(args) -> int:
     m = load_mechanism(args.file)
+    if args.to == "mjcf" and m.make is not None and m.dimension == 2:
+        m = _with_made_masses(m)
     writer = WRITERS[args.to]()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
