@@ -287,3 +287,44 @@ def compiled(k) -> bool:
     from pathlib import Path
     mod = Path(k.py_func.__code__.co_filename)
     return any((mod.parent / "__pycache__").glob(f"{mod.stem}.*.nbi"))
+
+
+#: Newton iterations at most in :func:`timing_source` (a minimum inside the bracket converges in a few; one on a
+#: toggle is approached by bisection)
+TIMING_ITERATIONS = 30
+
+
+def timing_source(tracer, g, g1, g2, ok) -> str:
+    """Python source of a numba kernel refining the free timing of path targets (:mod:`assur.synthesis.timing`).
+
+    ``kernel(P, th0, h, txy, tol, out)``: for every design d of ``P (D, n_params)`` and target i of ``txy (N, 2)``,
+    a safeguarded Newton iteration on the traced g(θ) = |P(θ) − T_i|²/2 (``g1``, ``g2``: its first and second
+    derivatives by the input; ``ok``: the traced validity) inside the bracket [θ0 − h, θ0 + h] around ``th0 (D, N)``:
+    a step past an end of the bracket tries that end, the bracket keeps the side g decreases towards, and a position
+    that cannot be assembled (or g″ ≤ 0) bisects it. ``out (D, N)`` gets the assembled iterate with the least g (θ0
+    itself when nothing better assembles; an unassembled θ0 is left as it is).
+    """
+    call, design = _design_and_call(tracer, [g, g1, g2, ok])
+    i16 = " " * 16
+    body = [
+        *call, f"{I4}for d in range(P.shape[0]):", *design,
+        f"{I8}for i in range(th0.shape[1]):",
+        f"{I12}t_0 = th0[d, i]", f"{I12}t_a = t_0 - h", f"{I12}t_b = t_0 + h", f"{I12}t_x = t_0",
+        f"{I12}t_best = t_0", f"{I12}g_best = math.inf",
+        f"{I12}for it in range({TIMING_ITERATIONS}):",
+        f"{i16}c = math.cos(t_x)", f"{i16}s = math.sin(t_x)",
+        *lines_at(tracer, [g, g1, g2, ok], SAMPLE, i16),
+        f"{i16}t_ok = {source(ok)}",
+        f"{i16}t_g = {source(g)}", f"{i16}t_g1 = {source(g1)}", f"{i16}t_g2 = {source(g2)}",
+        f"{i16}if it == 0 and not t_ok:", f"{i16}    break",
+        f"{i16}if t_ok and t_g < g_best:", f"{i16}    g_best = t_g", f"{i16}    t_best = t_x",
+        f"{i16}right = (t_g1 > 0.0) if t_ok else (t_x > t_0)",
+        f"{i16}if right:", f"{i16}    t_b = t_x", f"{i16}else:", f"{i16}    t_a = t_x",
+        f"{i16}t_n = min(max(t_x - t_g1 / t_g2, t_a), t_b) if (t_ok and t_g2 > 0.0) else math.nan",
+        f"{i16}if not (t_n == t_n) or t_n == t_x:", f"{i16}    t_n = 0.5 * (t_a + t_b)",
+        f"{i16}scale = max(1.0, abs(t_x))",
+        f"{i16}if abs(t_n - t_x) <= 4e-16 * scale or t_b - t_a <= 4e-16 * scale:", f"{i16}    break",
+        f"{i16}t_x = t_n",
+        f"{I12}out[d, i] = t_best",
+    ]
+    return module("assur.kernels.codegen.timing_source", "P, th0, h, txy, tol, out", body, fastmath=("contract",))

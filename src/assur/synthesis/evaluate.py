@@ -35,6 +35,8 @@ class Evaluation:
     penalised: np.ndarray            # F (the optimiser's scalar)
     violations: dict = field(default_factory=dict)   # constraint name → (n,)
     quantities: dict = field(default_factory=dict)   # quantity → (n,) (file units); 'distances' → (n, N)
+    x: np.ndarray | None = None      # (n, n_vars) the design vectors evaluated (wrapped), with the free timing
+                                     # solved inside the evaluation filled in; None when nothing was solved
 
     def __len__(self) -> int:
         return len(self.objective)
@@ -48,7 +50,8 @@ class Evaluation:
         keys_q = parts[0].quantities.keys()
         return Evaluation(cat("objective"), cat("violation"), cat("feasible"), cat("penalised"),
                           {k: np.concatenate([p.violations[k] for p in parts]) for k in keys_v},
-                          {k: np.concatenate([p.quantities[k] for p in parts]) for k in keys_q})
+                          {k: np.concatenate([p.quantities[k] for p in parts]) for k in keys_q},
+                          None if parts[0].x is None else cat("x"))
 
     def row(self, i: int) -> dict:
         """One design's results as plain Python values."""
@@ -105,6 +108,9 @@ class Evaluator:
         fast = self._fusable or (self._cycle_fast and (t is None or t.timing == "path"))
         self.chunk = int(chunk) if chunk else (self.FUSED_CHUNK if fast else self.CHUNK)
         self._cycle_q = np.linspace(0.0, TWO_PI, p.cycle_samples, endpoint=False)   # (M,) whole-cycle inputs
+        # free timing solved per design (synthesis.timing): the timing variables are outputs of the evaluation
+        self._inner = t is not None and t.timing == "free" and t.free_timing == "inner"
+        self._timing_cols = [self._index[n] for n in t.input_variables] if self._inner else []
 
     def __reduce__(self):
         return (_rebuild_evaluator, (self.problem, self.chunk, self.backend))
@@ -132,8 +138,20 @@ class Evaluator:
         return self._params(self.wrap(np.atleast_2d(X)))
 
     def target_inputs(self, X) -> np.ndarray:
-        """(n, N) input values at the targets (rad or m)."""
-        return self._target_inputs(self.wrap(np.atleast_2d(X)))
+        """(n, N) input values at the targets (rad or m); with free timing solved inside the evaluation, each design's
+        best inputs (:mod:`assur.synthesis.timing`)."""
+        Xw = self.wrap(np.atleast_2d(X))
+        if self._inner:
+            return self._solve_timing(self._params(Xw))
+        return self._target_inputs(Xw)
+
+    def _solve_timing(self, params) -> np.ndarray:
+        """Each design's best inputs at the targets (n, N) (free timing solved inside the evaluation)."""
+        from .timing import order_of, solve_timing
+        prob = self.problem
+        t = prob.targets
+        return solve_timing(prob.plan, params, t.point, t.xy, self._cycle_q, order_of(prob.constraints),
+                            1 if prob.deviation == "distance" else 2, self.backend)
 
     def _params(self, X) -> np.ndarray:
         """params() of already wrapped design vectors."""
@@ -186,7 +204,13 @@ class Evaluator:
         ls = prob.length_scale
         f = np.zeros(n)
         t = prob.targets
-        theta = self._target_inputs(Xw) if t is not None and t.timing != "path" else None   # (n, N)
+        x_out = None
+        if self._inner:                                   # the best inputs of each design, then as if explicit
+            theta = self._solve_timing(params)
+            Xw[:, self._timing_cols] = theta
+            x_out = Xw
+        else:
+            theta = self._target_inputs(Xw) if t is not None and t.timing != "path" else None   # (n, N)
         fused = None if detail else self._fused(theta, params)
         if fused is not None:
             V["assembly"] = fused[:, 2] / t.n
@@ -246,7 +270,7 @@ class Evaluator:
         feasible = total == 0
         objective = np.where(feasible, f, np.nan)
         penalised = np.where(feasible, f, prob.infeasible_offset + prob.violation_weight * total)
-        return Evaluation(objective, total, feasible, penalised, V, Q)
+        return Evaluation(objective, total, feasible, penalised, V, Q, x_out)
 
     def _cycle(self, params, finite, V, Q):
         """Whole-cycle samples: buildability, gait quantities, transmission, path distances. Newton-solved groups

@@ -29,6 +29,7 @@ from ..errors import SynthesisError, require
 from .evaluate import Evaluation, Evaluator
 from .executors import InProcess
 from .problem import Problem
+from .space import SearchSpace
 from .solver import DE_STRATEGIES, METHODS, POLISHES, resolve
 
 #: a restart of the 'restart' method ends when its best improved by less than RESTART_TOL (relative) over
@@ -59,8 +60,9 @@ class Tracker:
     convergence history and stops the run on a budget, a deadline or Ctrl-C."""
 
     def __init__(self, evaluator: Evaluator, executor=None, *, budget=None, deadline=None, progress=None,
-                 evaluations: int = 0, target=None):
+                 evaluations: int = 0, target=None, space: SearchSpace | None = None):
         self.evaluator, self.executor = evaluator, executor or InProcess()
+        self.space = space or SearchSpace(evaluator.problem)   # what the optimiser's vectors hold
         self.budget, self.deadline, self.progress, self.target = budget, deadline, progress, target
         self.evaluations = evaluations
         self.best_x, self.best_F = None, math.inf
@@ -73,12 +75,13 @@ class Tracker:
             raise _Stop("budget")
         if self.deadline is not None and time.monotonic() >= self.deadline:
             raise _Stop("time")
-        X = np.atleast_2d(np.asarray(X, dtype=float))
+        X = self.space.expand(np.atleast_2d(np.asarray(X, dtype=float)))     # search vectors → design vectors
         ev = self.executor.evaluate(self.evaluator, X, detail)
         self.evaluations += len(X)
         i = int(np.argmin(ev.penalised))
-        if ev.penalised[i] < self.best_F:
-            self.best_F, self.best_x = float(ev.penalised[i]), self.evaluator.wrap(X[i])
+        if ev.penalised[i] < self.best_F:       # the whole design, its solved timing included
+            self.best_F = float(ev.penalised[i])
+            self.best_x = ev.x[i].copy() if ev.x is not None else self.evaluator.wrap(X[i])
         self.history.append((self.evaluations, time.monotonic() - self.t0, self.best_F))
         if self.progress is not None:
             self.progress(self.evaluations, self.best_F)
@@ -205,7 +208,8 @@ def initial_population(problem, size, rng) -> np.ndarray:
     lo, hi = problem.bounds.T
     X = lo + qmc.LatinHypercube(d=problem.n_vars, rng=rng).random(size) * (hi - lo)
     t = problem.targets
-    if t is not None and t.timing == "free" and {"cyclic_order", "cyclic_order_any", "ascending"} & set(problem.constraints):
+    if (t is not None and t.timing == "free" and {"cyclic_order", "cyclic_order_any", "ascending"} & set(problem.constraints)
+            and set(t.input_variables) <= set(problem.names)):          # explicit timing: the angles are searched
         cols = [problem.names.index(n) for n in t.input_variables]
         X[:, cols] = np.sort(X[:, cols], axis=1)
     return X
@@ -336,10 +340,12 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     """One independent start: a global search then a polish. Returns a StartResult (picklable)."""
     evaluator = evaluator or Evaluator(problem, backend=options.get("backend"))
     deadline = None if time_limit is None else time.monotonic() + time_limit
+    space = SearchSpace(problem)                 # the optimisers see the searched variables only
     tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress,
-                      target=options.get("target"))
+                      target=options.get("target"), space=space)
     rng = np.random.default_rng(seed)
     stopped = "converged"
+    problem = space
     try:
         if method == "restart":
             _run_restarts(tracker, problem, rng, options)
@@ -349,13 +355,13 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
         elif method == "cmaes":
             _run_cmaes(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
         elif method == "local":
-            x0 = options.get("x0")
+            x0 = None if options.get("x0") is None else space.reduce(options["x0"])
             if x0 is None:
                 lo, width = _unit_box(problem)
                 x0 = lo + rng.uniform(0.2, 0.8, problem.n_vars) * width
             tracker(np.asarray(x0, dtype=float)[None, :])
         if method != "restart" and options["polish"] != "none" and tracker.best_x is not None:
-            _polish(tracker, problem, tracker.best_x.copy(), options["polish"])
+            _polish(tracker, problem, space.reduce(tracker.best_x).copy(), options["polish"])
     except _Stop as stop:
         stopped = stop.reason
     except KeyboardInterrupt:

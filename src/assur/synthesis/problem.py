@@ -407,6 +407,13 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     if plan.n_inputs != 1 and targets is not None:
         P.add("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}")
     solver = read_solver(data.get("solver"), P)
+    if targets is not None and targets.free_timing == "inner":
+        why = _inner_timing_refusal(plan, targets, mapping, terms, limits, fourbar)
+        if why and isinstance(data.get("targets"), dict) and "free_timing" in data["targets"]:
+            P.add("targets.free_timing", f"'inner' cannot be used here: {why} (use \"explicit\")")
+        elif why:                          # the default where it applies: else the explicit formulation
+            import dataclasses
+            targets = dataclasses.replace(targets, free_timing="explicit")
     if P:
         fail()
     return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
@@ -415,6 +422,22 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
                    violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
                    source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
                    solver=solver)
+
+
+def _inner_timing_refusal(plan, targets, mapping, terms, limits, fourbar) -> str | None:
+    """Why free timing cannot be solved inside the evaluation (None when it can): it needs one rotary input and
+    timing variables that enter the objective only through the targets' distances."""
+    if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
+        return "it needs a mechanism with one rotary input"
+    timing = set(targets.input_variables)
+    exprs = [e for _, e in mapping] + [e for _, e in fourbar] + [t.expression for t in (*terms, *limits)
+                                                                 if t.expression is not None]
+    used = sorted(timing & {n for e in exprs for n in e.names})
+    if used:
+        return f"the timing variable {used[0]!r} enters an expression"
+    if any(t.quantity == "acceleration" for t in (*terms, *limits)):
+        return "the 'acceleration' quantity depends on the timing beyond the distances"
+    return None
 
 
 def _did_you_mean(name: str, known) -> str:

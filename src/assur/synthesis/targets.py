@@ -43,6 +43,7 @@ class Targets:
     angles: np.ndarray | None = None
     relative: bool = True
     angle_weight: float = 0.0
+    free_timing: str = "explicit"      # free timing: "inner" (solved per design) or "explicit" (design variables)
 
     @property
     def n(self) -> int:
@@ -54,7 +55,10 @@ def _did_you_mean(name: str, known) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-_TARGET_KEYS = {"points": ("point", "xy", "timing", "inputs", "variables", "start", "step"),
+#: how free timing is solved: "inner" — each design's best input per target, inside the evaluation (the optimiser
+#: searches the design variables only); "explicit" — the inputs are design variables the optimiser searches
+FREE_TIMINGS = ("inner", "explicit")
+_TARGET_KEYS = {"points": ("point", "xy", "timing", "inputs", "variables", "start", "step", "free_timing"),
                 "function": ("link", "pairs", "output", "timing", "variables", "start"),
                 "poses": ("link", "point", "poses", "angle_weight", "timing", "inputs", "variables", "start", "step")}
 
@@ -152,6 +156,9 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
         P.add("targets.timing", f"must be one of {', '.join(allowed)}" + (f" for {kind} targets" if kind != "points"
                                                                           else "") + f": {timing!r}")
         return None
+    if "free_timing" in raw and timing != "free":
+        P.add("targets.free_timing", f"applies to free timing only (timing = \"free\"), not {timing!r}")
+        return None
     unit = A if plan.input_kinds[0] == "rotary" else L
     if timing == "prescribed":
         if kind == "function":
@@ -169,7 +176,12 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
         if not (isinstance(names, list) and len(names) == n and all(isinstance(s, str) for s in names)):
             P.add("targets.variables", f"free timing needs one design variable name per target ({n})")
             return None
-        return Targets(point, xy * L, timing, input_variables=tuple(names), **extra)
+        ft = raw.get("free_timing", "inner" if kind == "points" else "explicit")
+        if ft not in FREE_TIMINGS:
+            P.add("targets.free_timing", f"must be one of {', '.join(FREE_TIMINGS)}: {ft!r}")
+            return None
+        return Targets(point, xy * L, timing, input_variables=tuple(names), free_timing=ft, **extra)
+
     if timing == "uniform":
         start = raw.get("start")
         if not isinstance(start, str):
@@ -186,7 +198,7 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
     return Targets(point, xy * L, timing, **extra)
 
 
-__all__ = ["FUNCTION_OUTPUTS", "TARGET_KINDS", "TIMINGS", "Targets", "parse_targets"]
+__all__ = ["FREE_TIMINGS", "FUNCTION_OUTPUTS", "TARGET_KINDS", "TIMINGS", "Targets", "parse_targets"]
 
 
 # -- deviations -------------------------------------------------------------------------------------------

@@ -225,3 +225,31 @@ def solve_compiled(plan, params: np.ndarray, inputs: np.ndarray, tol: float,
     axes = tuple(range(2, 2 + n)) + (0, 1)     # (n_out, 2, *shape) → (*shape, n_out, 2), a view
     views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))
     return out, views, valid.reshape(shape)
+
+
+def timing_source(plan, point: str) -> str:
+    """The source of the plan's free-timing refinement kernel (:func:`assur.kernels.codegen.timing_source`):
+    g = |P − T|²/2 of the point to the target ``txy[i]``, its first and second derivatives by the input (from the
+    traced jets), valid where the groups assemble and g is finite."""
+    t = traced.trace_plan(plan, 2)
+    z = t.pos[point]
+    ex = np.real(z.v) - t.tracer.load("txy[i, 0]", SAMPLE)
+    ey = np.imag(z.v) - t.tracer.load("txy[i, 1]", SAMPLE)
+    dx, dy, ddx, ddy = np.real(z.d), np.imag(z.d), np.real(z.dd), np.imag(z.dd)
+    g = 0.5 * (ex * ex + ey * ey)
+    g1 = ex * dx + ey * dy
+    g2 = dx * dx + dy * dy + ex * ddx + ey * ddy
+    return codegen.timing_source(t.tracer, g, g1, g2, t.finite(g, g1, g2))
+
+
+def timing_refine(plan, params: np.ndarray, point: str, theta0: np.ndarray, h: float, target_xy: np.ndarray,
+                  tol: float):
+    """The compiled refinement of free timing (:func:`assur.kernels.codegen.timing_source`); None if the plan is not
+    covered. params (D, n_params), theta0 (D, N) starting inputs, target_xy (N, 2) → refined inputs (D, N)."""
+    if not covers(plan):
+        return None
+    kern = _load(plan, f"timing_{plan.point_index(point)}", lambda: timing_source(plan, point))
+    th0 = _designs(theta0)
+    out = np.empty_like(th0)
+    kern(_designs(params), th0, float(h), _designs(target_xy), float(tol), out)
+    return out

@@ -1,0 +1,214 @@
+"""Ordered assignment of targets to the samples of a closed curve: the discrete inner problem of free timing.
+
+Given the cost ``C[i, u] ≥ 0`` of meeting target i at sample u of one uniform turn (M samples; an unassembled sample
+costs :data:`BIG`), choose one sample per target so that the targets are met in their order within one turn of the
+input and the summed cost is least.
+
+- :func:`cyclic_assignment`: in order counter-clockwise within one turn, from any start — unrolled indices
+  ``s = x_0 ≤ x_1 ≤ … ≤ x_{N−1} ≤ s + M`` (``s`` in [0, M); several targets may share a sample). Exact: the
+  unconstrained nearest samples when they are already in order, else a divide and conquer over the start
+  sample. For starts s < s'' < s' optimal paths can be taken between those of s and s' (if a is optimal for s
+  and x for s'', the element-wise max(x, a) is feasible and optimal for s'' and min(x, a) for s, as their costs
+  add up to the same sum), so each start is solved in the band its neighbours leave: O(N·M·log M) in all.
+- :func:`ascending_assignment`: ascending within [0, M) without wrap-around (one linear pass with a running
+  minimum).
+
+Written in plain Python over numpy arrays so that the same code runs compiled (numba, :func:`compiled`) or, without
+numba, interpreted. Arrays: ``C (N, M)`` float64; the result is ``(N,)`` int64 unrolled sample indices and the cost.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: the cost of an unassembled sample (finite, so that sums and comparisons stay ordered)
+BIG = 1e30
+
+
+def _band_path(C, start, lo, hi, best, arg, path):
+    """The least-cost ordered path with x_0 = start, lo[i] ≤ x_i ≤ hi[i] and x_{N−1} ≤ start + M (unrolled
+    indices); written into ``path`` (N,), its cost returned. ``best``/``arg`` (N, 2M + 1): scratch."""
+    N, M = C.shape
+    best[0, start] = C[0, start % M]
+    prev_lo, prev_hi = start, start
+    for i in range(1, N):
+        a = max(lo[i], prev_lo)
+        b = min(hi[i], start + M)
+        if b < a:                              # an empty band cannot happen for consistent bands; stay put
+            b = a
+        run, run_at = np.inf, prev_lo
+        j = prev_lo
+        for u in range(a, b + 1):
+            while j <= min(u, prev_hi):        # bring in the previous row's entries up to u
+                if best[i - 1, j] < run:
+                    run, run_at = best[i - 1, j], j
+                j += 1
+            best[i, u] = C[i, u % M] + run
+            arg[i, u] = run_at
+        prev_lo, prev_hi = a, b
+    k, cost = prev_lo, np.inf
+    for u in range(prev_lo, prev_hi + 1):
+        if best[N - 1, u] < cost:
+            cost, k = best[N - 1, u], u
+    for i in range(N - 1, 0, -1):
+        path[i] = k
+        k = arg[i, k]
+    path[0] = start
+    return cost
+
+
+def cyclic_assignment(C):
+    """(path (N,) int64 unrolled sample indices, cost): the least-cost assignment of the N targets to the M samples
+    in counter-clockwise order within one turn (see the module docstring)."""
+    N, M = C.shape
+    path = np.empty(N, dtype=np.int64)
+    near = np.empty(N, dtype=np.int64)
+    for i in range(N):
+        near[i] = np.argmin(C[i])
+    span = 0
+    for i in range(1, N):
+        span += (near[i] - near[i - 1]) % M
+    if span <= M:                              # the nearest samples are in order: optimal as they stand
+        path[0] = near[0]
+        cost = C[0, near[0]]
+        for i in range(1, N):
+            path[i] = path[i - 1] + (near[i] - near[i - 1]) % M
+            cost += C[i, near[i]]
+        return path, cost
+    best = np.empty((N, 2 * M + 1))
+    arg = np.zeros((N, 2 * M + 1), dtype=np.int64)
+    pool = np.empty((M + 1, N), dtype=np.int64)      # the path of start s in row s (start M: start 0 shifted)
+    lo0 = np.zeros(N, dtype=np.int64)
+    hi0 = np.full(N, M, dtype=np.int64)
+    row = np.empty(N, dtype=np.int64)
+    cost = _band_path(C, 0, lo0, hi0, best, arg, row)
+    pool[0] = row
+    pool[M] = row + M
+    best_cost, best_start = cost, 0
+    stack = np.empty((2 * M + 4, 2), dtype=np.int64)  # (s_lo, s_hi) intervals still to split
+    top = 0
+    stack[0, 0], stack[0, 1] = 0, M
+    top = 1
+    while top > 0:
+        top -= 1
+        s_lo, s_hi = stack[top, 0], stack[top, 1]
+        if s_hi - s_lo <= 1:
+            continue
+        mid = (s_lo + s_hi) // 2
+        cost = _band_path(C, mid, pool[s_lo], pool[s_hi], best, arg, row)
+        pool[mid] = row
+        if cost < best_cost:
+            best_cost, best_start = cost, mid
+        stack[top, 0], stack[top, 1] = s_lo, mid
+        stack[top + 1, 0], stack[top + 1, 1] = mid, s_hi
+        top += 2
+    path[:] = pool[best_start]
+    return path, best_cost
+
+
+def ascending_assignment(C):
+    """(path (N,) int64 sample indices in [0, M), cost): the least-cost assignment with x_0 ≤ x_1 ≤ … ≤ x_{N−1}
+    (no wrap-around)."""
+    N, M = C.shape
+    best = np.empty((N, M))
+    arg = np.zeros((N, M), dtype=np.int64)
+    for u in range(M):
+        best[0, u] = C[0, u]
+    for i in range(1, N):
+        run, run_at = np.inf, 0
+        for u in range(M):
+            if best[i - 1, u] < run:
+                run, run_at = best[i - 1, u], u
+            best[i, u] = C[i, u] + run
+            arg[i, u] = run_at
+    k, cost = 0, np.inf
+    for u in range(M):
+        if best[N - 1, u] < cost:
+            cost, k = best[N - 1, u], u
+    path = np.empty(N, dtype=np.int64)
+    for i in range(N - 1, 0, -1):
+        path[i] = k
+        k = arg[i, k]
+    path[0] = k
+    return path, cost
+
+
+def _costs(path, valid, xy, power, C):
+    """C (N, M) ← |P_u − T_i|^power of one design's samples path (M, 2), BIG where not ``valid`` (M,)."""
+    N, M = C.shape
+    for i in range(N):
+        for u in range(M):
+            if valid[u]:
+                dx = path[u, 0] - xy[i, 0]
+                dy = path[u, 1] - xy[i, 1]
+                d2 = dx * dx + dy * dy
+                c = d2 if power == 2 else np.sqrt(d2)
+                C[i, u] = c if c == c else BIG
+            else:
+                C[i, u] = BIG
+
+
+def _batch(path, valid, xy, power, mode):
+    """Every design: path (n, M, 2), valid (n, M), targets xy (N, 2) → (indices (n, N) int64 unrolled, cw (n,) bool).
+    mode 0: each target's nearest sample; 1: counter-clockwise order within a turn; 2: either sense; 3: ascending."""
+    n, M = valid.shape
+    N = xy.shape[0]
+    out = np.empty((n, N), dtype=np.int64)
+    cw = np.zeros(n, dtype=np.bool_)
+    C = np.empty((N, M))
+    R = np.empty((N, M))
+    for d in range(n):
+        _costs(path[d], valid[d], xy, power, C)
+        if mode == 0 or N == 1:
+            for i in range(N):
+                out[d, i] = np.argmin(C[i])
+        elif mode == 3:
+            p, c = ascending_assignment(C)
+            out[d] = p
+        else:
+            p, c = cyclic_assignment(C)
+            out[d] = p
+            if mode == 2:
+                for i in range(N):
+                    R[i] = C[N - 1 - i]
+                q, cq = cyclic_assignment(R)
+                if cq < c:
+                    cw[d] = True
+                    for i in range(N):
+                        out[d, i] = q[N - 1 - i]
+    return out, cw
+
+
+_COMPILED = None
+
+
+def compiled():
+    """The batch assignment :func:`_batch` compiled by numba, or None without numba."""
+    global _COMPILED
+    if _COMPILED is None:
+        try:
+            from numba import njit
+        except ImportError:
+            _COMPILED = False
+            return None
+        band = njit(cache=False)(_band_path)
+        cyc = njit(cache=False)(_rebind(cyclic_assignment, dict(globals(), _band_path=band)))
+        asc = njit(cache=False)(ascending_assignment)
+        costs = njit(cache=False)(_costs)
+        g2 = dict(globals(), cyclic_assignment=cyc, ascending_assignment=asc, _costs=costs)
+        _COMPILED = njit(cache=False)(_rebind(_batch, g2))
+    return _COMPILED or None
+
+
+def _rebind(func, namespace):
+    """``func`` with its global names looked up in ``namespace`` (to call the compiled helpers)."""
+    import types
+    return types.FunctionType(func.__code__, namespace, func.__name__, func.__defaults__, func.__closure__)
+
+
+def assign(path, valid, xy, power: int, mode: int):
+    """Assignment of the targets to the samples of every design (see :func:`_batch`), compiled when numba is
+    installed, the same code interpreted otherwise."""
+    args = (np.ascontiguousarray(path, dtype=float), np.ascontiguousarray(valid, dtype=np.bool_),
+            np.ascontiguousarray(xy, dtype=float), int(power), int(mode))
+    fn = compiled()
+    return fn(*args) if fn is not None else _batch(*args)

@@ -1,0 +1,48 @@
+"""The variables an optimiser searches: all of a problem's design variables, or, with free timing solved inside the
+evaluation (``[targets] free_timing = "inner"``), all but the timing variables, whose values each evaluation finds
+for itself (:mod:`assur.synthesis.timing`)."""
+from __future__ import annotations
+
+import numpy as np
+
+
+class SearchSpace:
+    """``index`` (k,) the searched variables of the problem (k ≤ n_vars); ``bounds`` (k, 2) SI; ``periodic`` (k,);
+    :meth:`expand` maps search vectors (n, k) to design vectors (n, n_vars), :meth:`reduce` back."""
+
+    def __init__(self, problem):
+        t = problem.targets
+        solved = (set(t.input_variables) if t is not None and t.timing == "free" and t.free_timing == "inner"
+                  else set())
+        self.problem = problem
+        self.index = np.array([i for i, v in enumerate(problem.variables) if v.name not in solved], dtype=int)
+        self.variables = tuple(problem.variables[i] for i in self.index)
+        self.bounds = problem.bounds[self.index]
+        self.periodic = np.array([v.periodic for v in self.variables], dtype=bool)
+        self.n_vars = len(self.index)
+        self.full = self.n_vars == problem.n_vars
+        self.names = tuple(v.name for v in self.variables)
+
+    def __getattr__(self, name):
+        """The problem's other members (targets, constraints, deviation, terms, …)."""
+        if name == "problem":
+            raise AttributeError(name)
+        return getattr(self.problem, name)
+
+    def expand(self, Z) -> np.ndarray:
+        """Search vectors (..., k) → design vectors (..., n_vars); the solved variables are 0 (the evaluation fills
+        them in)."""
+        Z = np.asarray(Z, dtype=float)
+        if self.full:
+            return Z
+        X = np.zeros(Z.shape[:-1] + (self.problem.n_vars,))
+        X[..., self.index] = Z
+        return X
+
+    def reduce(self, X) -> np.ndarray:
+        """Design vectors (..., n_vars) → search vectors (..., k)."""
+        X = np.asarray(X, dtype=float)
+        return X if self.full else X[..., self.index]
+
+
+__all__ = ["SearchSpace"]
