@@ -24,36 +24,53 @@ import numpy as np
 BIG = 1e30
 
 
-def _band_path(C, start, lo, hi, best, arg, path):
+def _band_path(C, start, lo, hi, best, bad, arg, path):
     """The least-cost ordered path with x_0 = start, lo[i] ≤ x_i ≤ hi[i] and x_{N−1} ≤ start + M (unrolled
-    indices); written into ``path`` (N,), its cost returned. ``best``/``arg`` (N, 2M + 1): scratch."""
+    indices); written into ``path`` (N,); returns (its cost over the assembled samples, its unassembled samples). Paths compare lexicographically by (unassembled samples,
+    cost), so that every comparison is exact in the order the exchange argument needs (a cost of BIG would absorb the
+    small ones). ``best``, ``bad``, ``arg`` (N, 2M + 1): scratch."""
     N, M = C.shape
-    best[0, start] = C[0, start % M]
+    best[0, start] = _cost(C[0, start % M])
+    bad[0, start] = _bad(C[0, start % M])
     prev_lo, prev_hi = start, start
     for i in range(1, N):
         a = max(lo[i], prev_lo)
         b = min(hi[i], start + M)
         if b < a:                              # an empty band cannot happen for consistent bands; stay put
             b = a
-        run, run_at = np.inf, prev_lo
+        run, run_bad, run_at = np.inf, N + 1, prev_lo
         j = prev_lo
         for u in range(a, b + 1):
             while j <= min(u, prev_hi):        # bring in the previous row's entries up to u
-                if best[i - 1, j] < run:
-                    run, run_at = best[i - 1, j], j
+                if bad[i - 1, j] < run_bad or (bad[i - 1, j] == run_bad and best[i - 1, j] < run):
+                    run, run_bad, run_at = best[i - 1, j], bad[i - 1, j], j
                 j += 1
-            best[i, u] = C[i, u % M] + run
+            best[i, u] = _cost(C[i, u % M]) + run
+            bad[i, u] = _bad(C[i, u % M]) + run_bad
             arg[i, u] = run_at
         prev_lo, prev_hi = a, b
-    k, cost = prev_lo, np.inf
+    k, cost, nbad = prev_lo, np.inf, N + 1
     for u in range(prev_lo, prev_hi + 1):
-        if best[N - 1, u] < cost:
-            cost, k = best[N - 1, u], u
+        if bad[N - 1, u] < nbad or (bad[N - 1, u] == nbad and best[N - 1, u] < cost):
+            cost, nbad, k = best[N - 1, u], bad[N - 1, u], u
     for i in range(N - 1, 0, -1):
         path[i] = k
         k = arg[i, k]
     path[0] = start
-    return cost
+    return cost, nbad
+
+
+def _bad(c):
+    return 1 if c >= BIG else 0
+
+
+def _cost(c):
+    return 0.0 if c >= BIG else c
+
+
+def _better(c1, b1, c2, b2):
+    """Whether (unassembled samples b1, cost c1) comes before (b2, c2): fewer unassembled samples first."""
+    return b1 < b2 or (b1 == b2 and c1 < c2)
 
 
 def cyclic_assignment(C):
@@ -75,15 +92,16 @@ def cyclic_assignment(C):
             cost += C[i, near[i]]
         return path, cost
     best = np.empty((N, 2 * M + 1))
+    bad = np.zeros((N, 2 * M + 1), dtype=np.int64)
     arg = np.zeros((N, 2 * M + 1), dtype=np.int64)
     pool = np.empty((M + 1, N), dtype=np.int64)      # the path of start s in row s (start M: start 0 shifted)
     lo0 = np.zeros(N, dtype=np.int64)
     hi0 = np.full(N, M, dtype=np.int64)
     row = np.empty(N, dtype=np.int64)
-    cost = _band_path(C, 0, lo0, hi0, best, arg, row)
+    cost, nbad = _band_path(C, 0, lo0, hi0, best, bad, arg, row)
     pool[0] = row
     pool[M] = row + M
-    best_cost, best_start = cost, 0
+    best_cost, best_bad, best_start = cost, nbad, 0
     stack = np.empty((2 * M + 4, 2), dtype=np.int64)  # (s_lo, s_hi) intervals still to split
     top = 0
     stack[0, 0], stack[0, 1] = 0, M
@@ -94,15 +112,15 @@ def cyclic_assignment(C):
         if s_hi - s_lo <= 1:
             continue
         mid = (s_lo + s_hi) // 2
-        cost = _band_path(C, mid, pool[s_lo], pool[s_hi], best, arg, row)
+        cost, nbad = _band_path(C, mid, pool[s_lo], pool[s_hi], best, bad, arg, row)
         pool[mid] = row
-        if cost < best_cost:
-            best_cost, best_start = cost, mid
+        if _better(cost, nbad, best_cost, best_bad):
+            best_cost, best_bad, best_start = cost, nbad, mid
         stack[top, 0], stack[top, 1] = s_lo, mid
         stack[top + 1, 0], stack[top + 1, 1] = mid, s_hi
         top += 2
     path[:] = pool[best_start]
-    return path, best_cost
+    return path, best_cost + best_bad * BIG
 
 
 def ascending_assignment(C):
@@ -190,8 +208,10 @@ def compiled():
         except ImportError:
             _COMPILED = False
             return None
-        band = njit(cache=False)(_band_path)
-        cyc = njit(cache=False)(_rebind(cyclic_assignment, dict(globals(), _band_path=band)))
+        helpers = {f.__name__: njit(cache=False)(f) for f in (_bad, _cost)}
+        band = njit(cache=False)(_rebind(_band_path, dict(globals(), **helpers)))
+        better = njit(cache=False)(_better)
+        cyc = njit(cache=False)(_rebind(cyclic_assignment, dict(globals(), _band_path=band, _better=better)))
         asc = njit(cache=False)(ascending_assignment)
         costs = njit(cache=False)(_costs)
         g2 = dict(globals(), cyclic_assignment=cyc, ascending_assignment=asc, _costs=costs)
