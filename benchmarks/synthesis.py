@@ -283,6 +283,67 @@ def part_a(args):
                 delta_min=float(np.min(delta)))
 
 
+#: the child process of :func:`part_before_after`: times ``Evaluator(problem)(X)`` of another checkout, one
+#: repeat per line read from standard input (CPU seconds of that process printed back), gc off as ``timed``
+BEFORE_CHILD = """
+import gc, sys, time
+import numpy as np
+from assur.synthesis import Evaluator, load_problem
+ev = Evaluator(load_problem(sys.argv[1]))
+X = np.load(sys.argv[2])
+ev(X)
+print(repr(float(ev(X).penalised.sum())), flush=True)
+for _ in sys.stdin:
+    gc.collect()
+    gc.disable()
+    c0 = time.process_time()
+    ev(X)
+    print(repr(time.process_time() - c0), flush=True)
+    gc.enable()
+"""
+
+
+def part_before_after(args):
+    """The six-target benchmark's evaluations per second per core, this tree against ``args.before`` (a git ref,
+    default main) side by side in one run: the ref is exported (``git archive``) into a temporary directory outside
+    the repository, a child process of the same Python times its ``Evaluator`` on the same designs, and the repeats
+    alternate between the two (CPU time of each process, min and median)."""
+    import shutil
+    import subprocess
+    import tempfile
+    tmp = Path(tempfile.mkdtemp(prefix="assur-before-"))
+    try:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", args.before], check=True, capture_output=True)
+        subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive.stdout, check=True)
+        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", args.before], check=True,
+                                capture_output=True, text=True).stdout.strip()
+        X = benchmark_designs(args.designs)
+        np.save(tmp / "designs.npy", X)
+        import os
+        env = dict(os.environ, PYTHONPATH=str(tmp / "src"), ASSUR_CACHE_DIR=str(tmp / "cache"))
+        child = subprocess.Popen([sys.executable, "-c", BEFORE_CHILD, str(tmp / "benchmarks" / PROBLEM_A.name),
+                                  str(tmp / "designs.npy")], env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                 text=True)
+        ev = Evaluator(load_problem(PROBLEM_A))
+        ev(X)
+        check_before = float(child.stdout.readline())
+        check_after = float(ev(X).penalised.sum())
+        before, after = [], []
+        for _ in range(args.repeats):
+            child.stdin.write("\n")
+            child.stdin.flush()
+            before.append(float(child.stdout.readline()))
+            after.append(timed(lambda: ev(X))[0][1])
+        child.stdin.close()
+        child.wait()
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    n = len(X)
+    rate = lambda ts: (n / min(ts), n / statistics.median(ts))  # noqa: E731
+    return dict(ref=args.before, commit=commit, n=n, before=rate(before), after=rate(after),
+                same=check_before == check_after, check=(check_before, check_after))
+
+
 def part_gait(args):
     """Walking-leg evaluations per second: the compiled cycle reduction (gait terms, transmission angle,
     buildability) against the general route (``detail=True``: batched solve + numpy reductions), same designs."""
@@ -473,7 +534,7 @@ def fmt_vec(x):
     return "[" + ", ".join(f"{v:.10g}" for v in x) + "]"
 
 
-def report(args, A, B, walker, seconds, G=None):
+def report(args, A, B, walker, seconds, G=None, S=None):
     import numba
     import scipy
     try:
@@ -541,6 +602,20 @@ def report(args, A, B, walker, seconds, G=None):
                   "\"Kernel only\" is the fused compiled reduction on precomputed parameters; the rest of the "
                   "Evaluator time is the design-vector → parameter mapping (expressions), the kernel constants and "
                   "the per-chunk bookkeeping.\n")
+    if S is not None:
+        b, a = S["before"], S["after"]
+        md.append("## The six-target benchmark before and after (one run, side by side)\n")
+        md.append(f"`benchmarks/fourbar_6targets.toml`, {S['n']:,} designs (part A's), `Evaluator(problem)(X)` with "
+                  f"the default chunk: **before** = `{S['ref']}` ({S['commit']}) exported by `git archive` into a "
+                  "temporary directory outside the repository and timed by a child process of the same Python, "
+                  f"**after** = this tree; {args.repeats} repeats alternating between the two, CPU time of each "
+                  f"process. Same objective sums: {'yes' if S['same'] else 'NO ' + str(S['check'])}.\n")
+        md.append("| | evaluations/s/core at min | at median |")
+        md.append("|---|---:|---:|")
+        md.append(f"| before (`{S['ref']}`) | {fmt_rate(b[0])} | {fmt_rate(b[1])} |")
+        md.append(f"| after (this tree) | {fmt_rate(a[0])} | {fmt_rate(a[1])} |")
+        md.append(f"| after ÷ before | {a[0] / b[0]:.2f} | {a[1] / b[1]:.2f} |")
+        md.append("")
     if G is not None:
         md.append("## Gait objectives: evaluations per second\n")
         md.append(f"`examples/synthesis/walker_fourbar_gait.toml` ({G['M']} cycle samples: gait sag, speed spread, "
@@ -645,6 +720,8 @@ def main(argv=None):
     ap.add_argument("--skip-a", action="store_true")
     ap.add_argument("--skip-gait", action="store_true")
     ap.add_argument("--skip-b", action="store_true")
+    ap.add_argument("--before", default="main", help="git ref timed side by side with this tree (six-target "
+                                                      "benchmark); '' to skip")
     ap.add_argument("--out", default=str(HERE / "synthesis_results.md"), help="Markdown file ('-' for none)")
     args = ap.parse_args(argv)
     import os
@@ -652,8 +729,9 @@ def main(argv=None):
     t0 = time.perf_counter()
     A = None if args.skip_a else part_a(args)
     G = None if args.skip_gait else part_gait(args)
+    S = part_before_after(args) if args.before else None
     B, walker = ([], None) if args.skip_b else part_b(args)
-    text = report(args, A, B, walker, time.perf_counter() - t0, G)
+    text = report(args, A, B, walker, time.perf_counter() - t0, G, S)
     print(text)
     if args.out != "-":
         from assur.io.output import atomic_file
@@ -661,6 +739,8 @@ def main(argv=None):
             Path(tmp).write_text(text, encoding="utf-8")
         print(f"written to {args.out}", file=sys.stderr)
     failures = []
+    if S is not None and not S["same"]:
+        failures.append("before/after: the two trees give different objective sums")
     if G is not None and not G["diff"] <= 1e-9:
         failures.append("gait objectives: the compiled and the general route disagree")
     if A is not None:

@@ -33,6 +33,9 @@ TWO_PI = 2.0 * np.pi
 MAX_ITERATIONS = 30
 
 ORDERS = ("none", "ccw", "either", "ascending")
+#: a target met a whole turn after the first (a closed curve's repeated point) is placed this much earlier (rad), so
+#: that the wrapped angles' gaps still add up to less than one turn after rounding
+FULL_TURN_MARGIN = 1e-12
 
 
 def order_of(constraints) -> str:
@@ -120,7 +123,7 @@ def restore_order(theta, order: str, cw):
         return t
     s = np.where(cw[:, None], -t, t)           # clockwise: the same rule on the negated angles
     s = np.maximum.accumulate(s, axis=1)
-    s = np.minimum(s, s[:, :1] + TWO_PI)
+    s = np.minimum(s, s[:, :1] + TWO_PI - FULL_TURN_MARGIN)   # a last target back at the first stays within the turn
     return np.where(cw[:, None], -s, s)
 
 
