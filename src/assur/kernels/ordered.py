@@ -9,7 +9,9 @@ input and the summed cost is least.
   unconstrained nearest samples when they are already in order, else a divide and conquer over the start
   sample. For starts s < s'' < s' optimal paths can be taken between those of s and s' (if a is optimal for s
   and x for s'', the element-wise max(x, a) is feasible and optimal for s'' and min(x, a) for s, as their costs
-  add up to the same sum), so each start is solved in the band its neighbours leave: O(N·M·log M) in all.
+  add up to the same sum), so each start is solved in the band its neighbours leave: O(N·M·log M) in all; an
+  interval of starts none of which can beat the best path so far (its first cost plus every later target's least
+  cost, a lower bound) is skipped, the best path so far starting from the first target's nearest sample.
 - :func:`ascending_assignment`: ascending within [0, M) without wrap-around (one linear pass with a running
   minimum).
 
@@ -98,18 +100,36 @@ def cyclic_assignment(C):
     lo0 = np.zeros(N, dtype=np.int64)
     hi0 = np.full(N, M, dtype=np.int64)
     row = np.empty(N, dtype=np.int64)
+    # a lower bound of every start s: its own first cost plus each later target's least cost (lexicographic)
+    rest_cost, rest_bad = 0.0, 0
+    for i in range(1, N):
+        rest_cost += _cost(C[i, near[i]])
+        rest_bad += _bad(C[i, near[i]])
+    # an upper bound first: the start at the first target's nearest sample, over the whole turn
+    s0 = near[0]
+    cost, nbad = _band_path(C, s0, np.full(N, s0, dtype=np.int64), np.full(N, s0 + M, dtype=np.int64), best, bad,
+                            arg, row)
+    best_cost, best_bad, best_start = cost, nbad, -1
+    first = row.copy()
     cost, nbad = _band_path(C, 0, lo0, hi0, best, bad, arg, row)
     pool[0] = row
     pool[M] = row + M
-    best_cost, best_bad, best_start = cost, nbad, 0
+    if _better(cost, nbad, best_cost, best_bad):
+        best_cost, best_bad, best_start = cost, nbad, 0
     stack = np.empty((2 * M + 4, 2), dtype=np.int64)  # (s_lo, s_hi) intervals still to split
-    top = 0
     stack[0, 0], stack[0, 1] = 0, M
     top = 1
     while top > 0:
         top -= 1
         s_lo, s_hi = stack[top, 0], stack[top, 1]
         if s_hi - s_lo <= 1:
+            continue
+        promising = False                      # prune an interval none of whose starts can beat the best
+        for u in range(s_lo + 1, s_hi):
+            if _better(_cost(C[0, u]) + rest_cost, _bad(C[0, u]) + rest_bad, best_cost, best_bad):
+                promising = True
+                break
+        if not promising:
             continue
         mid = (s_lo + s_hi) // 2
         cost, nbad = _band_path(C, mid, pool[s_lo], pool[s_hi], best, bad, arg, row)
@@ -119,6 +139,9 @@ def cyclic_assignment(C):
         stack[top, 0], stack[top, 1] = s_lo, mid
         stack[top + 1, 0], stack[top + 1, 1] = mid, s_hi
         top += 2
+    if best_start < 0:
+        path[:] = first
+        return path, best_cost + best_bad * BIG
     path[:] = pool[best_start]
     return path, best_cost + best_bad * BIG
 
@@ -211,7 +234,8 @@ def compiled():
         helpers = {f.__name__: njit(cache=False)(f) for f in (_bad, _cost)}
         band = njit(cache=False)(_rebind(_band_path, dict(globals(), **helpers)))
         better = njit(cache=False)(_better)
-        cyc = njit(cache=False)(_rebind(cyclic_assignment, dict(globals(), _band_path=band, _better=better)))
+        cyc = njit(cache=False)(_rebind(cyclic_assignment, dict(globals(), _band_path=band, _better=better,
+                                                                **helpers)))
         asc = njit(cache=False)(ascending_assignment)
         costs = njit(cache=False)(_costs)
         g2 = dict(globals(), cyclic_assignment=cyc, ascending_assignment=asc, _costs=costs)
