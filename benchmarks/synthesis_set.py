@@ -111,7 +111,7 @@ def table(data) -> str:
             rows.append(f"| {label} (`{file}`) | {target:g} ({source}) | not run | | | |")
             continue
         fs = [r["objective"] if r["feasible"] else float("inf") for r in runs]
-        hits = sum(r["first_hit"] is not None for r in runs)
+        hits = sum(r["feasible"] and r["objective"] <= target for r in runs)
         counted += 1
         met += hits >= 0.8 * len(runs)
         rows.append(f"| {label} (`{file}`) | {target:g} ({source}) | {fmt(statistics.median(fs))} / {fmt(min(fs))} "

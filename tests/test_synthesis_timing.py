@@ -111,8 +111,8 @@ def test_compiled_and_interpreted_assignments_agree():
     if ordered.compiled() is None:
         pytest.skip("numba is not installed")
     rng = np.random.default_rng(3)
-    path = rng.normal(size=(40, 90, 2))
-    valid = rng.random((40, 90)) > 0.1
+    path = rng.normal(size=(6, 36, 2))
+    valid = rng.random((6, 36)) > 0.1
     xy = rng.normal(size=(7, 2))
     for mode in range(4):
         a = ordered.compiled()(path, valid, xy, 2, mode)
@@ -167,6 +167,7 @@ def dense_ordered(x, targets, n=1440):
     return float(best.min())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
 def test_inner_timing_in_cyclic_order_against_a_dense_ordered_search(backend):
     """With cyclic_order (C1's set) the solved angles pass the targets in order within one counter-clockwise turn.

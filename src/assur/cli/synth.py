@@ -18,7 +18,7 @@ from .args import output_path, path_arg, positive, positive_float
 INTERRUPTED = 130
 #: assur.synthesis.solver's METHODS, POLISHES and DEFAULT_BUDGET, repeated here so that the command line starts
 #: without importing the synthesis package (tests/test_synthesis_defaults.py checks that they agree)
-METHODS = ("restart", "de", "cmaes", "local")
+METHODS = ("restart", "de", "cmaes", "local", "lshade")
 POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
 DEFAULT_BUDGET = 300_000
 

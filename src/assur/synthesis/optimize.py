@@ -255,6 +255,29 @@ def _run_restarts(tracker, problem, rng, options):
         if options["polish"] != "none":
             _polish(tracker, problem, x.copy(), options["polish"])
 
+def _run_lshade(tracker, problem, rng, options):
+    """The 'lshade' method: L-SHADE (:mod:`assur.synthesis.shade`) restarted until the tracker stops the run, each
+    restart's best polished; restart k gets LSHADE_FIRST·2^k evaluations (a sixteenth of the budget for the first,
+    at least 10 000), so its population shrinks over a growing span."""
+    from .shade import lshade
+    first = max(10_000, (tracker.budget or 160_000) // LSHADE_FIRST)
+    k = 0
+    while True:
+        tracker.restarts = k + 1
+        span = first * 2 ** k
+        if tracker.budget is not None:
+            left = tracker.budget - tracker.evaluations
+            span = min(span, max(left - left // 5, 1))        # a fifth of what is left for the polish
+        x, _ = lshade(tracker.F, problem.bounds, rng, span, initial=initial_population(
+            problem, max(4, 18 * problem.n_vars), rng))
+        if options["polish"] != "none":
+            _polish(tracker, problem, x.copy(), options["polish"])
+        k += 1
+
+
+#: the 'lshade' method's first restart gets this fraction of the budget
+LSHADE_FIRST = 16
+
 #: how to install the optional packages of the synthesis
 CMA_INSTALL = "pip install cma (or pip install 'assur[synth]')"
 TQDM_INSTALL = "pip install tqdm (or pip install 'assur[synth]')"
@@ -349,6 +372,8 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     try:
         if method == "restart":
             _run_restarts(tracker, problem, rng, options)
+        elif method == "lshade":
+            _run_lshade(tracker, problem, rng, options)
         elif method == "de":
             _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"],
                     options["patience"], options["strategy"])
@@ -360,7 +385,7 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
                 lo, width = _unit_box(problem)
                 x0 = lo + rng.uniform(0.2, 0.8, problem.n_vars) * width
             tracker(np.asarray(x0, dtype=float)[None, :])
-        if method != "restart" and options["polish"] != "none" and tracker.best_x is not None:
+        if method not in ("restart", "lshade") and options["polish"] != "none" and tracker.best_x is not None:
             _polish(tracker, problem, space.reduce(tracker.best_x).copy(), options["polish"])
     except _Stop as stop:
         stopped = stop.reason

@@ -8,7 +8,7 @@ The settings of a run are resolved in this order, each level overriding the one 
 3. what the command line (or the Python call) gives explicitly.
 
     [solver]
-    method = "restart"        # restart | de | cmaes | local
+    method = "restart"        # restart | de | cmaes | local | lshade
     budget = 300000           # objective evaluations in all
     target = 1e-20            # stop at the first feasible design with objective ≤ target
     starts = 1
@@ -24,7 +24,7 @@ import math
 
 #: the global methods: 'restart' is the default (differential evolution restarted on stagnation, each
 #: restart's best polished, until the budget, the time limit or the target ends the run)
-METHODS = ("restart", "de", "cmaes", "local")
+METHODS = ("restart", "de", "cmaes", "local", "lshade")
 DE_STRATEGIES = ("best1bin", "best1exp", "rand1bin", "rand1exp", "rand2bin", "rand2exp", "randtobest1bin",
                  "randtobest1exp", "currenttobest1bin", "currenttobest1exp", "best2exp", "best2bin")
 POLISHES = ("auto", "least_squares", "nelder-mead", "l-bfgs-b", "none")
@@ -96,7 +96,7 @@ def resolve(file_settings: dict | None, given: dict) -> dict:
         for k, v in values.items():
             if v is not None and k in settings:
                 settings[k], sources[k] = v, level
-    if settings["method"] == "restart" and settings["budget"] is None and settings["time"] is None:
+    if settings["method"] in ("restart", "lshade") and settings["budget"] is None and settings["time"] is None:
         settings["budget"] = DEFAULT_BUDGET        # restarts go on until something ends them
     settings["sources"] = sources
     return settings
