@@ -24,6 +24,8 @@ TWO_PI = 2 * np.pi
 
 
 def c1_problem(_use=None, **targets):
+    """C1's problem file with free timing solved per design (unless ``free_timing`` is given)."""
+    targets.setdefault("free_timing", "inner")
     data = tomllib.loads(C1.read_text(encoding="utf-8"))
     data["targets"].update(targets)
     data.pop("solver", None)
@@ -180,6 +182,7 @@ def test_inner_timing_in_cyclic_order_against_a_dense_ordered_search(backend):
     free = Evaluator(c1_problem(_use=["grashof", "assembly", "nondegenerate"]), backend=backend)
     data = tomllib.loads(C1.read_text(encoding="utf-8"))
     data.pop("solver")
+    data["targets"]["free_timing"] = "inner"
     data["options"] = {"cycle_samples": 5760}
     fine = Evaluator(problem_from_dict(data, base_dir=C1.parent), backend=backend)
     X = crank_rockers(np.random.default_rng(5), 10)
@@ -216,8 +219,10 @@ def test_compiled_and_numpy_routes_give_the_same_timing():
 
 # -- the formulation: the problem file, the search space, the result ---------------------------------------------
 def test_free_timing_option_is_read_and_checked():
-    assert load_problem(C1).targets.free_timing == "inner"
-    assert c1_problem(free_timing="explicit").targets.free_timing == "explicit"
+    h5 = ROOT / "examples" / "synthesis" / "benchmarks" / "hcdj5_ten_points_ellipse.toml"
+    assert load_problem(h5).targets.free_timing == "inner"                # the default for point targets
+    assert load_problem(C1).targets.free_timing == "explicit"             # the file asks for it
+    assert c1_problem().targets.free_timing == "inner"
     with pytest.raises(SpecError) as exc:
         c1_problem(free_timing="outer")
     assert exc.value.problems[0] == ("targets.free_timing", "must be one of inner, explicit: 'outer'")
@@ -234,6 +239,7 @@ def test_free_timing_option_is_read_and_checked():
 
 def test_a_timing_variable_in_an_expression_keeps_the_explicit_formulation():
     data = tomllib.loads(C1.read_text(encoding="utf-8"))
+    del data["targets"]["free_timing"]
     data["constraints"]["limits"] = [{"expression": "theta2_2 - theta2_1", "min": 0.1}]
     p = problem_from_dict(data, base_dir=C1.parent)
     assert p.targets.free_timing == "explicit"             # the default falls back where it cannot apply
@@ -244,7 +250,7 @@ def test_a_timing_variable_in_an_expression_keeps_the_explicit_formulation():
 
 
 def test_the_optimiser_searches_the_design_variables_only():
-    p = load_problem(C1)
+    p = c1_problem()
     space = SearchSpace(p)
     assert space.names == ("r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "theta0")
     assert SearchSpace(c1_problem(free_timing="explicit")).n_vars == 15
