@@ -127,11 +127,19 @@ def restore_order(theta, order: str, cw):
     return np.where(cw[:, None], -s, s)
 
 
+#: designs whose turn is sampled at once (the samples of every point are held: chunk × M × points × 2 numbers)
+SAMPLE_CHUNK = 512
+
+
 def solve_timing(plan, params, point: str, xy, cycle_inputs, order: str, power: int, backend: str, cycle=None):
     """The best input of each target (n, N), wrapped into [0, 2π), for every design of ``params`` (n, n_params).
 
     ``cycle_inputs`` (M,): one uniform turn; ``cycle``: its already solved (path (n, M, 2), valid (n, M)) of the
-    target point, or None to solve it here; ``power`` 2 for a squared deviation, 1 for a sum of distances."""
+    target point, or None to solve it here (:data:`SAMPLE_CHUNK` designs at a time); ``power`` 2 for a squared
+    deviation, 1 for a sum of distances."""
+    if cycle is None and len(params) > SAMPLE_CHUNK:
+        return np.concatenate([solve_timing(plan, params[i:i + SAMPLE_CHUNK], point, xy, cycle_inputs, order, power,
+                                            backend) for i in range(0, len(params), SAMPLE_CHUNK)])
     from ..engine import solve
     if cycle is None and backend == "numba":      # the compiled kernel's positions without building a State
         from ..engine.planar.numba_backend import solve_compiled
@@ -160,4 +168,4 @@ def solve_timing(plan, params, point: str, xy, cycle_inputs, order: str, power: 
     return np.mod(theta, TWO_PI)
 
 
-__all__ = ["ORDERS", "assign_samples", "order_of", "refine", "restore_order", "sample_costs", "solve_timing"]
+__all__ = ["ORDERS", "SAMPLE_CHUNK", "assign_samples", "order_of", "refine", "restore_order", "sample_costs", "solve_timing"]
