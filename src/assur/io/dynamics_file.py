@@ -88,6 +88,11 @@ def _vector(v, path, P, dimension, kind):
         if not all(_number(c) for c in v):
             P.add(path, f"must be [{', '.join('xyz'[:dimension])}] numbers (m/s²): {v!r}")
             return None
+        g = math.hypot(*(float(c) for c in v))
+        if g > U.MAX_GRAVITY:
+            P.add(path, f"|g| = {g:.4g} m/s² is beyond any machine's ground (at most {U.MAX_GRAVITY:g} m/s², about "
+                        f"100 g; the Earth's is 9.81): {v!r}")
+            return None
         return tuple(float(c) for c in v)
     out = [_quantity(P, f"{path}[{j}]", c, kind) for j, c in enumerate(v)]
     return None if any(c is None for c in out) else tuple(out)

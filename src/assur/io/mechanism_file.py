@@ -131,6 +131,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not plist:
             P.add(ppath, "a link needs at least one point")
             ok = False
+        if not ok:             # names that are not strings go no further (nothing below could use them)
+            plist = [pn for pn in plist if isinstance(pn, str)]
         if isinstance(spec, dict):
             if "length" in spec:
                 if lname == FRAME:
@@ -322,8 +324,10 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             axis = _joint_axis(spec.get("axis"), A, f"joints.{pn}.axis", P)
         if pn not in point_names:
             P.add(f"joints.{pn}", f"unknown point {pn!r} {_known(point_names)}")
-        elif kind not in _JOINT_KINDS:
-            P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}: {kind!r}")
+        elif not isinstance(kind, str) or kind not in _JOINT_KINDS:
+            hint = (f" (an axis goes in a table: {pn} = {{kind = \"revolute\", axis = [x, y, z]}})"
+                    if isinstance(kind, list) else "")
+            P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}{hint}: {kind!r}")
         else:
             joints.append(Joint(pn, kind, axis))
     if joints and dimension == 2 and any(j.kind != "revolute" for j in joints):
