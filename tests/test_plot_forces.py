@@ -60,7 +60,7 @@ def test_lever_moment_is_driver_times_speed(tmp_path, make):
 def test_lever_with_point_loads(tmp_path):
     plan = assur.compile(assur.load(_slider_crank(tmp_path)))
     q = np.linspace(0.0, 2 * math.pi, 12, endpoint=False)[:, None]
-    extra = [("A", np.array([5.0, -7.0]))]
+    extra = [("A", np.array([5.0, -7.0]), "rod")]        # A joins the crank and the rod: the rod carries it
     f = assur.forces(plan, None, q, point_loads=extra)
     lv = lever(plan, None, q, point_loads=extra)
     expected = f.driver[:, 0] * plan.speeds[0]

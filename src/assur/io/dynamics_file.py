@@ -184,8 +184,10 @@ def _law(v, path, P, dimension, input_factor):
     return LoadLaw(tuple(float(c) * input_factor for c in inp), tuple(rows)), kind
 
 
-def read_loads(data, P, dimension, point_names, body_points, input_factor):
-    """The ``[[loads]]``. ``body_points``: body name → its points (links, blocks, cylinders, rods)."""
+def read_loads(data, P, dimension, point_names, body_points, input_factor, place=None):
+    """The ``[[loads]]``. ``body_points``: body name → its points (links, blocks, cylinders, rods); ``place(point)``
+    the body a force at a point without ``link`` acts on (ValueError where that is ambiguous: the rule of
+    :func:`assur.model.dynamics.load_body`)."""
     ldata = P.section(data, "loads", "must be an array of tables [[loads]]", list)
     loads = []
     for i, spec in enumerate(ldata):
@@ -217,6 +219,11 @@ def read_loads(data, P, dimension, point_names, body_points, input_factor):
             law, kind = _law(spec["law"], f"{path}.law", P, dimension, input_factor)
         if kind == "force" and point is None:
             P.add(f"{path}.point", "a force needs the point it acts at")
+        elif kind == "force" and link is None and point in point_names and place is not None:
+            try:
+                place(point)
+            except ValueError as exc:
+                P.add(f"{path}.link", str(exc))
         if kind == "torque" and link is None:
             P.add(f"{path}.link", "a torque needs the link it acts on")
         opposes = spec.get("opposes")
@@ -267,7 +274,12 @@ def read_dynamics(data, P, *, units, dimension, length_factor, point_names, link
     input_factor = None
     if drivers:
         input_factor = U.ANGLE[units.angle] if drivers[0].kind == "rotary" else U.LENGTH[units.length]
-    loads = read_loads(data, P, dimension, point_names, body_points, input_factor)
+    from ..model.dynamics import load_body
+    from ..model.mechanism import bodies_at
+
+    def place(point):
+        return load_body(point, None, *bodies_at(point, links, prismatic, actuators))
+    loads = read_loads(data, P, dimension, point_names, body_points, input_factor, place)
     dyn = P.section(data, "dynamics", "must be a table [dynamics]")
     if "dynamics" not in data and not bodies and not loads:
         return None

@@ -42,9 +42,10 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
         Input rates (default: the drivers' speeds, no input acceleration): they set the inertia loads.
     friction : bool
         Include the file's Coulomb friction (``[dynamics]`` friction radii and coefficients).
-    point_loads : sequence of (point, force), optional
+    point_loads : sequence of (point, force) or (point, force, link), optional
         Extra forces (N, frame coordinates, arrays (..., 2) broadcasting to the batch), each acting at a
-        point on its earliest-solved body, e.g. a foot's ground reaction (:func:`assur.kinetostatics.gait_forces`).
+        point on ``link`` or, without one, on the one body there or the slider there (the rule of a file's
+        ``[[loads]]``, docs/format.md), e.g. a foot's ground reaction (:func:`assur.kinetostatics.gait_forces`).
     state : State, optional
         An already solved state of the same plan, params and inputs (order 2).
     method : {'groups', 'matrix'}
