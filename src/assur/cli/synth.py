@@ -1,7 +1,7 @@
 """``assur synth PROBLEM.toml``: dimensional synthesis from a problem file (``format = "assur-synth/1"``).
 
-Prints the objective reached, the evaluations, the wall time and the best design's variables and
-metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
+Prints the objective reached, the evaluations, the wall time of the whole command (loading the problem,
+starting and stopping the workers included) and the best design's variables and metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
 object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best design found; an interrupted run
 (Ctrl-C) still reports and writes it, then exits with status 130 like every interrupted command (0 done, 3 no
 feasible design, 1 bad input or a missing optional package such as cma for ``--method cmaes``).
@@ -40,7 +40,9 @@ def register(sub) -> None:
     sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
     sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
                     help=f"objective evaluations in all (default {DEFAULT_BUDGET} with the restart method)")
-    sp.add_argument("--time", type=positive_float, default=None, metavar="T", help="wall-time limit in seconds")
+    sp.add_argument("--time", type=positive_float, default=None, metavar="T",
+                    help="wall-time limit in seconds for the whole run (every start, worker, restart and polish); it "
+                         "ends within one evaluation batch of the limit (docs/synthesis.md)")
     sp.add_argument("--starts", type=positive(1), default=None, metavar="K", help="independent starts (default 1)")
     sp.add_argument("--popsize", type=positive(2), default=None, metavar="P",
                     help="population per variable (default 15)")
@@ -62,10 +64,11 @@ def register(sub) -> None:
 
 
 def cmd_synth(args) -> int:
+    import time
+    started = time.monotonic()         # --time and the wall time printed count from here: the whole run
     from ..io.mechanism_file import dumps
-    from ..io.output import atomic_file, check_writable
+    from ..io.output import atomic_file, check_writable, json_text
     from ..synthesis import load_problem, make_executor, synthesize
-    from ..io.output import json_text
     check_packages(args)               # a missing optional package: say so before any work
     problem = load_problem(args.file)
     for out in (args.output, args.plot):
@@ -77,11 +80,16 @@ def cmd_synth(args) -> int:
         print(f"note: no progress bar without the optional package 'tqdm': {TQDM_INSTALL}", file=sys.stderr)
     executor = make_executor(args.workers, args.dask)
     try:
-        result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=args.time,
+        # the limit covers the whole command: what loading the problem took is spent already
+        left = None if args.time is None else max(args.time - (time.monotonic() - started), 1e-3)
+        result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=left,
                             starts=args.starts, polish=args.polish, popsize=args.popsize, maxiter=args.maxiter,
                             executor=executor, progress=progress, target=args.target, strategy=args.strategy)
     finally:
         executor.close()
+    result.seconds = time.monotonic() - started      # the real wall time: loading, workers' start and stop included
+    if args.time is not None:
+        result.settings["time"] = args.time
     written = None
     if args.output is not None:
         text = dumps(result.mechanism(), clean=True)
