@@ -1,7 +1,7 @@
 """``synth --time`` is a wall-time limit of the whole run: every start (in this process or on workers), its polish
 and restarts, within a stated margin, and the wall time printed is the real one.
 
-The margin (docs/synthesis.md, "Budgets and time"): no population is evaluated after the limit, so a run ends at
+The margin (docs/synthesis.md, "Time limit"): no population is evaluated after the limit, so a run ends at
 most one evaluation batch after it, plus the best design's re-check in the calling process (``result.timing``:
 ``longest_batch``, ``finish``); a run whose first population ends after the limit (workers still starting on a
 busy machine) ends right after that population. The tests take these measured durations from the run itself and

@@ -80,11 +80,13 @@ def _report(args):
     """Print the forces' report (text or JSON) and return the Forces whose rows ``--csv`` writes."""
     from ..io.output import json_text
     from ..kinetostatics import forces
-    from ..kinetostatics.overview import check_one_driver, force_cycle, force_summary, has_loads
+    from ..kinetostatics.overview import NO_LOADS, check_one_driver, force_cycle, force_summary, has_loads
     from ..report import forces as text
     m, plan = compile_file(args.file)
     check_one_driver(plan)
-    note = None if has_loads(m) else "the file has no masses or loads"
+    note = None if has_loads(m) else NO_LOADS
+    if note and not args.json:
+        print(f"note: {note}")             # the first line: the zeros below are not a result
     if args.at:
         q = parse_at(plan, args.at)
         f = forces(plan, None, q[:, None], friction=args.friction)
@@ -92,16 +94,13 @@ def _report(args):
         if bad:
             raise SpecError([("--at", f"the mechanism cannot be assembled at {', '.join(bad)}")])
         if args.json:
-            data = {"file": str(args.file), "samples": [text.at_dict(f, i) for i in range(len(q))]}
-            if note:
-                data["note"] = note
+            data = {"note": note} if note else {}
+            data |= {"file": str(args.file), "samples": [text.at_dict(f, i) for i in range(len(q))]}
             if args.friction:
                 data["friction"] = {"iterations": int(f.iterations), "converged": bool(f.converged)}
             print(json_text(data))
         else:
             print(f"{m.name or Path(args.file).stem}  [{args.file}]: forces at {len(q)} input(s)")
-            if note:
-                print(f"note: {note}")
             for i in range(len(q)):
                 for line in text.at_lines(f, i):
                     print(line)
@@ -114,10 +113,11 @@ def _report(args):
         f = cyc.forces
         s = force_summary(cyc, friction=args.friction)
         if args.json:
-            print(json_text({"file": str(args.file), **s}))
+            print(json_text({"note": s.pop("note")} | {"file": str(args.file), **s} if note else
+                            {"file": str(args.file), **s}))
         else:
             print(f"{m.name or Path(args.file).stem}  [{args.file}]: forces over one "
                   f"{'turn' if cyc.turn else 'working stroke'} (N, N·m, W, J)")
-            for line in text.summary_lines(s, plan):
+            for line in text.summary_lines({k: v for k, v in s.items() if k != "note"}, plan):   # noted above
                 print(line)
     return f

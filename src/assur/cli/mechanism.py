@@ -277,11 +277,13 @@ def _plot_centres(args, plan, ext, ranges) -> int:
 def _plot_forces(args, plan, ext) -> int:
     """``assur plot FILE --forces -o OUT``: the sheet of force figures."""
     from ..analysis.study import Study
-    from ..kinetostatics.overview import check_one_driver
+    from ..kinetostatics.overview import NO_LOADS, check_one_driver, has_loads
     from ..plot.forces import forces_figure
     from .forces import parse_at
     if plan.dimension == 3:
         raise SpecError([("--forces", "the force figures are for planar mechanisms")])
+    if not has_loads(plan.mechanism):          # a sheet of zeros would look like a result: nothing is drawn
+        raise SpecError([("--forces", f"{NO_LOADS}; nothing was drawn")])
     check_one_driver(plan)
     at = None if args.at is None else float(parse_at(plan, [args.at])[0])
     fig = forces_figure(plan, at=at, cycle=Study(plan, steps=args.steps).force_cycle, dpi=args.dpi)
