@@ -60,10 +60,82 @@ def register(sub) -> None:
                          "history (.png, .svg or .pdf)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
+    ex = sp.add_argument_group("exact synthesis (closed form, no optimiser): function targets (Freudenstein) or "
+                                 "3–5 poses (Burmester) of a four-bar")
+    ex.add_argument("--exact", action="store_true",
+                    help="solve the problem's targets in closed form and print the ranked four-bars (residual, "
+                         "Grashof class, rotatability, defects); -o writes the best")
+    ex.add_argument("--grashof", default=None, metavar="CLASS",
+                    help="with --exact: keep only this Grashof class (crank-rocker, double-crank, rocker-crank, "
+                         "double-rocker, triple-rocker, grashof, crank)")
+    ex.add_argument("--limit", type=positive(1), default=20, metavar="K", help="with --exact: candidates kept (20)")
+    ex.add_argument("--report", type=path_arg, default=None, metavar="DIR",
+                    help="with --exact: write the page of the candidates (DIR/index.html, DIR/best.toml)")
     sp.set_defaults(func=cmd_synth)
 
 
+#: the optimisers' options, which an exact synthesis refuses (it has no search to set)
+SEARCH_OPTIONS = ("method", "polish", "seed", "budget", "time", "starts", "popsize", "maxiter", "target", "strategy",
+                  "workers", "dask", "plot")
+
+
+def cmd_exact(args) -> int:
+    """``assur synth PROBLEM --exact``: the closed-form four-bars of the problem's targets, ranked."""
+    from ..errors import SpecError
+    from ..io.mechanism_file import dumps
+    from ..io.output import atomic_file, check_output_directory, check_writable, json_text
+    from ..synthesis import load_problem
+    from ..synthesis.exact import GRASHOF_FILTERS
+    from ..synthesis.exact_task import as_dict, exact_task, table_rows
+    given = [f"--{o}" for o in SEARCH_OPTIONS if getattr(args, o, None) is not None]
+    if given:
+        raise SpecError([(", ".join(given), "is an option of the optimisers; --exact solves in closed form")])
+    if args.grashof is not None and args.grashof not in GRASHOF_FILTERS:
+        raise SpecError([("--grashof", f"must be one of {', '.join(GRASHOF_FILTERS)}: {args.grashof!r}")])
+    if args.output is not None:
+        check_writable(args.output)
+    if args.report is not None:
+        check_output_directory(args.report)
+    problem = load_problem(args.file)
+    task = exact_task(problem, grashof=args.grashof, limit=args.limit)
+    c = task.candidates
+    written = page = None
+    if args.output is not None and len(c):
+        with atomic_file(args.output) as tmp:
+            tmp.write_text(dumps(c[0].mechanism, clean=True), encoding="utf-8")
+        written = str(args.output)
+    if args.report is not None:
+        from ..report.exact import write_exact_report
+        page = str(write_exact_report(problem, task, args.report, source=str(args.file)))
+    if args.json:
+        print(json_text({"problem": problem.name, "source": str(args.file), **as_dict(task), "written": written,
+                         "report": page}))
+        return 0 if len(c) else 3
+    print(f"{problem.name or Path(args.file).stem}  [{args.file}]: exact synthesis")
+    print(f"method: {task.method}")
+    head, rows = table_rows(task)
+    widths = [max(len(str(r[i])) for r in [head] + rows) for i in range(len(head))]
+    for r in [head] + rows:
+        print("  " + "  ".join(str(v).ljust(w) if i in (2, 3, 5, 6) else str(v).rjust(w)
+                               for i, (v, w) in enumerate(zip(r, widths))).rstrip())
+    print(f"ranked by {c.criterion}")
+    if c.counts:
+        print("dropped: " + ", ".join(f"{k}: {v}" for k, v in c.counts.items()))
+    if not len(c):
+        print(f"error: {c.reason}", file=sys.stderr)
+    for what in (written, page):
+        if what:
+            print(f"wrote {what}")
+    return 0 if len(c) else 3
+
+
 def cmd_synth(args) -> int:
+    if args.exact:
+        return cmd_exact(args)
+    for opt in ("grashof", "report"):
+        if getattr(args, opt) is not None:
+            from ..errors import SpecError
+            raise SpecError([(f"--{opt}", "is an option of the exact synthesis: add --exact")])
     import time
     started = time.monotonic()         # --time and the wall time printed count from here: the whole run
     from ..io.mechanism_file import dumps

@@ -264,7 +264,7 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
             mech = dataclasses.replace(mech, drivers=tuple(dataclasses.replace(d, zero=np.pi) for d in mech.drivers))
         return ExactSolution(mech, phi, err, m, grashof_type(lengths), lengths, rank, tuple(defects), "rad")
 
-    sols = []
+    sols, rejected_keys = [], set()
     for i, (f, phi, psi, lengths) in enumerate(fits):
         B = pos["B"][i]
         if not np.all(np.isfinite(B)):
@@ -277,12 +277,25 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
         wrong = np.flatnonzero(other < miss - REACH_TOL)
         if len(wrong) or (len(phi) == 3 and np.max(miss) > REACH_TOL):
             where = wrong if len(wrong) else np.flatnonzero(miss > REACH_TOL)
+            key = tuple(np.round(np.asarray(lengths) / ground, 9)) + (round(float(np.max(miss)), 12),)
+            if key in rejected_keys:          # the same linkage from another start, rejected already
+                continue
+            rejected_keys.add(key)
             out.add(make(i, float(np.max(miss)), float(mu[i]),
                          defects=[f"branch: point {', '.join(str(j + 1) for j in where)} on the other assembly "
                                   "branch"]), "branch defect")
             continue
         sols.append((i, float(np.max(miss)), float(mu[i])))
-    result = [make(i, err, m, rank) for rank, (i, err, m) in enumerate(_rank(sols, limit, 1e-9), start=1)]
+    # start angles that differ by a rotation of the whole task fit the same linkage: keep one of each
+    seen, unique = set(), []
+    for i, err, m in sorted(sols, key=lambda r: (np.floor(r[1] / 1e-9), -r[2])):
+        key = tuple(np.round(np.asarray(fits[i][3]) / ground, 9)) + (round(err, 12),)
+        if key not in seen:
+            seen.add(key)
+            unique.append((i, err, m))
+    out.count("the same linkage from another start", len(sols) - len(unique))
+    result = [make(i, err, m, rank) for rank, (i, err, m) in enumerate(_rank(unique, limit, 1e-9), start=1)]
+    out.rejected.sort(key=lambda r: r.residual)
     return Candidates(result, criterion=FUNCTION_CRITERION, rejected=out.rejected, counts=out.counts)
 
 

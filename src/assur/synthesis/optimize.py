@@ -164,6 +164,15 @@ class SynthesisResult:
         except AssurError:
             return None
 
+    def __repr__(self) -> str:
+        what = (f"objective {self.objective:.6g} ({self.problem.deviation})" if self.feasible
+                else f"no feasible design (violation {self.violation:.4g})")
+        xs = ", ".join(f"{n} = {v:.6g}" for n, v in list(self.variables.items())[:8])
+        more = ", …" if len(self.variables) > 8 else ""
+        return (f"SynthesisResult({self.problem.name or 'problem'}: {what}; {self.evaluations} evaluations in "
+                f"{self.seconds:.2f} s, stopped: {self.stopped}, method {self.method}, seed {self.seed}; "
+                f"{xs}{more} [{self.problem.length_unit}, {self.problem.angle_unit}])")
+
     def _repr_html_(self) -> str:
         from ..model.display import html_table
         unit = self.problem.length_unit
