@@ -31,6 +31,7 @@ length unit (a sum of distances in mm for a problem in mm, squared distances in 
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -218,7 +219,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             P.add("mechanism", f"must be the path of a mechanism file: {ref!r}")
             fail()
         mech_path = (Path(base_dir) / ref)
-        mech_source = str(mech_path)
+        mech_source = os.path.normpath(mech_path)     # examples/crank_rocker.toml, not examples/synthesis/../…
         try:
             mechanism = load(mech_path)
         except SpecError as exc:
