@@ -9,7 +9,7 @@ import numpy as np
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
 from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
-from .plan import PlanarPlan, SpatialPlan
+from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
 from .planar.numpy_backend import finish, solve_numpy
@@ -24,6 +24,7 @@ def compile(m: Mechanism, *, tolerances=DEFAULT, structure=None):  # noqa: A001 
     """Compile a mechanism into a solve plan (:class:`PlanarPlan` or :class:`SpatialPlan`, by its
     ``dimension``). Raises StructureError / SpecError with the location of every problem. ``structure``: the
     mechanism's ``assur.structure.assur.analyse(m)`` when the caller has it already (planar only)."""
+    require_mechanism(m)
     if structure is not None and m.dimension == 2:
         return compile_planar(m, tolerances=tolerances, structure=structure)
     return COMPILERS[m.dimension](m, tolerances=tolerances)
@@ -67,13 +68,12 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     State or SpatialState
         ``pos (..., n_points, dim)``, ``vel``, ``acc``, ``dpos_dq``, ``d2pos_dq2``, ``valid (...)`` …
     """
+    require_plan(plan)
     check_options(on_unbuildable, method, order, backend)
     params, inputs = prepare_batch(plan, params, inputs)
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
-    if not isinstance(plan, PlanarPlan):
-        raise TypeError(f"solve needs a plan from assur.compile, not {type(plan).__name__}")
     size = math.prod(shape)
     if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,

@@ -85,7 +85,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("points", "must be a non-empty table of name = [x, y]")
         pdata = {}
     for name, xy in pdata.items():
-        if not _NAME.match(name):
+        if not isinstance(name, str) or not _NAME.match(name):
             P.add(f"points.{name}", "a point name must start with a letter or '_' and hold only letters, digits, _ or '")
         if (not isinstance(xy, list) or len(xy) != dimension or not all(_num(c) for c in xy)):
             P.add(f"points.{name}", f"must be [{', '.join('xyz'[:dimension])}] numbers: {xy!r}")
@@ -103,7 +103,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("links", f"must include the ground link '{FRAME}' (links: {', '.join(ldata)})")
     for lname, spec in ldata.items():
         path = f"links.{lname}"
-        if not _NAME.match(lname):
+        if not isinstance(lname, str) or not _NAME.match(lname):
             P.add(path, "a link name must start with a letter or '_' and hold only letters, digits, _ or '")
         length = None
         place: list[tuple[str, Placement]] = []

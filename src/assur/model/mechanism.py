@@ -276,3 +276,13 @@ def bodies_at(point: str, links, prismatic, actuators) -> tuple[tuple[str, ...],
         if ac.between[1] == point:
             bodies.append(f"{ac.name}.rod")
     return tuple(bodies), tuple(dict.fromkeys(sliders))
+
+
+def require_mechanism(m, what: str = "mechanism"):
+    """``m`` when it is a :class:`Mechanism`, else ArgumentTypeError naming the argument ``what``."""
+    if isinstance(m, Mechanism):
+        return m
+    from ..errors import ArgumentTypeError
+    hint = ": read it first, assur.load(path)" if isinstance(m, str) or hasattr(m, "__fspath__") else ""
+    raise ArgumentTypeError([(what, f"must be a Mechanism (assur.load, assur.loads or assur.Builder), not "
+                                    f"{type(m).__name__}{hint}")])

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.gait import population_gait, resolve_gait
-from ..errors import SpecError
+from ..errors import SpecError, float_array
 from ..tolerances import DEFAULT
 from . import fourbar as fb
 from .defects import defect_measures, nearest_inputs
@@ -75,6 +75,10 @@ class Evaluator:
     CHUNK, FUSED_CHUNK = 512, 8192
 
     def __init__(self, problem: Problem, *, chunk: int | None = None, backend: str | None = None):
+        if not isinstance(problem, Problem):
+            from ..errors import ArgumentTypeError
+            raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
+                                                 f"{type(problem).__name__}")])
         self.problem = problem
         self.backend = backend or default_backend()
         p = problem
@@ -114,7 +118,7 @@ class Evaluator:
         """X: (n, n_vars) design vectors in SI (angles in rad) → Evaluation. ``detail`` adds the
         per-target ``distances``/``offsets`` (the general route; without it the fused compiled
         reduction is used where it applies, which gives the same f and V to round-off)."""
-        X = np.atleast_2d(np.asarray(X, dtype=float))
+        X = np.atleast_2d(float_array(X, "X", "design vectors of numbers (n, n_vars)"))
         if X.shape[-1] != self.problem.n_vars:
             raise SpecError([("X", f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")])
         size = self.CHUNK if detail else self.chunk          # the detailed route keeps per-target arrays

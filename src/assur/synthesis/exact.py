@@ -142,6 +142,17 @@ def _fourbar(A0, B0, A, B, P=None, *, sense="ccw", units="m", name="four-bar", d
     return b.build()
 
 
+def _check_limit(limit) -> None:
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 0):
+        raise SpecError([("limit", f"must be a whole number of candidates (0 or None: all): {limit!r:.60}")])
+
+
+def _check_units(units) -> None:
+    from ..io.units import LENGTH
+    if not isinstance(units, str) or units not in LENGTH:
+        raise SpecError([("units", f"must be a length unit ({', '.join(LENGTH)}): {units!r:.60}")])
+
+
 def _rank(sols, limit, residual_quantum):
     sols.sort(key=lambda s: (np.floor(s[1] / residual_quantum), -s[2]))
     return sols[:limit] if limit else sols
@@ -217,8 +228,11 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
     _check_grashof(grashof)
     inputs, outputs = _spaced(inputs, outputs, spacing, n, "outputs", "output angle")
     x, y = precision_pairs(inputs, outputs)
-    if not (np.isfinite(ground) and ground > 0):
-        raise SpecError([("ground", f"must be a positive length: {ground!r}")])
+    if isinstance(ground, bool) or not isinstance(ground, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(ground) and ground > 0):
+        raise SpecError([("ground", f"must be a positive length: {ground!r:.60}")])
+    _check_limit(limit)
+    _check_units(units)
     starts = _starts(starts, "(φ0, ψ0)")
     out = Rejections()
     fits = []
@@ -337,6 +351,8 @@ def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, 
     assembly branch (B mirrored about the foot of A on the line) than the sketch's; ranked by the residual (in steps of 1e-9 of the stroke), then by the worst
     transmission angle."""
     from ..engine import compile as compile_, solve
+    _check_limit(limit)
+    _check_units(units)
     inputs, displacements = _spaced(inputs, displacements, spacing, n, "displacements", "slider position")
     x, y = precision_pairs(inputs, displacements, where=("inputs", "displacements"))
     starts = _starts(starts, "(φ0, s0)")
@@ -434,6 +450,8 @@ def motion_candidates(poses, *, free=None, grashof=None, samples=None, radius=1.
     branch of the sketch (positions of A, B and P within 1e-6 of the task's size). Returns
     :class:`~assur.synthesis.exact_results.Candidates` (``.counts``: how many pairs each defect removed)."""
     _check_grashof(grashof)
+    _check_limit(limit)
+    _check_units(units)
     out = Rejections()
     P = Poses(poses)
     G, Z = dyads(poses, free=free, samples=samples, radius=radius)

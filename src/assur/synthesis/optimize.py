@@ -404,6 +404,19 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
                        tracker.longest_batch, tracker.first_batch_end)
 
 
+def _check_seed(seed) -> None:
+    """SettingError unless ``seed`` is None, a whole number ≥ 0 or a sequence of them (numpy's SeedSequence)."""
+    from ..errors import SettingError
+
+    def whole(v):
+        return isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0
+    if seed is None or whole(seed) or isinstance(seed, np.random.SeedSequence):
+        return
+    if isinstance(seed, (list, tuple)) and seed and all(whole(v) for v in seed):
+        return
+    raise SettingError([("seed", f"must be a whole number ≥ 0 (or None for a random run): {seed!r:.60}")])
+
+
 def _progress_bar(total, desc):
     """A tqdm bar on stderr (evaluations), or None when tqdm is missing."""
     try:
@@ -449,6 +462,10 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
     keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
     default :func:`~assur.synthesis.evaluate.default_backend`)."""
+    if not isinstance(problem, Problem):
+        from ..errors import ArgumentTypeError
+        raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
+                                             f"{type(problem).__name__}")])
     cfg = resolve(getattr(problem, "solver", None),
                   {"method": method, "budget": budget, "time": time_limit, "target": target, "starts": starts,
                    "popsize": popsize, "strategy": strategy, "polish": polish, "maxiter": maxiter})
@@ -468,6 +485,7 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
             raise SynthesisError(f"{name} must be positive: {v!r}")
     if method == "cmaes":   # an optional package: say so before any work
         require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
+    _check_seed(seed)
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
