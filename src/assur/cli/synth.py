@@ -58,6 +58,10 @@ def register(sub) -> None:
     sp.add_argument("--plot", type=output_path((".png", ".svg", ".pdf")), default=None, metavar="FIG",
                     help="draw the targets against the best design, the per-target distances and the convergence "
                          "history (.png, .svg or .pdf)")
+    sp.add_argument("--backend", choices=("numpy", "numba"), default=None,
+                    help="the engine of every evaluation (default: numba, when installed, for a run of at least "
+                         "50000 evaluations or a time limit of at least 60 s; numpy for a shorter run, which the "
+                         "first compile of the kernels would slow down)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
     ex = sp.add_argument_group("exact synthesis (closed form, no optimiser): function targets (Freudenstein) or "
@@ -76,7 +80,7 @@ def register(sub) -> None:
 
 #: the optimisers' options, which an exact synthesis refuses (it has no search to set)
 SEARCH_OPTIONS = ("method", "polish", "seed", "budget", "time", "starts", "popsize", "maxiter", "target", "strategy",
-                  "workers", "dask", "plot")
+                  "workers", "dask", "plot", "backend")
 
 
 def cmd_exact(args) -> int:
@@ -156,7 +160,8 @@ def cmd_synth(args) -> int:
         left = None if args.time is None else max(args.time - (time.monotonic() - started), 1e-3)
         result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=left,
                             starts=args.starts, polish=args.polish, popsize=args.popsize, maxiter=args.maxiter,
-                            executor=executor, progress=progress, target=args.target, strategy=args.strategy)
+                            executor=executor, progress=progress, target=args.target, strategy=args.strategy,
+                            backend=args.backend)
     finally:
         executor.close()
     result.seconds = time.monotonic() - started      # the real wall time: loading, workers' start and stop included
@@ -234,7 +239,7 @@ def settings_line(settings: dict) -> str:
     """The run's settings with where each came from: ``method restart (default), budget 20000 (file), …``."""
     sources = settings.get("sources", {})
     shown = []
-    for key in ("method", "budget", "time", "target", "starts", "popsize", "strategy", "polish", "maxiter"):
+    for key in ("method", "budget", "time", "target", "starts", "popsize", "strategy", "polish", "maxiter", "backend"):
         v = settings.get(key)
         if v is None:
             continue
@@ -273,3 +278,5 @@ def check_packages(args) -> None:
         require("cma", "--method cmaes", CMA_INSTALL)
     if args.dask:
         require("distributed", "--dask", DASK_INSTALL)
+    if getattr(args, "backend", None) == "numba":
+        require("numba", "--backend numba", "pip install numba (or pip install 'assur[fast]')")

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
+from .options import AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
 from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -55,8 +55,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     backend : {'auto', 'numpy', 'numba'}
         'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
         batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
-        for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed. Both
-        give the same numbers.
+        when numba is installed for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples whose kernel
+        is compiled already (in this process or in the disk cache), and compiles it first only for a batch
+        of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs seconds). Both give the same numbers to round-off.
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
@@ -75,13 +76,21 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
+    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order))):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
                                 required=backend == "numba")
         if state is not None:
             return state
     return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
                        sweep=sweep)
+
+
+def _compiled_pays(plan, size: int, order: int) -> bool:
+    """backend="auto": the compiled kernel for a batch of ``size`` samples when it is compiled already and the batch
+    is large enough to gain from it, or when the batch alone wins back a first compile (engine/options.py)."""
+    if size >= AUTO_COMPILE_MIN_SAMPLES:
+        return True
+    return size >= AUTO_COMPILED_MIN_SAMPLES and numba_backend.kernel_ready(plan, False, order)
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):

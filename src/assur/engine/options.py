@@ -13,8 +13,12 @@ from ..kernels.runs import runs
 ON_UNBUILDABLE = ("nan", "warn", "raise")
 METHODS = ("closed", "newton")
 BACKENDS = ("auto", "numpy", "numba")
-#: with backend="auto", batches at least this large use the compiled backend when numba is installed
+#: with backend="auto", batches at least this large use the compiled backend when numba is installed and the
+#: plan's kernel is compiled already (in this process or in the disk cache) …
 AUTO_COMPILED_MIN_SAMPLES = 20_000
+#: … and batches at least this large compile it first: a new mechanism's kernel takes seconds to compile, which
+#: only a batch this size wins back at once (the numpy backend solves about a million samples a second)
+AUTO_COMPILE_MIN_SAMPLES = 5_000_000
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.

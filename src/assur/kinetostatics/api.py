@@ -13,7 +13,7 @@ import numpy as np
 import math
 
 from ..engine import solve
-from ..engine.options import AUTO_COMPILED_MIN_SAMPLES
+from ..engine.options import AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES
 from ..engine.plan import SpatialPlan, require_plan
 from ..errors import SpecError, one_of
 from ..tolerances import DEFAULT
@@ -85,8 +85,9 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
     tables, prog = force_tables(plan), program_of(plan)
     with_friction = bool(friction) and tables.dynamics.friction.any
     plain = prog.compiled_ok and prog.loads_in_kernel and not point_loads and not with_friction and method == "groups"
-    if plain and backend != "numpy" and (backend == "numba" or n >= AUTO_COMPILED_MIN_SAMPLES):
-        from . import compiled
+    from . import compiled
+    if plain and backend != "numpy" and (backend == "numba" or n >= AUTO_COMPILE_MIN_SAMPLES or (
+            n >= AUTO_COMPILED_MIN_SAMPLES and compiled.kernel_ready(plan, prog))):
         out = compiled.solve_compiled(prog, state, required=backend == "numba")
         if out is not None:
             return _result(plan, state, *out, iterations=0, converged=True, method=method, tol=tolerances)

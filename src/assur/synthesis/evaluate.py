@@ -67,6 +67,24 @@ def default_backend() -> str:
     return "numba" if available() else "numpy"
 
 
+#: a run of fewer evaluations (or a time limit shorter than PAYBACK_SECONDS without a budget) evaluates with numpy:
+#: the compiled kernels cost a few seconds to compile for a new mechanism (``benchmarks/first_use.py``), which
+#: the runs of the shipped problems win back only after some tens of thousands of evaluations
+PAYBACK_EVALUATIONS = 50_000
+PAYBACK_SECONDS = 60.0
+
+
+def run_backend(budget: int | None, time_limit: float | None) -> str:
+    """The backend of a synthesis run that names none: numba (when installed) for a run long enough to win back
+    the first compile of its kernels, numpy for a shorter one. Decided from the run's settings alone, so a seeded
+    run gives the same design whether or not the kernels are already in the cache."""
+    if budget is not None:
+        short = budget < PAYBACK_EVALUATIONS
+    else:
+        short = time_limit is not None and time_limit < PAYBACK_SECONDS
+    return "numpy" if short else default_backend()
+
+
 class Evaluator:
     """Pure vectorised objective of a :class:`Problem`. Picklable (for worker processes)."""
 
@@ -459,4 +477,4 @@ def _sampled_forces(plan, st, valid, backend) -> dict:
     return {k: np.where(bad, np.nan, v) for k, v in out.items()}
 
 
-__all__ = ["Evaluation", "Evaluator", "default_backend"]
+__all__ = ["Evaluation", "Evaluator", "PAYBACK_EVALUATIONS", "PAYBACK_SECONDS", "default_backend", "run_backend"]

@@ -461,7 +461,9 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
     keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
-    default :func:`~assur.synthesis.evaluate.default_backend`)."""
+    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run of at least 50 000 evaluations, or
+    without a budget a time limit of at least 60 s, numpy for a shorter one, whose first compile would cost more
+    than it saves)."""
     if not isinstance(problem, Problem):
         from ..errors import ArgumentTypeError
         raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
@@ -486,6 +488,10 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     if method == "cmaes":   # an optional package: say so before any work
         require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
     _check_seed(seed)
+    backend_source = "given" if backend is not None else "default"
+    if backend is None:                    # the compiled kernels only for a run that wins back their compile
+        from .evaluate import run_backend
+        backend = run_backend(budget, time_limit)
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
@@ -552,8 +558,9 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
                            timing={"first_batch": (min(ends) - wall0) if ends else 0.0,
                                    "longest_batch": max(r.longest_batch for r in results),
                                    "finish": time.monotonic() - finish0},
-                           settings={k: cfg[k] for k in ("method", "budget", "time", "target", "starts", "popsize",
-                                                         "strategy", "polish", "maxiter", "sources")},
+                           settings={**{k: cfg[k] for k in ("method", "budget", "time", "target", "starts", "popsize",
+                                                            "strategy", "polish", "maxiter")}, "backend": backend,
+                                     "sources": {**cfg["sources"], "backend": backend_source}},
                            on_bounds=bounds_reached(problem, best.x))
 
 
