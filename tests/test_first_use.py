@@ -15,8 +15,6 @@ from pathlib import Path
 
 import pytest
 
-from assur.synthesis.evaluate import PAYBACK_EVALUATIONS, PAYBACK_SECONDS, run_backend
-
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -42,6 +40,7 @@ def test_a_moderate_solve_uses_numpy_until_the_kernel_is_cached(tmp_path):
 
 def test_the_rule_is_the_runs_length_not_the_caches_state():
     from assur.engine.planar.numba_backend import available
+    from assur.synthesis.evaluate import PAYBACK_EVALUATIONS, PAYBACK_SECONDS, run_backend
     fast = "numba" if available() else "numpy"
     assert run_backend(1500, None) == "numpy" and run_backend(PAYBACK_EVALUATIONS - 1, 600.0) == "numpy"
     assert run_backend(PAYBACK_EVALUATIONS, None) == fast
