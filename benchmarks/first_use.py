@@ -7,10 +7,11 @@ process (``python -m assur …``), the cases interleaved round-robin so that a b
 table gives the minimum and the median of the repeats, and the compile lines the runs printed. It is a script, not
 a test: nothing here asserts a speed (``tests/test_first_use.py`` checks what each command compiles).
 
-Cases: the issue's synthesis (``synth examples/synthesis/walker_fourbar_motor.toml --seed 1 --budget 1500
---popsize 10``) on numpy, compiled from an empty cache, compiled from a warm cache, and as the default command now
-runs it; a long synthesis where the compiled kernels pay back (``c2_five_points_timed.toml --budget 60000``); a
-solve of 20 000 samples of Jansen's linkage as the default command runs it from an empty cache.
+Cases: the issue's synthesis ("motor leg": ``synth examples/synthesis/walker_fourbar_motor.toml --seed 1 --budget
+1500 --popsize 10``) on numpy, compiled from an empty cache, compiled from a warm cache, and as the default command
+runs it; paper 000's six-point problem with ``--budget 100000`` (where the default command compiles) on numpy and
+compiled from an empty and a warm cache; a solve of 20 000 samples of Jansen's linkage as the default
+command runs it from an empty cache.
 """
 from __future__ import annotations
 
@@ -27,18 +28,18 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 MOTOR = ["synth", "examples/synthesis/walker_fourbar_motor.toml", "--seed", "1", "--budget", "1500", "--popsize", "10",
          "--quiet"]
-LONG = ["synth", "examples/synthesis/c2_five_points_timed.toml", "--seed", "1", "--budget", "60000", "--quiet"]
+LONG = ["synth", "examples/synthesis/paper000_six_points.toml", "--seed", "1", "--budget", "100000", "--quiet"]
 SOLVE = ["solve", "examples/jansen.toml", "--steps", "20000"]
 
 #: (label, arguments, cache: "empty" | "warm")
-CASES = [("walker_fourbar_motor, 1 500 evaluations, numpy", MOTOR + ["--backend", "numpy"], "empty"),
-         ("… compiled, empty cache", MOTOR + ["--backend", "numba"], "empty"),
-         ("… compiled, warm cache", MOTOR + ["--backend", "numba"], "warm"),
-         ("… default command (numpy below 50 000 evaluations), empty cache", MOTOR, "empty"),
-         ("c2_five_points_timed, 60 000 evaluations, numpy", LONG + ["--backend", "numpy"], "empty"),
-         ("… compiled, empty cache", LONG + ["--backend", "numba"], "empty"),
-         ("… compiled, warm cache (the default command)", LONG, "warm"),
-         ("solve jansen.toml --steps 20000, default, empty cache", SOLVE, "empty")]
+CASES = [("motor leg, 1 500 evaluations: numpy", MOTOR + ["--backend", "numpy"], "empty"),
+         ("motor leg, 1 500 evaluations: compiled, empty cache", MOTOR + ["--backend", "numba"], "empty"),
+         ("motor leg, 1 500 evaluations: compiled, warm cache", MOTOR + ["--backend", "numba"], "warm"),
+         ("motor leg, 1 500 evaluations: the default command (numpy below 100 000), empty cache", MOTOR, "empty"),
+         ("paper 000, 100 000 evaluations: numpy", LONG + ["--backend", "numpy"], "empty"),
+         ("paper 000, 100 000 evaluations: compiled, empty cache (the default command)", LONG, "empty"),
+         ("paper 000, 100 000 evaluations: compiled, warm cache (the default command)", LONG, "warm"),
+         ("solve jansen.toml --steps 20000: the default command, empty cache", SOLVE, "empty")]
 
 
 def run(args, cache: str) -> tuple[float, list[str]]:
@@ -81,7 +82,7 @@ def main(argv=None) -> int:
     print("| case | min [s] | median [s] | compile lines printed (first repeat) |\n|---|---:|---:|---|")
     for label, _, _ in CASES:
         t = times[label]
-        said = "; ".join(notes[label]) or "none"
+        said = "; ".join(ln.split(" (")[0] for ln in notes[label]) or "none"
         print(f"| {label} | {min(t):.2f} | {statistics.median(t):.2f} | {said} |")
     return 0
 

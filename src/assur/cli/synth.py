@@ -60,7 +60,7 @@ def register(sub) -> None:
                          "history (.png, .svg or .pdf)")
     sp.add_argument("--backend", choices=("numpy", "numba"), default=None,
                     help="the engine of every evaluation (default: numba, when installed, for a run of at least "
-                         "50000 evaluations or a time limit of at least 60 s; numpy for a shorter run, which the "
+                         "100000 evaluations or a time limit of at least 60 s; numpy for a shorter run, which the "
                          "first compile of the kernels would slow down)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")

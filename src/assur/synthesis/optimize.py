@@ -461,7 +461,7 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
     keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
-    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run of at least 50 000 evaluations, or
+    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run of at least 100 000 evaluations, or
     without a budget a time limit of at least 60 s, numpy for a shorter one, whose first compile would cost more
     than it saves)."""
     if not isinstance(problem, Problem):
