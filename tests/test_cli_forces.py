@@ -235,12 +235,12 @@ def test_report_forces_section_only_with_loads(tmp_path, capsys):
     code, _, err = _run(capsys, "report", f, "-o", tmp_path / "r1", "--steps", 72, "--frames", 2)
     assert code == 0, err
     html = (tmp_path / "r1" / "index.html").read_text(encoding="utf-8")
-    assert "<h2>Forces</h2>" in html and "Zhukovsky" in html and "peak driving torque" in html
+    assert ">Forces</h2>" in html and "Zhukovsky" in html and "peak driving torque" in html
     bare = _slider_crank(tmp_path, masses=False, load=False, name="bare.toml")
     code, _, err = _run(capsys, "report", bare, "-o", tmp_path / "r2", "--steps", 72, "--frames", 2)
     assert code == 0, err
     html = (tmp_path / "r2" / "index.html").read_text(encoding="utf-8")
-    assert "<h2>Forces</h2>" not in html
+    assert ">Forces</h2>" not in html
 
 
 def test_spatial_file(tmp_path, capsys):
