@@ -1,7 +1,8 @@
 """The compiled extra is never slower on first use than the numpy path it replaces: a command compiles a kernel for
-a new mechanism (seconds, ``benchmarks/first_use.py``) only where the run wins that back — a synthesis of at least
-``PAYBACK_EVALUATIONS`` evaluations (or a time limit of ``PAYBACK_SECONDS``), a solve of ``AUTO_COMPILE_MIN_SAMPLES``
-samples — and otherwise runs numpy, or the compiled kernel when the cache has it already.
+a new mechanism (seconds, ``benchmarks/first_use.py``) only where the run wins that back — a synthesis whose numpy
+evaluations would take ``PAYBACK_SECONDS`` by a fixed estimate from the problem's size (or a time limit of six times
+that), a solve of ``AUTO_COMPILE_MIN_SAMPLES`` samples — and otherwise runs numpy, or the compiled kernel when the
+cache has it already.
 
 Each command runs with an empty kernel cache (``ASSUR_CACHE_DIR`` a new directory): the test asserts on what it
 compiles (the notice it prints), never on how long it takes. Once ``synth walker_fourbar_motor.toml --budget 1500``
@@ -38,14 +39,22 @@ def test_a_moderate_solve_uses_numpy_until_the_kernel_is_cached(tmp_path):
     assert "compil" not in r.stderr
 
 
-def test_the_rule_is_the_runs_length_not_the_caches_state():
+def test_the_rule_is_the_runs_size_not_the_caches_state():
     from assur.engine.planar.numba_backend import available
-    from assur.synthesis.evaluate import PAYBACK_EVALUATIONS, PAYBACK_SECONDS, run_backend
+    from assur.synthesis import load_problem
+    from assur.synthesis.evaluate import PAYBACK_SECONDS, numpy_seconds, run_backend
     fast = "numba" if available() else "numpy"
-    assert run_backend(1500, None) == "numpy" and run_backend(PAYBACK_EVALUATIONS - 1, 600.0) == "numpy"
-    assert run_backend(PAYBACK_EVALUATIONS, None) == fast
-    assert run_backend(None, PAYBACK_SECONDS / 2) == "numpy" and run_backend(None, PAYBACK_SECONDS) == fast
-    assert run_backend(None, None) == fast                   # the default budget: 300 000 evaluations
+    motor = load_problem(ROOT / "examples" / "synthesis" / "walker_fourbar_motor.toml")
+    c2 = load_problem(ROOT / "examples" / "synthesis" / "c2_five_points_timed.toml")
+    six = load_problem(ROOT / "examples" / "synthesis" / "stephenson3_path.toml")
+    # the estimate: solved samples per evaluation × plan steps × a fixed cost (72 cycle samples, 3 steps)
+    assert numpy_seconds(motor, 1000) == pytest.approx(1000 * 72 * 3 * 0.5e-6)
+    assert run_backend(motor, 1500, None) == "numpy"                 # the issue's run: numpy, nothing compiled
+    assert run_backend(c2, 300_000, None) == "numpy"                  # 5 targets: numpy evaluates fast enough
+    assert run_backend(six, 30_000, None) == fast                     # a six-bar's whole cycles: compiled pays
+    assert run_backend(c2, None, 6 * PAYBACK_SECONDS - 1) == "numpy" and run_backend(c2, None, 600.0) == fast
+    assert all(run_backend(p, b, None) == ("numpy" if numpy_seconds(p, b) < PAYBACK_SECONDS else fast)
+               for p in (motor, c2, six) for b in (10, 10_000, 10 ** 7))
 
 
 @pytest.mark.slow

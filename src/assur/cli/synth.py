@@ -59,9 +59,9 @@ def register(sub) -> None:
                     help="draw the targets against the best design, the per-target distances and the convergence "
                          "history (.png, .svg or .pdf)")
     sp.add_argument("--backend", choices=("numpy", "numba"), default=None,
-                    help="the engine of every evaluation (default: numba, when installed, for a run of at least "
-                         "100000 evaluations or a time limit of at least 60 s; numpy for a shorter run, which the "
-                         "first compile of the kernels would slow down)")
+                    help="the engine of every evaluation (default: numba, when installed, for a run long enough to "
+                         "win back the first compile of its kernels — about 10 s of numpy evaluations by an estimate "
+                         "from the problem's size, or a time limit of at least 60 s; numpy for a shorter run)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
     ex = sp.add_argument_group("exact synthesis (closed form, no optimiser): function targets (Freudenstein) or "

@@ -67,22 +67,33 @@ def default_backend() -> str:
     return "numba" if available() else "numpy"
 
 
-#: a run of fewer evaluations (or a time limit shorter than PAYBACK_SECONDS without a budget) evaluates with numpy:
-#: the compiled kernels cost 5–10 s to compile for a new mechanism (``benchmarks/first_use.py``), and they save
-#: 0.02–1 ms per evaluation on the shipped problems (about 18 µs on C2, 0.35 ms on the motor leg, 0.4 ms on paper
-#: 000's leg): a first compile is won back after tens to hundreds of thousands of evaluations
-PAYBACK_EVALUATIONS = 100_000
-PAYBACK_SECONDS = 60.0
+#: the compiled kernels cost several seconds to compile for a new mechanism (``benchmarks/first_use.py``) and then
+#: evaluate a design in 1–20 µs; numpy takes about NUMPY_SECONDS_PER_UNIT per solved sample and plan step (18 µs for
+#: C2's 5 targets, 0.2–2 ms for the problems that solve a whole cycle). A run that names no backend compiles when its
+#: numpy evaluations would take at least PAYBACK_SECONDS by that estimate (or, without a budget, when its time limit
+#: is at least PAYBACK_SECONDS), and runs numpy otherwise
+NUMPY_SECONDS_PER_UNIT = 0.5e-6
+PAYBACK_SECONDS = 10.0
 
 
-def run_backend(budget: int | None, time_limit: float | None) -> str:
-    """The backend of a synthesis run that names none: numba (when installed) for a run long enough to win back
-    the first compile of its kernels, numpy for a shorter one. Decided from the run's settings alone, so a seeded
-    run gives the same design whether or not the kernels are already in the cache."""
+def numpy_seconds(problem, evaluations: int) -> float:
+    """The estimated numpy time (s) of ``evaluations`` evaluations of ``problem``: the solved samples of one (its
+    targets, and a whole cycle's samples when a term or constraint needs one) times the plan's steps times
+    :data:`NUMPY_SECONDS_PER_UNIT`. A deterministic estimate: it depends on the problem, never on the machine."""
+    samples = (problem.targets.n if problem.targets is not None else 0) + \
+        (problem.cycle_samples if problem.needs_cycle() else 0)
+    return evaluations * max(samples, 1) * len(problem.plan.steps) * NUMPY_SECONDS_PER_UNIT
+
+
+def run_backend(problem, budget: int | None, time_limit: float | None) -> str:
+    """The backend of a synthesis run that names none: numba (when installed) for a run whose numpy evaluations
+    would take long enough to win back the first compile of its kernels, numpy for a shorter one. Decided from the
+    problem and the run's settings alone, so a seeded run gives the same design whether or not the kernels are in
+    the cache already."""
     if budget is not None:
-        short = budget < PAYBACK_EVALUATIONS
+        short = numpy_seconds(problem, budget) < PAYBACK_SECONDS
     else:
-        short = time_limit is not None and time_limit < PAYBACK_SECONDS
+        short = time_limit is not None and time_limit < 6 * PAYBACK_SECONDS
     return "numpy" if short else default_backend()
 
 
@@ -478,4 +489,5 @@ def _sampled_forces(plan, st, valid, backend) -> dict:
     return {k: np.where(bad, np.nan, v) for k, v in out.items()}
 
 
-__all__ = ["Evaluation", "Evaluator", "PAYBACK_EVALUATIONS", "PAYBACK_SECONDS", "default_backend", "run_backend"]
+__all__ = ["Evaluation", "Evaluator", "NUMPY_SECONDS_PER_UNIT", "PAYBACK_SECONDS", "default_backend", "numpy_seconds",
+           "run_backend"]

@@ -462,9 +462,9 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
     keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
-    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run of at least 100 000 evaluations, or
-    without a budget a time limit of at least 60 s, numpy for a shorter one, whose first compile would cost more
-    than it saves)."""
+    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run whose numpy evaluations would take at
+    least 10 s by a fixed estimate from the problem's size, or without a budget a time limit of at least 60 s;
+    numpy for a shorter one, whose first compile would cost more than it saves)."""
     if not isinstance(problem, Problem):
         from ..errors import ArgumentTypeError
         raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
@@ -492,7 +492,7 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     backend_source = "given" if backend is not None else "default"
     if backend is None:                    # the compiled kernels only for a run that wins back their compile
         from .evaluate import run_backend
-        backend = run_backend(budget, time_limit)
+        backend = run_backend(problem, budget, time_limit)
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
