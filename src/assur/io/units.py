@@ -41,7 +41,8 @@ QUANTITIES = {"mass": (MASS, "1 kg"), "inertia": (INERTIA, "0.02 kg*m^2"), "forc
 #: a mass, inertia, force or torque above this in magnitude (SI) is a typo, not a machine
 MAX_QUANTITY = 1e12
 #: the largest magnitude (SI) a quantity of each kind may have, with the physical reason (docs/format.md, "Bounds"):
-#: a larger value is a typo or a unit slip, and it would only give forces that no machine carries
+#: a larger value is a typo or a unit slip, and it would only give forces that no machine carries (the other kinds:
+#: MAX_QUANTITY)
 LIMITS = {
     "mass": (1e8, "kg", "100 000 t: more than the heaviest moving machine parts (a ship lift's caisson, 15 500 t)"),
     "inertia": (MAX_QUANTITY, "kg*m^2", "a typo, not a machine"),
@@ -90,7 +91,7 @@ def parse_quantity(text, kind: str, units=None) -> float:
         return value
     (table, example), bare = QUANTITIES[kind], 1.0
     value = _quantity(text, table, bare, example)
-    limit, unit, why = LIMITS[kind]
+    limit, unit, why = LIMITS.get(kind, (MAX_QUANTITY, "(SI)", "a typo, not a machine"))
     if not math.isfinite(value):
         raise SpecError(f"must be a finite {kind}: {text!r}")
     if abs(value) > limit:
