@@ -75,7 +75,8 @@ def _trials(cmd, cwd, out, plan):
 def test_killed_atlas_runs_keep_the_earlier_output(tmp_path):
     out = tmp_path / "atlas"
     cmd = [sys.executable, "-m", "assur", "atlas", "--links", "6", "--dof", "1", "-o", str(out)]
-    _trials(cmd, tmp_path, out, [("start", 0.5), ("writing", 0.0), ("writing", 0.3), ("writing", 1.0)])
+    # atlas computes everything, then writes its files in milliseconds: most kills land while it computes
+    _trials(cmd, tmp_path, out, [("start", 0.5), ("start", 1.5), ("start", 3.0), ("writing", 0.0)])
 
 
 def test_killed_codesign_runs_keep_the_earlier_output(tmp_path):
