@@ -157,6 +157,7 @@ def test_watt_ii_and_stephenson_iii_group_classes(name):
     assert dyads_only >= 1
 
 
+@pytest.mark.slow
 def test_cli_output_is_reproducible(tmp_path):
     outs = []
     for k in (1, 2):

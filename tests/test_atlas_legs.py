@@ -81,9 +81,9 @@ def test_a_candidate_is_its_atlas_mechanism_with_a_foot(six):
     assert crank == pytest.approx(CRANK / 1000)        # mm → m
 
 
-def test_bad_settings_are_named():
+def test_bad_settings_are_named(six):
     with pytest.raises(assur.SpecError, match="budget"):
-        run_candidate(leg_candidates(6)[0], {"budget": 0})
+        run_candidate(six[0], {"budget": 0})
     with pytest.raises(assur.SpecError, match="unknown walking-leg setting"):
         rank_legs(6, settings={"bugdet": 10}, candidates=[])
     with pytest.raises(assur.SpecError, match="6 or 8"):
@@ -200,6 +200,7 @@ def test_a_triad_candidate_is_dimensioned_when_asked(six):
     assert r["feasible"] == (r["objective"] is not None)
 
 
+@pytest.mark.slow
 def test_cli_walking_legs_prints_and_writes(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["atlas", "--walking-legs", "--links", "6", "--limit", "2", "--budget", "300", "--starts", "1",

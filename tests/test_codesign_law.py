@@ -143,6 +143,7 @@ def test_window_speed_is_constant_through_the_engine(plan, foot, law):
     assert abs(s.vel[0, plan.point_index("H"), 0]) == pytest.approx(law.window_speed(omega), rel=1e-9)
 
 
+@pytest.mark.slow
 def test_crank_turning_clockwise_in_time(plan):
     """A leg whose driver speed is negative (q decreases in time): τ grows as q decreases, one motor turn per
     crank turn, and the window speed is still exact through the engine."""
@@ -161,6 +162,7 @@ def test_crank_turning_clockwise_in_time(plan):
 # gears
 
 
+@pytest.mark.slow
 def test_transmission_law_and_pitch_radii(law):
     tl = law.transmission_law()
     phi = np.linspace(0.0, TWO_PI, 61)

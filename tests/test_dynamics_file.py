@@ -430,3 +430,35 @@ def test_builder_gait_weight():
            .gait("H", weight="200 N", friction=0.6).build())
     assert leg.gait.weight == 200.0 and leg.gait.friction == 0.6
     assert leg.dynamics is None
+
+
+
+# -- physical bounds (docs/format.md, "Bounds"): a value no machine has is a typo or a unit slip, refused with the
+# value and the bound named; values inside are kept
+@pytest.mark.parametrize("gravity, ok", [("[0, -9.81]", True), ("[0, -999]", True), ("[2e8, -9.81]", False),
+                                         ("[800, -800]", False)])
+def test_gravity_beyond_a_hundred_g_is_refused_with_its_value(gravity, ok):
+    rest = f"[dynamics]\ngravity = {gravity}\n"
+    if ok:
+        assert mech(rest=rest).dynamics.gravity == tuple(float(x) for x in gravity.strip("[]").split(","))
+        return
+    msg = problems(rest=rest)["dynamics.gravity"]
+    assert "m/s²" in msg and "at most 1000" in msg and gravity.strip("[]").split(",")[0].strip() in msg.replace(
+        "200000000.0", "2e8").replace("800.0", "800")
+
+
+@pytest.mark.parametrize("load, path, ok", [
+    ('point = "B"\nlink = "rod"\nforce = [-1e6, 0]', "loads[0].force[0]", True),
+    ('point = "B"\nlink = "rod"\nforce = ["2000000 kN", 0]', "loads[0].force[0]", False),
+    ('point = "B"\nlink = "rod"\nforce = [0, 1e10]', "loads[0].force[1]", False),
+    ('link = "rod"\ntorque = "5e9 N*m"', "loads[0].torque", False),
+    ('link = "rod"\ntorque = "2 kN*m"', "loads[0].torque", True)])
+def test_absurd_loads_are_refused_with_their_value(load, path, ok):
+    rest = f"[[loads]]\n{load}\n"
+    if ok:
+        assert len(mech(rest=rest).dynamics.loads) == 1
+        return
+    msg = problems(rest=rest)[path]
+    assert "beyond any machine" in msg and "at most 1e+09" in msg
+    given = {"loads[0].force[0]": "2000000 kN", "loads[0].force[1]": "10000000000.0", "loads[0].torque": "5e9 N*m"}
+    assert given[path] in msg                       # the value as written

@@ -43,7 +43,8 @@ def _dynamics(coupler_mass: bool, *, spherical=False, com=None, load_at_c=True):
         bodies.append(("coupler", MassProperties(0.9, 5e-4, com)))
     loads = [Load(link="rocker", torque=-1.5)]
     if load_at_c or spherical:           # on the coupler at C; at P3 (on the rocker) for a bare coupler
-        loads.append(Load(point="P3" if spherical else "C", force=(3.0, -2.0, 5.0)))
+        loads.append(Load(point="P3", link="rocker", force=(3.0, -2.0, 5.0)) if spherical
+                     else Load(point="C", force=(3.0, -2.0, 5.0)))
     return Dynamics(gravity=(0.0, -9.81, 0.0), bodies=tuple(bodies), loads=tuple(loads))
 
 
@@ -90,7 +91,8 @@ def _loads_on_bodies(plan, state, dyn):
                 t = ld.torque * state.body_frame[..., b, :, 2]
                 M += t
                 power += np.sum(t * omega, -1)
-            elif ld.force is not None and ld.point in pts and plan.point_body[plan.point_index(ld.point)] == b:
+            elif ld.force is not None and ld.point in pts and (ld.link or plan.body_names[
+                    plan.point_body[plan.point_index(ld.point)]]) == name:
                 f = np.asarray(ld.force)
                 F += f
                 M += np.cross(P[ld.point], f)

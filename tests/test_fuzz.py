@@ -2,6 +2,7 @@
 problem): the readers and the engine either accept the mutant or refuse it with an AssurError that says what
 and where. Never another exception (a traceback for the user), never a hang, never a finite answer from an
 unassemblable position."""
+import os
 import random
 import re
 import signal
@@ -206,3 +207,106 @@ def test_foreign_mutants_are_imported_or_refused_with_an_assur_error(name, fmt, 
             except Exception as exc:               # noqa: BLE001 - any other exception is the finding
                 failures.append(f"mutant {k} ({given}): {type(exc).__name__}: {exc}")
     assert not failures, "\n".join(failures[:10])
+
+
+# -- the commands on mutants and wild options: an exit status, one error line, never a traceback or a hang ------
+SYNTH = sorted((ROOT / "examples" / "synthesis").glob("*.toml"))
+LOADED = [ROOT / "examples" / n for n in ("walker_fourbar.toml", "lever_manipulator.toml", "rssr.toml",
+                                          "walker_crank_slider.toml", "walker_sixbar.toml")]
+CLI_MUTANTS = 4
+
+
+def _command(argv, limit: int = 120) -> str:
+    """Run ``assur argv`` in this process: its exit status must be a documented one (0 done, 1 bad input, 2 usage,
+    3 no feasible design) and a failure prints one ``error:`` line; any exception escaping the command is the
+    finding. Returns a failure description or ''."""
+    import contextlib
+    import io
+
+    from assur.cli.main import main
+    err = io.StringIO()
+    try:
+        with time_limit(limit), contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+            code = main([str(a) for a in argv])
+    except Exception as exc:                               # noqa: BLE001 - the finding
+        return f"{' '.join(map(str, argv))}: {type(exc).__name__}: {exc}"[:300]
+    lines = [ln for ln in err.getvalue().splitlines() if ln.startswith("error:")]
+    if code not in (0, 1, 2, 3):
+        return f"{' '.join(map(str, argv))}: exit status {code}"
+    if code == 1 and len(lines) != 1:
+        return f"{' '.join(map(str, argv))}: exit 1 with {len(lines)} error lines: {err.getvalue()[-300:]}"
+    if "Traceback" in err.getvalue():
+        return f"{' '.join(map(str, argv))}: a traceback"
+    return ""
+
+
+def _mutants(path: Path, n: int):
+    """The file itself, then ``n`` seeded mutants, each written beside the original (a problem file names its
+    template relative to itself) and removed after use."""
+    text = path.read_text(encoding="utf-8")
+    rng = random.Random(f"cli-fuzz:{path.name}")
+    for k in range(n + 1):
+        tmp = path.parent / f".fuzz-cli-{os.getpid()}-{path.name}"
+        tmp.write_text(text if k == 0 else mutate(text, rng), encoding="utf-8")
+        try:
+            yield k, tmp
+        finally:
+            tmp.unlink()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", SYNTH, ids=lambda p: p.name)
+def test_synth_of_every_problem_kind_on_mutants(path, tmp_path):
+    """Every shipped problem (points, function, poses, gait, forces, six-bars) and its mutants, through a short
+    run, the exact method (a function or pose task, or the error that says it has none) and -o."""
+    failures = []
+    for k, tmp in _mutants(path, CLI_MUTANTS):
+        out = tmp_path / f"best{k}.toml"
+        for argv in (["synth", tmp, "--budget", "40", "--polish", "none", "--seed", "1", "--quiet", "-o", out],
+                     ["synth", tmp, "--exact", "--limit", "2"]):
+            failures.append(_command(argv))
+    failures = [f for f in failures if f]
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", LOADED, ids=lambda p: p.name)
+def test_forces_on_mutants_of_the_loaded_examples(path, tmp_path):
+    failures = []
+    for k, tmp in _mutants(path, CLI_MUTANTS):
+        for argv in (["forces", tmp, "--steps", "24"], ["forces", tmp, "--at", "30", "--at", "1e9", "--json"],
+                     ["forces", tmp, "--steps", "12", "--friction", "--csv", tmp_path / f"f{k}.csv"]):
+            failures.append(_command(argv))
+    failures = [f for f in failures if f]
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.slow
+def test_codesign_on_mutants_and_wild_options(tmp_path):
+    leg = ROOT / "examples" / "walker_fourbar.toml"
+    cheap = ["--frames", "0", "--mesh-steps", "8", "--optimize", "none"]
+    failures = []
+    for k, tmp in _mutants(leg, CLI_MUTANTS):
+        failures.append(_command(["codesign", tmp, "-o", tmp_path / f"m{k}", *cheap]))
+    for k, extra in enumerate((["--window", "1.5"], ["--window", "1e-9"], ["--module", "1e9"],
+                               ["--centre-distance", "1e-9"], ["--ratio-bounds", "3", "0.5"],
+                               ["--direction", "nan"], ["--max-pressure-angle", "89.9"], ["--module", "x"])):
+        failures.append(_command(["codesign", leg, "-o", tmp_path / f"w{k}", *cheap, *extra]))
+    for other in ("jansen.toml", "rssr.toml", "slider_crank.toml", "walker_fourbar_geared.toml"):
+        failures.append(_command(["codesign", ROOT / "examples" / other, "-o", tmp_path / other, *cheap]))
+    failures = [f for f in failures if f]
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.slow
+def test_atlas_with_wild_options(tmp_path):
+    failures = [_command(["atlas", *argv]) for argv in (
+        ["--links", "0", "--dof", "1"], ["--links", "-3", "--dof", "1"], ["--links", "7", "--dof", "1"],
+        ["--links", "60", "--dof", "1"], ["--links", "6", "--dof", "0"], ["--links", "6", "--dof", "99"],
+        ["--links", "6"], ["--links", "x", "--dof", "1"], ["--assur-groups", "--links", "1"],
+        ["--assur-groups", "--links", "99"], ["--walking-legs", "--links", "7"],
+        ["--walking-legs", "--links", "6", "--limit", "0"], ["--walking-legs", "--links", "6", "--budget", "-5"],
+        ["--links", "6", "--dof", "1", "--budget", "10"], ["--links", "6", "--dof", "1", "-o", "/dev/null"],
+        ["--links", "6", "--dof", "1", "--json", "-o", tmp_path / "a" / "b" / "c"])]
+    failures = [f for f in failures if f]
+    assert not failures, "\n".join(failures)

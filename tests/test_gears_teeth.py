@@ -87,6 +87,7 @@ def test_circular_tooth_thickness_and_symmetry(z, alpha_deg, backlash):
         assert np.median(diff) < SIMPLIFY * M and diff.max() < 2e-6
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("z, undercut", [(14, True), (16, True), (18, False), (24, False)])
 def test_undercut_follows_the_classical_limit(z, undercut):
     # z_min = 2/sin²(20°) = 17.10: below it the rack's straight flank passes the interference point
@@ -135,6 +136,7 @@ def test_elliptic_law_and_pitch_curves_are_the_focal_ellipses():
     assert np.max(np.abs(pair.driven.radius_at(ang) - r(ang))) < 1e-7
 
 
+@pytest.mark.slow
 def test_elliptic_pair_teeth():
     pair, _ = elliptic_pair()
     z = 30
@@ -170,6 +172,7 @@ def densify(xy, n):
     return (xy[:, None, :] + f * (nxt - xy)[:, None, :]).reshape(-1, 2)
 
 
+@pytest.mark.slow
 def test_module_too_large_for_the_curvature():
     # ellipse a = 20 mm, e = 0.6: smallest radius of curvature b²/a = a(1−e²) = 12.8 mm at the major-axis ends;
     # 5 teeth on its ≈ 113 mm perimeter need m ≈ 7.2 mm, tooth depth 2.25·m ≈ 16 mm > 12.8 mm

@@ -1,8 +1,9 @@
 """A plain install runs the README's command-line tour.
 
 A fresh virtual environment, ``pip install <this repository>`` without extras (pip's cache is reused), then every
-command of README.md's "Command line" section, as written but with its outputs under tmp_path: each exits 0 and
-writes its output (the file or directory it names, or its report on standard output).
+command of README.md's "Command line" section, as written but with its outputs under tmp_path: each exits 0,
+writes its output (the file or directory it names, or its report on standard output) and reports something that is
+not all zero (:func:`only_zeros`).
 """
 import re
 import shlex
@@ -20,6 +21,71 @@ def tour_commands() -> list[list[str]]:
     """The README's CLI tour: one argument list per ``assur …`` line, comments dropped."""
     block = README.split("## Command line", 1)[1].split("```sh", 1)[1].split("```", 1)[0]
     return [shlex.split(line, comments=True) for line in block.splitlines() if line.startswith("assur ")]
+
+
+#: JSON keys whose numbers are results of a force analysis (not echoes of the command or the file)
+RESULT_KEYS = ("driver", "power", "reaction", "magnitude", "peak", "rms", "torque", "energy", "force")
+#: a text line reporting a force-analysis result: a number followed by one of these units
+RESULT_LINE = re.compile(r"(-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)\s*(?:N·m|N|W|J|kg·m²)(?:\s|$|\))")
+
+
+def only_zeros(stdout: str) -> bool:
+    """True when a command's output reports results that are all zero: the numbers under the force-analysis keys
+    of a JSON answer, or the numbers carrying N, N·m, W or J in a text report (the forces of a file without masses
+    or loads). False when it reports no such number or any of them is not zero; the no-loads note counts as zeros."""
+    import json
+    if "no masses or loads" in stdout:
+        return True
+    try:
+        data = json.loads(stdout)
+    except ValueError:
+        data = None
+    values = []
+
+    def walk(x, under):
+        if isinstance(x, dict):
+            for k, v in x.items():
+                walk(v, under or any(key in str(k).lower() for key in RESULT_KEYS))
+        elif isinstance(x, list):
+            for v in x:
+                walk(v, under)
+        elif under and isinstance(x, (int, float)) and not isinstance(x, bool):
+            values.append(float(x))
+    if data is not None:
+        walk(data, False)
+    else:
+        values = [float(m.group(1)) for m in RESULT_LINE.finditer(stdout)]
+    return bool(values) and all(v == 0 for v in values)
+
+
+def test_only_zeros_tells_a_loaded_file_from_an_empty_one(capsys):
+    """The check of the tour below, on outputs it must tell apart: the forces of the bare slider-crank (every value
+    zero) and of paper 004's leg (its steel-bar masses)."""
+    from assur.cli.main import main
+    for args, zeros in ((["forces", "examples/slider_crank.toml", "--steps", "36"], True),
+                        (["forces", "examples/slider_crank.toml", "--at", "30", "--json"], True),
+                        (["forces", "examples/walker_fourbar.toml", "--steps", "36"], False),
+                        (["forces", "examples/walker_fourbar.toml", "--at", "30", "--at", "90", "--json"], False)):
+        assert main([a if not a.startswith("examples/") else str(ROOT / a) for a in args]) == 0
+        out = capsys.readouterr().out
+        # judged without the note (the output of a version that printed none), then with it
+        bare = "\n".join(line for line in out.splitlines() if "no masses or loads" not in line)
+        assert only_zeros(bare) == zeros, args
+        assert only_zeros(out) == zeros, args
+
+
+def test_the_tour_force_lines_show_forces(capsys, tmp_path):
+    """The README's force lines (run here in-process, quickly) print results that are not all zero (once they used a
+    file without masses: 17 rows of 0 N·m, 0 W, 0 J)."""
+    from assur.cli.main import main
+    lines = [c for c in tour_commands() if c[1] == "forces" or (c[1] == "plot" and "--forces" in c)]
+    assert len(lines) >= 3
+    for command in lines:
+        args, target = _rewrite(command, tmp_path)
+        assert main(args[1:]) == 0, command
+        out = capsys.readouterr().out
+        assert not only_zeros(out), " ".join(command)
+        assert target is None or target.stat().st_size > 0
 
 
 def test_tour_is_parsed():
@@ -88,4 +154,5 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
             assert target.is_dir() and any(target.iterdir()) or target.is_file() and target.stat().st_size > 0, shown
         else:
             assert run.stdout.strip(), f"{shown}: printed nothing"
+        assert not only_zeros(run.stdout), f"{shown}: prints only zeros"
     assert sorted(p.name for p in ROOT.iterdir()) == before, "a tour command wrote into the project directory"

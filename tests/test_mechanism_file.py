@@ -338,3 +338,27 @@ def test_dump_writes_atomically_or_not_at_all(tmp_path):
     with pytest.raises(OSError):
         assur.dump(m, tmp_path)
     assert [p.name for p in tmp_path.iterdir()] == ["copy.toml"]
+
+
+@pytest.mark.parametrize("value", ["[0, 0, 1]", "{ a = 1 }", "3"])
+def test_a_joint_that_is_not_a_kind_is_a_located_error(value):
+    """``[joints] A0 = [0, 0, 1]`` (an axis where a kind belongs) once ended in a TypeError (unhashable list)."""
+    text = rssr().replace('A = "spherical"', f'A = "spherical"\nA0 = {value}')
+    with pytest.raises(assur.SpecError) as info:
+        assur.loads(text)
+    msg = dict(info.value.problems)["joints.A0"]
+    assert "must be one of" in msg and "revolute" in msg
+    if value.startswith("[0"):
+        assert 'axis = [x, y, z]' in msg        # where an axis goes
+
+
+@pytest.mark.parametrize("points", ['[["O"], "A"]', '[{ a = 1 }, "A"]'])
+def test_link_points_that_are_not_names_are_a_located_error(points):
+    path = os.path.join(os.path.dirname(__file__), "..", "examples", "chebyshev_lambda.toml")
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    assert '[links.crank]\npoints = ["O", "B"]' in text
+    text = text.replace('[links.crank]\npoints = ["O", "B"]', f"[links.crank]\npoints = {points}")
+    with pytest.raises(assur.SpecError) as info:
+        assur.loads(text)
+    assert "links.crank.points[0]" in dict(info.value.problems)

@@ -147,3 +147,36 @@ def test_the_cli_refuses_an_empty_output_path(args, tmp_path):
                        text=True, cwd=tmp_path)
     assert r.returncode == 2 and "the path is empty" in r.stderr and "Traceback" not in r.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+# -- standard output into a pipe -------------------------------------------------------------------------------
+SLIDER = Path(__file__).resolve().parents[1] / "examples" / "slider_crank.toml"
+LEG = Path(__file__).resolve().parents[1] / "examples" / "walker_fourbar.toml"
+
+
+@pytest.mark.parametrize("csv", ["-", "/dev/stdout"])
+@pytest.mark.parametrize("command", [["solve", str(SLIDER), "--steps", "50"], ["forces", str(LEG), "--steps", "50"]])
+def test_csv_to_standard_output_in_a_pipe_is_the_csv_alone(csv, command):
+    """``--csv /dev/stdout`` into a pipe once failed (the link resolves to ``pipe:[…]``, which cannot be opened);
+    with the CSV on standard output, the report lines go to standard error so the pipe carries the table alone."""
+    r = subprocess.run([sys.executable, "-m", "assur", *command, "--csv", csv], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    rows = r.stdout.splitlines()
+    assert len(rows) == 1 + 50 and all(len(row.split(",")) == len(rows[0].split(",")) for row in rows)
+    float(rows[1].split(",")[0])                           # data, not a report line
+    assert f"wrote {csv}" in r.stderr and "error" not in r.stderr
+
+
+@pytest.mark.parametrize("command", [["solve", str(SLIDER), "--steps", "20000", "--csv", "-"],
+                                     ["solve", str(SLIDER), "--steps", "20000", "--csv", "/dev/stdout"],
+                                     ["analyze", str(LEG), "--json"]])
+def test_a_reader_that_closes_the_pipe_ends_the_command_quietly(command):
+    """``assur solve F --csv - | head -5``: the reader takes five lines and closes the pipe; the command ends
+    with status 0 and no error line, as Unix tools do (it once printed 'error: cannot write -: Broken pipe')."""
+    p = subprocess.Popen([sys.executable, "-m", "assur", *command], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    head = [p.stdout.readline() for _ in range(5)]
+    p.stdout.close()                                       # as `head -5` exits
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=300) == 0, err
+    assert all(head) and "error" not in err and "Traceback" not in err

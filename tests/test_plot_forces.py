@@ -60,7 +60,7 @@ def test_lever_moment_is_driver_times_speed(tmp_path, make):
 def test_lever_with_point_loads(tmp_path):
     plan = assur.compile(assur.load(_slider_crank(tmp_path)))
     q = np.linspace(0.0, 2 * math.pi, 12, endpoint=False)[:, None]
-    extra = [("A", np.array([5.0, -7.0]))]
+    extra = [("A", np.array([5.0, -7.0]), "rod")]        # A joins the crank and the rod: the rod carries it
     f = assur.forces(plan, None, q, point_loads=extra)
     lv = lever(plan, None, q, point_loads=extra)
     expected = f.driver[:, 0] * plan.speeds[0]
@@ -99,3 +99,23 @@ def test_cli_plot_forces(tmp_path, capsys):
     assert len(err) == 1 and "--at" in err[0] and "--forces" in err[0] and not bad.exists()
     assert main(["plot", str(f), "--forces", "--at", "x", "-o", str(bad)]) == 1
     assert "--at" in capsys.readouterr().err and not bad.exists()
+
+
+def test_torque_and_power_at_constant_speed_are_one_curve_with_two_scales():
+    """At a constant crank speed P = T·ω: once two curves on twin axes lay exactly on each other. Now one curve,
+    the power as the right axis's scale, which must be the torque scale times the file's ω (27 rpm)."""
+    from assur.plot.draw import close
+    from assur.plot.forces import torque_figure
+    plan = assur.compile(assur.load(EXAMPLES / "walker_fourbar.toml"))
+    fig = torque_figure(plan, 72)
+    try:
+        fig.canvas.draw()
+        data_lines = [ln for ax in fig.axes for ln in ax.get_lines() if len(ln.get_xdata()) > 2]
+        assert len(data_lines) == 1                              # the torque alone (the zero line has 2 points)
+        ax = fig.axes[0]
+        [sec] = [c for c in ax.child_axes if "power" in c.get_ylabel()]
+        omega = 27 * 2 * math.pi / 60                            # the file's crank speed, rad/s
+        assert plan.speeds[0] == pytest.approx(omega)
+        np.testing.assert_allclose(sec.get_ylim(), np.array(ax.get_ylim()) * omega, rtol=1e-9)
+    finally:
+        close(fig)

@@ -45,6 +45,7 @@ def test_the_file_design_is_the_same_either_way(plan):
         np.testing.assert_allclose(getattr(b, k), getattr(a, k), rtol=0, atol=1e-9, err_msg=k)
 
 
+@pytest.mark.slow
 def test_swept_designs_move_continuously_and_agree_where_the_default_does(plan):
     P = _designs(plan)
     a = assur.solve(plan, P[:, None, :], Q[:, None], order=1)

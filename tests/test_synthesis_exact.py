@@ -246,3 +246,58 @@ def test_seed_designs_from_pose_targets():
     X = seed_designs(problem, free=[[0, 0], [4, 0]])
     assert np.allclose(X, [[4, 1.5, 3.5, 3, 1, 1]], atol=1e-6)
     assert Evaluator(problem)(X).objective[0] < 1e-12
+
+
+# -- a candidate that misses its own precision points is rejected, with its residual and the reason -----------
+def _square_task(phi):
+    """y = x² on 1 ≤ x ≤ 3, x onto the crank's 40° → 130°, y onto the rocker's 230° → 320° (the task of issue 25)."""
+    x = 1 + (np.degrees(phi) - 40) / 90 * 2
+    return np.radians(230 + (x ** 2 - 1) / 8 * 90)
+
+
+def _engine_output(mech, phis):
+    """The rocker angle B0 → B the engine gives at the crank inputs ``phis`` (rad), on the sketch's branch."""
+    plan = assur.compile(mech)
+    st = assur.solve(plan, inputs=np.asarray(phis), order=0)
+    B, B0 = st.point("B").pos, np.asarray(mech.sketch("B0"))
+    return np.arctan2(B[:, 1] - B0[1], B[:, 0] - B0[0])
+
+
+def test_a_function_generator_on_the_other_branch_is_rejected_with_its_residual():
+    span = np.radians([40, 130])
+    sols = exact.function_candidates(span, _square_task, spacing="chebyshev", n=3)
+    assert list(sols) == [] and "branch defect" in sols.reason
+    assert exact.function_generation(span, _square_task, spacing="chebyshev", n=3) == []
+    [bad] = sols.rejected
+    assert bad.rank == 0 and bad.defects == ("branch: point 2 on the other assembly branch",)
+    # the engine, driven along the candidate's own branch, misses the middle point by the residual reported
+    phis = chebyshev_points(3, *span)
+    flip = np.pi if "+ π" in bad.mechanism.description else 0.0
+    err = np.abs(np.angle(np.exp(1j * (_engine_output(bad.mechanism, phis) + flip - _square_task(phis)))))
+    assert err[0] < 1e-9 and err[2] < 1e-9 and err[1] > np.radians(5)
+    assert bad.residual == pytest.approx(err.max(), rel=1e-6)
+    assert "rejected (branch" in repr(bad) and "residual 0.17" in repr(bad)
+
+
+def test_kept_function_generators_meet_their_points_and_say_how_they_are_ranked():
+    phis = np.linspace(0.3, 1.7, 3)
+    psis = output_angles(phis)
+    sols = exact.function_candidates(phis, psis, ground=4.0)
+    assert "residual" in sols.criterion and "transmission" in sols.criterion and sols.reason is None
+    for k, s in enumerate(sols, start=1):
+        assert s.rank == k and s.kept and s.defects == ()
+        err = np.abs(np.angle(np.exp(1j * (_engine_output(s.mechanism, phis) - psis))))
+        assert err.max() <= 1e-9 and s.residual <= 1e-9
+    r = repr(sols[0])
+    assert r.startswith("ExactSolution(#1: ") and "residual" in r and "transmission" in r
+    assert sols[0].rotatable == (sols[0].grashof in ("crank-rocker", "double-crank"))
+    assert repr(sols).startswith("Candidates: ")
+
+
+def test_motion_and_slider_candidates_count_what_they_drop():
+    poses = [[0, 0, 0], [1, 0.3, 0.2], [2, 0.2, 0.5]]
+    m = exact.motion_candidates(poses, limit=3)
+    assert len(m) == 3 and [s.rank for s in m] == [1, 2, 3] and sum(m.counts.values()) > 0
+    assert all(s.residual <= 1e-6 * 2 for s in m)
+    sc = exact.slider_candidates([0.3, 1.0, 1.7], [3.4, 3.1, 2.6])
+    assert sc and sc[0].rank == 1 and repr(sc[0]).startswith("SliderSolution(#1: ")

@@ -32,6 +32,36 @@ class SpecError(AssurError, ValueError):
         return head + f"{len(lines)} problems\n" + "\n".join("  " + ln for ln in lines)
 
 
+class ArgumentTypeError(SpecError, TypeError):
+    """An argument of the Python API of the wrong kind (a path where a plan belongs, text where numbers do);
+    ``problems`` names the argument. Also a TypeError, as Python's own type errors are."""
+
+
+class UnknownNameError(SpecError, KeyError):
+    """A name looked up that the mechanism does not have (a point, a parameter); ``problems`` names the argument
+    and lists the known names. Also a KeyError, as a failed look-up is."""
+
+    def __str__(self) -> str:           # SpecError's text, not KeyError's quoted repr
+        return SpecError.__str__(self)
+
+
+def float_array(value, name: str, what: str = "numbers"):
+    """``value`` as a float numpy array, or ArgumentTypeError naming the argument ``name`` (text, a mapping or
+    ragged lists where numbers belong)."""
+    import numpy as np
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        shown = repr(value)
+        shown = shown if len(shown) <= 60 else shown[:57] + "…"
+        raise ArgumentTypeError([(name, f"must be {what}: {shown}")]) from None
+
+
+def one_of(value, allowed) -> bool:
+    """True when ``value`` is one of the strings ``allowed`` (False for anything else, arrays included)."""
+    return isinstance(value, str) and value in allowed
+
+
 class StructureError(AssurError, ValueError):
     """The mechanism's structure cannot be decomposed or driven as described."""
 
@@ -62,6 +92,11 @@ class UnbuildableWarning(UserWarning):
 
 class SynthesisError(AssurError, RuntimeError):
     """A synthesis problem cannot be set up or run."""
+
+
+class SettingError(SpecError, SynthesisError):
+    """A setting of a synthesis run (method, budget, time limit, seed …) given in Python that is not a valid value;
+    ``problems`` names the argument. Both a SpecError (located) and a SynthesisError."""
 
 
 class ExpressionError(SpecError):

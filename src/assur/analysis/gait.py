@@ -37,6 +37,7 @@ from scipy.integrate import simpson
 from scipy.optimize import brentq
 
 from ..engine import State, solve
+from ..engine.plan import require_plan
 from ..errors import SpecError, UnbuildableError
 from ..kernels.arcs import arc_mask, population_contact, sampled_arcs
 from ..kernels.runs import cyclic_runs
@@ -250,7 +251,9 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         steps = len(plan.inputs)
     elif isinstance(plan, Cycle):
         steps = plan.steps
-    if steps < 16:
+    else:
+        require_plan(plan)
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 16:
         raise SpecError([("steps", f"must be at least 16: {steps}")])
     foot, ground, up = resolve_gait(plan.plan if isinstance(plan, (State, Cycle)) else plan, foot, ground, up)
     cycle, q, state = _grid(plan, params, steps)

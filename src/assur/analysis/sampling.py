@@ -13,7 +13,8 @@ import numpy as np
 
 from ..engine import solve
 from ..engine.options import CYCLE_STEPS as _CYCLE_STEPS
-from ..errors import SpecError
+from ..engine.plan import require_plan
+from ..errors import SpecError, float_array
 from ..tolerances import DEFAULT as TOL
 
 TWO_PI = 2.0 * math.pi
@@ -35,10 +36,13 @@ class Cycle:
     """
 
     def __init__(self, plan, params=None, steps: int = CYCLE_STEPS, *, ranges=None):
+        require_plan(plan)
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
+            raise SpecError([("steps", f"must be a whole number of samples: {steps!r:.40}")])
         steps = int(steps)
         if steps < 2:
             raise SpecError([("steps", f"must be at least 2 samples: {steps}")])
-        p = plan.defaults if params is None else np.asarray(params, dtype=float)
+        p = plan.defaults if params is None else float_array(params, "params", "numbers (the design parameters)")
         if p.shape != (plan.n_params,):
             raise SpecError([("params", f"must be one design of {plan.n_params} parameters: shape {p.shape}")])
         self.plan = plan

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..engine import geometry
+from ..engine.plan import require_plan
+from ..errors import float_array
 from ..kernels.runs import cyclic_runs
 from ..tolerances import DEFAULT as TOL
 from .sampling import TWO_PI, root_between, sign_changes
@@ -33,10 +35,15 @@ def _acute(a, b):
 
 def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
     """μ (rad) of each closed-form dyad, keyed by the point the dyad solves; arrays of state.shape."""
+    require_plan(plan)
+    if getattr(state, "pos", None) is None:
+        from ..errors import ArgumentTypeError
+        raise ArgumentTypeError([("state", f"must be a State of this plan (assur.solve(plan, …)), not "
+                                           f"{type(state).__name__}")])
     z = state.pos[..., 0] + 1j * state.pos[..., 1]
     idx = {p: i for i, p in enumerate(plan.point_names)}
     P = lambda name: z[..., idx[name]]  # noqa: E731
-    params = plan.defaults if params is None else np.asarray(params, dtype=float)
+    params = plan.defaults if params is None else float_array(params, "params", "numbers (the design parameters)")
     _, lines = geometry(plan, params)
     theta = None if all(st.kind not in ("RRP", "RPR", "PRP", "PPR") for st in plan.steps) \
         else state.body_angle      # body angles only where a slide's direction is needed

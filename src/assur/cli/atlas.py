@@ -78,6 +78,9 @@ def cmd_atlas(args) -> int:
         check_size(args.links, args.dof)
     except ValueError as exc:
         raise _bad("--links" if "too large" in str(exc) else "--dof", str(exc)) from None
+    if args.output is not None:            # an output it may not write is refused before the minutes of work
+        from ..io.output import check_output_directory
+        check_output_directory(args.output)
     summary = count(args.links, args.dof)
     entries = chains(args.links, args.dof)
     if args.output is not None:

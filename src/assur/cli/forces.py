@@ -6,15 +6,15 @@ quantities; with ``--at``: the reactions, slide forces and couples, driving effo
 """
 from __future__ import annotations
 
+import contextlib
 import math
-import os
-import stat
+import sys
 from pathlib import Path
 
 import numpy as np
 
 from ..analysis.sampling import CYCLE_STEPS
-from ..errors import OutputError, SpecError
+from ..errors import SpecError
 from .args import compile_file, path_arg, positive
 
 
@@ -32,23 +32,6 @@ def register(sub) -> None:
     sp.add_argument("--csv", type=path_arg, metavar="OUT", help="write one row per sample to this CSV file")
     sp.add_argument("--friction", action="store_true", help="include the file's Coulomb friction")
     sp.set_defaults(func=cmd_forces)
-
-
-def _check_csv(path) -> None:
-    """OutputError unless ``path`` can take a CSV file: a regular file or a new name in an existing directory."""
-    from ..io.output import check_writable
-    target = Path(os.path.realpath(path))
-    try:
-        mode = target.stat().st_mode
-    except OSError:
-        mode = None
-    if mode is not None and stat.S_ISDIR(mode):
-        raise OutputError(f"cannot write --csv {path}: it is a directory")
-    if mode is not None and not stat.S_ISREG(mode):
-        raise OutputError(f"cannot write --csv {path}: it is not a regular file")
-    parent = check_writable(path)
-    if not os.access(parent, os.W_OK):
-        raise OutputError(f"cannot write --csv {path}: the directory {parent} is not writable")
 
 
 def parse_at(plan, texts) -> np.ndarray:
@@ -76,15 +59,34 @@ def parse_at(plan, texts) -> np.ndarray:
 
 
 def cmd_forces(args) -> int:
-    from ..io.output import json_text, write_csv
-    from ..kinetostatics import forces
-    from ..kinetostatics.overview import check_one_driver, force_cycle, force_summary, has_loads
+    """``assur forces FILE``: the cycle's (or ``--at`` inputs') forces as text or ``--json``; ``--csv`` the rows."""
+    from ..io.output import check_writable, is_standard_output, write_csv
     from ..report import forces as text
     if args.csv:
-        _check_csv(args.csv)
+        check_writable(args.csv)      # before any work: a file, a new name, `-`, a device or a pipe (io/output.py)
+    # the CSV on standard output: the report goes to stderr, stdout is the CSV alone
+    with contextlib.redirect_stdout(sys.stderr) if is_standard_output(args.csv) else contextlib.nullcontext():
+        f = _report(args)
+    if args.csv:
+        header, rows = text.csv_table(f)
+        write_csv(args.csv, header, rows)
+        if not args.json:
+            print(f"wrote {args.csv} ({len(rows)} rows × {len(header)} columns)",
+                  file=sys.stderr if is_standard_output(args.csv) else sys.stdout)
+    return 0
+
+
+def _report(args):
+    """Print the forces' report (text or JSON) and return the Forces whose rows ``--csv`` writes."""
+    from ..io.output import json_text
+    from ..kinetostatics import forces
+    from ..kinetostatics.overview import NO_LOADS, check_one_driver, force_cycle, force_summary, has_loads
+    from ..report import forces as text
     m, plan = compile_file(args.file)
     check_one_driver(plan)
-    note = None if has_loads(m) else "the file has no masses or loads"
+    note = None if has_loads(m) else NO_LOADS
+    if note and not args.json:
+        print(f"note: {note}")             # the first line: the zeros below are not a result
     if args.at:
         q = parse_at(plan, args.at)
         f = forces(plan, None, q[:, None], friction=args.friction)
@@ -92,16 +94,13 @@ def cmd_forces(args) -> int:
         if bad:
             raise SpecError([("--at", f"the mechanism cannot be assembled at {', '.join(bad)}")])
         if args.json:
-            data = {"file": str(args.file), "samples": [text.at_dict(f, i) for i in range(len(q))]}
-            if note:
-                data["note"] = note
+            data = {"note": note} if note else {}
+            data |= {"file": str(args.file), "samples": [text.at_dict(f, i) for i in range(len(q))]}
             if args.friction:
                 data["friction"] = {"iterations": int(f.iterations), "converged": bool(f.converged)}
             print(json_text(data))
         else:
             print(f"{m.name or Path(args.file).stem}  [{args.file}]: forces at {len(q)} input(s)")
-            if note:
-                print(f"note: {note}")
             for i in range(len(q)):
                 for line in text.at_lines(f, i):
                     print(line)
@@ -114,15 +113,11 @@ def cmd_forces(args) -> int:
         f = cyc.forces
         s = force_summary(cyc, friction=args.friction)
         if args.json:
-            print(json_text({"file": str(args.file), **s}))
+            print(json_text({"note": s.pop("note")} | {"file": str(args.file), **s} if note else
+                            {"file": str(args.file), **s}))
         else:
             print(f"{m.name or Path(args.file).stem}  [{args.file}]: forces over one "
                   f"{'turn' if cyc.turn else 'working stroke'} (N, N·m, W, J)")
-            for line in text.summary_lines(s, plan):
+            for line in text.summary_lines({k: v for k, v in s.items() if k != "note"}, plan):   # noted above
                 print(line)
-    if args.csv:
-        header, rows = text.csv_table(f)
-        write_csv(args.csv, header, rows)
-        if not args.json:
-            print(f"wrote {args.csv} ({len(rows)} rows × {len(header)} columns)")
-    return 0
+    return f

@@ -75,10 +75,10 @@ def _run(argv) -> int:
     except ImportError as exc:   # an optional dependency (e.g. imageio-ffmpeg for MP4)
         print(format_error(exc), file=sys.stderr)
         return 1
-    except BrokenPipeError:      # e.g. `assur analyze --json f | head`
+    except BrokenPipeError:      # e.g. `assur analyze --json f | head`: the reader took what it wanted
         with contextlib.suppress(OSError):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
+        return 0
     except OSError as exc:       # an output cannot be written
         name = f" {exc.filename}" if getattr(exc, "filename", None) else ""
         print(f"error: cannot write{name}: {exc.strerror or exc}", file=sys.stderr)

@@ -144,9 +144,14 @@ def cmd_info(args) -> int:
 
 def cmd_solve(args) -> int:
     """``assur solve FILE --steps N``: solve a turn (or ``--range``), print an excerpt, write ``--csv``."""
+    import sys
+
     from ..analysis.sampling import sweep_inputs, tracked_point
     from ..engine import solve
+    from ..io.output import is_standard_output
     from ..report import table
+    # the CSV on standard output (`--csv -`, `--csv /dev/stdout`): the report lines go to stderr, stdout is the CSV
+    report = sys.stderr if is_standard_output(args.csv) else sys.stdout
     m, plan = compile_file(args.file)
     q, moving, cyclic = sweep_inputs(plan, args.steps, input_ranges(plan, args))
     state = solve(plan, None, q)
@@ -155,16 +160,18 @@ def cmd_solve(args) -> int:
     what = (f"{len(q)} positions of {plan.input_names[moving]} over one turn" if cyclic
             else f"{len(q)} samples of {', '.join(plan.input_names)} over the given range(s)")
     spatial = " (spatial)" if plan.dimension == 3 else ""
-    print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled")
+    print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled", file=report)
     if plan.dimension == 3 and state.n_unbuildable:
         from ..engine.spatial.numpy_backend import unbuildable_message
-        print("  " + unbuildable_message(plan, state.inputs, state.valid, state.status))
+        print("  " + unbuildable_message(plan, state.inputs, state.valid, state.status), file=report)
     heads, row = table.excerpt(plan, state, values, tracked_point(plan), args.file_units)
-    _emit(table.excerpt_lines(heads, row, len(q), bool(args.csv)))
+    for line in table.excerpt_lines(heads, row, len(q), bool(args.csv)):
+        print(line, file=report)
     if args.csv:
+        report.flush()
         table.write_csv(args.csv, cols, values)
         print(f"wrote {args.csv} ({len(values)} rows × {len(cols)} columns, "
-              f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})")
+              f"{'file units and degrees' if args.file_units else 'SI units: m, rad, s'})", file=report)
     return 0
 
 
@@ -270,11 +277,13 @@ def _plot_centres(args, plan, ext, ranges) -> int:
 def _plot_forces(args, plan, ext) -> int:
     """``assur plot FILE --forces -o OUT``: the sheet of force figures."""
     from ..analysis.study import Study
-    from ..kinetostatics.overview import check_one_driver
+    from ..kinetostatics.overview import NO_LOADS, check_one_driver, has_loads
     from ..plot.forces import forces_figure
     from .forces import parse_at
     if plan.dimension == 3:
         raise SpecError([("--forces", "the force figures are for planar mechanisms")])
+    if not has_loads(plan.mechanism):          # a sheet of zeros would look like a result: nothing is drawn
+        raise SpecError([("--forces", f"{NO_LOADS}; nothing was drawn")])
     check_one_driver(plan)
     at = None if args.at is None else float(parse_at(plan, [args.at])[0])
     fig = forces_figure(plan, at=at, cycle=Study(plan, steps=args.steps).force_cycle, dpi=args.dpi)

@@ -1,7 +1,7 @@
 """``assur synth PROBLEM.toml``: dimensional synthesis from a problem file (``format = "assur-synth/1"``).
 
-Prints the objective reached, the evaluations, the wall time and the best design's variables and
-metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
+Prints the objective reached, the evaluations, the wall time of the whole command (loading the problem,
+starting and stopping the workers included) and the best design's variables and metrics; ``-o BEST.toml`` writes the best design as a mechanism file, ``--json`` prints one JSON
 object. Ctrl-C, ``--budget`` and ``--time`` end the run early and keep the best design found; an interrupted run
 (Ctrl-C) still reports and writes it, then exits with status 130 like every interrupted command (0 done, 3 no
 feasible design, 1 bad input or a missing optional package such as cma for ``--method cmaes``).
@@ -40,7 +40,9 @@ def register(sub) -> None:
     sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
     sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
                     help=f"objective evaluations in all (default {DEFAULT_BUDGET} with the restart method)")
-    sp.add_argument("--time", type=positive_float, default=None, metavar="T", help="wall-time limit in seconds")
+    sp.add_argument("--time", type=positive_float, default=None, metavar="T",
+                    help="wall-time limit in seconds for the whole run (every start, worker, restart and polish); it "
+                         "ends within one evaluation batch of the limit (docs/synthesis.md)")
     sp.add_argument("--starts", type=positive(1), default=None, metavar="K", help="independent starts (default 1)")
     sp.add_argument("--popsize", type=positive(2), default=None, metavar="P",
                     help="population per variable (default 15)")
@@ -56,16 +58,93 @@ def register(sub) -> None:
     sp.add_argument("--plot", type=output_path((".png", ".svg", ".pdf")), default=None, metavar="FIG",
                     help="draw the targets against the best design, the per-target distances and the convergence "
                          "history (.png, .svg or .pdf)")
+    sp.add_argument("--backend", choices=("numpy", "numba"), default=None,
+                    help="the engine of every evaluation (default: numba, when installed, for a run long enough to "
+                         "win back the first compile of its kernels — about 10 s of numpy evaluations by an estimate "
+                         "from the problem's size, or a time limit of at least 60 s; numpy for a shorter run)")
     sp.add_argument("--json", action="store_true", help="print one JSON object")
     sp.add_argument("--quiet", action="store_true", help="no progress bar")
+    ex = sp.add_argument_group("exact synthesis (closed form, no optimiser): function targets (Freudenstein) or "
+                                 "3–5 poses (Burmester) of a four-bar")
+    ex.add_argument("--exact", action="store_true",
+                    help="solve the problem's targets in closed form and print the ranked four-bars (residual, "
+                         "Grashof class, rotatability, defects); -o writes the best")
+    ex.add_argument("--grashof", default=None, metavar="CLASS",
+                    help="with --exact: keep only this Grashof class (crank-rocker, double-crank, rocker-crank, "
+                         "double-rocker, triple-rocker, grashof, crank)")
+    ex.add_argument("--limit", type=positive(1), default=20, metavar="K", help="with --exact: candidates kept (20)")
+    ex.add_argument("--report", type=path_arg, default=None, metavar="DIR",
+                    help="with --exact: write the page of the candidates (DIR/index.html, DIR/best.toml)")
     sp.set_defaults(func=cmd_synth)
 
 
-def cmd_synth(args) -> int:
+#: the optimisers' options, which an exact synthesis refuses (it has no search to set)
+SEARCH_OPTIONS = ("method", "polish", "seed", "budget", "time", "starts", "popsize", "maxiter", "target", "strategy",
+                  "workers", "dask", "plot", "backend")
+
+
+def cmd_exact(args) -> int:
+    """``assur synth PROBLEM --exact``: the closed-form four-bars of the problem's targets, ranked."""
+    from ..errors import SpecError
     from ..io.mechanism_file import dumps
-    from ..io.output import atomic_file, check_writable
+    from ..io.output import atomic_file, check_output_directory, check_writable, json_text
+    from ..synthesis import load_problem
+    from ..synthesis.exact import GRASHOF_FILTERS
+    from ..synthesis.exact_task import as_dict, exact_task, table_rows
+    given = [f"--{o}" for o in SEARCH_OPTIONS if getattr(args, o, None) is not None]
+    if given:
+        raise SpecError([(", ".join(given), "is an option of the optimisers; --exact solves in closed form")])
+    if args.grashof is not None and args.grashof not in GRASHOF_FILTERS:
+        raise SpecError([("--grashof", f"must be one of {', '.join(GRASHOF_FILTERS)}: {args.grashof!r}")])
+    if args.output is not None:
+        check_writable(args.output)
+    if args.report is not None:
+        check_output_directory(args.report)
+    problem = load_problem(args.file)
+    task = exact_task(problem, grashof=args.grashof, limit=args.limit)
+    c = task.candidates
+    written = page = None
+    if args.output is not None and len(c):
+        with atomic_file(args.output) as tmp:
+            tmp.write_text(dumps(c[0].mechanism, clean=True), encoding="utf-8")
+        written = str(args.output)
+    if args.report is not None:
+        from ..report.exact import write_exact_report
+        page = str(write_exact_report(problem, task, args.report, source=str(args.file)))
+    if args.json:
+        print(json_text({"problem": problem.name, "source": str(args.file), **as_dict(task), "written": written,
+                         "report": page}))
+        return 0 if len(c) else 3
+    print(f"{problem.name or Path(args.file).stem}  [{args.file}]: exact synthesis")
+    print(f"method: {task.method}")
+    head, rows = table_rows(task)
+    widths = [max(len(str(r[i])) for r in [head] + rows) for i in range(len(head))]
+    for r in [head] + rows:
+        print("  " + "  ".join(str(v).ljust(w) if i in (2, 3, 5, 6) else str(v).rjust(w)
+                               for i, (v, w) in enumerate(zip(r, widths))).rstrip())
+    print(f"ranked by {c.criterion}")
+    if c.counts:
+        print("dropped: " + ", ".join(f"{k}: {v}" for k, v in c.counts.items()))
+    if not len(c):
+        print(f"error: {c.reason}", file=sys.stderr)
+    for what in (written, page):
+        if what:
+            print(f"wrote {what}")
+    return 0 if len(c) else 3
+
+
+def cmd_synth(args) -> int:
+    if args.exact:
+        return cmd_exact(args)
+    for opt in ("grashof", "report"):
+        if getattr(args, opt) is not None:
+            from ..errors import SpecError
+            raise SpecError([(f"--{opt}", "is an option of the exact synthesis: add --exact")])
+    import time
+    started = time.monotonic()         # --time and the wall time printed count from here: the whole run
+    from ..io.mechanism_file import dumps
+    from ..io.output import atomic_file, check_writable, json_text
     from ..synthesis import load_problem, make_executor, synthesize
-    from ..io.output import json_text
     check_packages(args)               # a missing optional package: say so before any work
     problem = load_problem(args.file)
     for out in (args.output, args.plot):
@@ -77,11 +156,17 @@ def cmd_synth(args) -> int:
         print(f"note: no progress bar without the optional package 'tqdm': {TQDM_INSTALL}", file=sys.stderr)
     executor = make_executor(args.workers, args.dask)
     try:
-        result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=args.time,
+        # the limit covers the whole command: what loading the problem took is spent already
+        left = None if args.time is None else max(args.time - (time.monotonic() - started), 1e-3)
+        result = synthesize(problem, args.method, seed=args.seed, budget=args.budget, time_limit=left,
                             starts=args.starts, polish=args.polish, popsize=args.popsize, maxiter=args.maxiter,
-                            executor=executor, progress=progress, target=args.target, strategy=args.strategy)
+                            executor=executor, progress=progress, target=args.target, strategy=args.strategy,
+                            backend=args.backend)
     finally:
         executor.close()
+    result.seconds = time.monotonic() - started      # the real wall time: loading, workers' start and stop included
+    if args.time is not None:
+        result.settings["time"] = args.time
     written = None
     if args.output is not None:
         text = dumps(result.mechanism(), clean=True)
@@ -154,7 +239,7 @@ def settings_line(settings: dict) -> str:
     """The run's settings with where each came from: ``method restart (default), budget 20000 (file), …``."""
     sources = settings.get("sources", {})
     shown = []
-    for key in ("method", "budget", "time", "target", "starts", "popsize", "strategy", "polish", "maxiter"):
+    for key in ("method", "budget", "time", "target", "starts", "popsize", "strategy", "polish", "maxiter", "backend"):
         v = settings.get(key)
         if v is None:
             continue
@@ -193,3 +278,5 @@ def check_packages(args) -> None:
         require("cma", "--method cmaes", CMA_INSTALL)
     if args.dask:
         require("distributed", "--dask", DASK_INSTALL)
+    if getattr(args, "backend", None) == "numba":
+        require("numba", "--backend numba", "pip install numba (or pip install 'assur[fast]')")

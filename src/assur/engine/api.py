@@ -8,8 +8,8 @@ import numpy as np
 
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
-from .plan import PlanarPlan, SpatialPlan
+from .options import AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
+from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
 from .planar.numpy_backend import finish, solve_numpy
@@ -24,6 +24,7 @@ def compile(m: Mechanism, *, tolerances=DEFAULT, structure=None):  # noqa: A001 
     """Compile a mechanism into a solve plan (:class:`PlanarPlan` or :class:`SpatialPlan`, by its
     ``dimension``). Raises StructureError / SpecError with the location of every problem. ``structure``: the
     mechanism's ``assur.structure.assur.analyse(m)`` when the caller has it already (planar only)."""
+    require_mechanism(m)
     if structure is not None and m.dimension == 2:
         return compile_planar(m, tolerances=tolerances, structure=structure)
     return COMPILERS[m.dimension](m, tolerances=tolerances)
@@ -54,8 +55,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     backend : {'auto', 'numpy', 'numba'}
         'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
         batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
-        for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed. Both
-        give the same numbers.
+        when numba is installed for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples whose kernel
+        is compiled already (in this process or in the disk cache), and compiles it first only for a batch
+        of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs seconds). Both give the same numbers to round-off.
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
@@ -67,21 +69,28 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     State or SpatialState
         ``pos (..., n_points, dim)``, ``vel``, ``acc``, ``dpos_dq``, ``d2pos_dq2``, ``valid (...)`` …
     """
+    require_plan(plan)
     check_options(on_unbuildable, method, order, backend)
     params, inputs = prepare_batch(plan, params, inputs)
     shape = np.broadcast_shapes(params.shape[:-1], inputs.shape[:-1])
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
-    if not isinstance(plan, PlanarPlan):
-        raise TypeError(f"solve needs a plan from assur.compile, not {type(plan).__name__}")
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
+    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order))):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
                                 required=backend == "numba")
         if state is not None:
             return state
     return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
                        sweep=sweep)
+
+
+def _compiled_pays(plan, size: int, order: int) -> bool:
+    """backend="auto": the compiled kernel for a batch of ``size`` samples when it is compiled already and the batch
+    is large enough to gain from it, or when the batch alone wins back a first compile (engine/options.py)."""
+    if size >= AUTO_COMPILE_MIN_SAMPLES:
+        return True
+    return size >= AUTO_COMPILED_MIN_SAMPLES and numba_backend.kernel_ready(plan, False, order)
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):

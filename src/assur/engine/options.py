@@ -7,14 +7,18 @@ import warnings
 
 import numpy as np
 
-from ..errors import SpecError, UnbuildableError, UnbuildableWarning
+from ..errors import SpecError, UnbuildableError, UnbuildableWarning, float_array, one_of
 from ..kernels.runs import runs
 
 ON_UNBUILDABLE = ("nan", "warn", "raise")
 METHODS = ("closed", "newton")
 BACKENDS = ("auto", "numpy", "numba")
-#: with backend="auto", batches at least this large use the compiled backend when numba is installed
+#: with backend="auto", batches at least this large use the compiled backend when numba is installed and the
+#: plan's kernel is compiled already (in this process or in the disk cache) …
 AUTO_COMPILED_MIN_SAMPLES = 20_000
+#: … and batches at least this large compile it first: a new mechanism's kernel takes seconds to compile, which
+#: only a batch this size wins back at once (the numpy backend solves about a million samples a second)
+AUTO_COMPILE_MIN_SAMPLES = 5_000_000
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.
@@ -23,13 +27,13 @@ CYCLE_STEPS = 720
 
 def check_options(on_unbuildable: str, method: str, order: int, backend: str = "auto") -> None:
     """SpecError unless the options of a solve (planar or spatial) are known values."""
-    if on_unbuildable not in ON_UNBUILDABLE:
+    if not one_of(on_unbuildable, ON_UNBUILDABLE):
         raise SpecError([("on_unbuildable", f"must be one of {', '.join(ON_UNBUILDABLE)}: {on_unbuildable!r}")])
-    if method not in METHODS:
+    if not one_of(method, METHODS):
         raise SpecError([("method", f"must be 'closed' or 'newton': {method!r}")])
-    if order not in (0, 1, 2):
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order not in (0, 1, 2):
         raise SpecError([("order", f"must be 0, 1 or 2: {order!r}")])
-    if backend not in BACKENDS:
+    if not one_of(backend, BACKENDS):
         raise SpecError([("backend", f"must be 'auto', 'numpy' or 'numba': {backend!r}")])
 
 
@@ -42,11 +46,11 @@ def prepare_batch(plan, params, inputs):
     params : ndarray (..., n_params)
     inputs : ndarray (..., n_inputs)
     """
-    params = plan.defaults if params is None else np.asarray(params, dtype=float)
+    params = plan.defaults if params is None else float_array(params, "params", "numbers (the design parameters)")
     if params.ndim == 0 or params.shape[-1] != plan.n_params:
         raise SpecError([("params", f"must have a trailing axis of {plan.n_params} parameters "
                                     f"({', '.join(plan.param_names)}): shape {params.shape}")])
-    inputs = plan.sketch_inputs if inputs is None else np.asarray(inputs, dtype=float)
+    inputs = plan.sketch_inputs if inputs is None else float_array(inputs, "inputs", "numbers (rad or m)")
     if plan.n_inputs == 1 and (inputs.ndim <= 1 or inputs.shape[-1] != 1):
         inputs = inputs[..., None]   # one input: a scalar or a 1-D array is a batch of input values
     if inputs.shape[-1] != plan.n_inputs:
@@ -59,10 +63,12 @@ def input_rates(plan, speeds, accels):
     """The input rates ``qdot`` and accelerations ``qddot``, each (..., n_inputs): the drivers'
     speeds and zero by default."""
     n = plan.n_inputs
-    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
-    qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
-    if qdot.shape[-1:] != (n,) or qddot.shape[-1:] != (n,):
-        raise SpecError([("speeds", f"speeds and accels need a trailing axis of {n} inputs")])
+    qdot = plan.speeds if speeds is None else float_array(speeds, "speeds", "numbers (rad/s or m/s)")
+    qddot = np.zeros(n) if accels is None else float_array(accels, "accels", "numbers (rad/s² or m/s²)")
+    for name, v in (("speeds", qdot), ("accels", qddot)):
+        if v.shape[-1:] != (n,):
+            raise SpecError([(name, f"needs a trailing axis of {n} input(s) ({', '.join(plan.input_names)}): "
+                                    f"shape {v.shape}")])
     return qdot, qddot
 
 

@@ -23,8 +23,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..errors import SpecError
-from ..model.mechanism import Mechanism
+from ..errors import ArgumentTypeError, SpecError, UnknownNameError
+from ..model.mechanism import Mechanism, require_mechanism  # noqa: F401 - re-exported for the engine
 from ..structure.assur import Structure
 
 #: step kinds; the position in this tuple is the integer code in ``plan.step_kind``
@@ -396,13 +396,15 @@ class PlanBase:
         try:
             return self.param_names.index(name)
         except ValueError:
-            raise KeyError(f"unknown parameter {name!r} (known: {', '.join(self.param_names)})") from None
+            raise UnknownNameError([("name", f"unknown parameter {name!r} (known: {', '.join(self.param_names)})")]
+                                   ) from None
 
     def point_index(self, name: str) -> int:
         try:
             return self.point_names.index(name)
         except ValueError:
-            raise KeyError(f"unknown point {name!r} (known: {', '.join(self.point_names)})") from None
+            raise UnknownNameError([("name", f"unknown point {name!r} (known: {', '.join(self.point_names)})")]
+                                   ) from None
 
     def params_with(self, **changes) -> np.ndarray:
         """A copy of the defaults with named parameters changed (SI), e.g. ``crank.length=0.2``;
@@ -523,3 +525,22 @@ class SpatialPlan(PlanBase):
 
     def crank_steps(self) -> list:
         return self.steps_of("crank")
+
+
+def require_plan(plan, what: str = "plan", planar: bool = False):
+    """``plan`` when it is a plan from ``assur.compile`` (a planar one with ``planar``), else ArgumentTypeError
+    naming the argument ``what`` (a Mechanism or a path given where its plan belongs gets the call to make)."""
+    kinds = PlanarPlan if planar else PlanBase
+    if isinstance(plan, kinds):
+        return plan
+    got = type(plan).__name__
+    hint = ""
+    if isinstance(plan, Mechanism):
+        hint = ": compile it first, plan = assur.compile(mechanism)"
+    elif isinstance(plan, str) or hasattr(plan, "__fspath__"):
+        hint = ": load and compile the file first, plan = assur.compile(assur.load(path))"
+    need = "a planar plan" if planar else "a plan"
+    if planar and isinstance(plan, PlanBase):
+        got = "a spatial plan"
+    raise ArgumentTypeError([(what, f"must be {need} from assur.compile, not {got}{hint}")])
+

@@ -64,6 +64,9 @@ class Builder:
     # -- the tables --------------------------------------------------------------------------------------
     def _put(self, table: str, key: str, value) -> "Builder":
         section = self._doc.setdefault(table, {})
+        if not isinstance(key, str):            # a name that is not text: refused where it is given
+            self._problems.append((f"{table}.{key!r:.40}", f"a name must be text: {key!r:.40}"))
+            return self
         if key in section:
             self._problems.append((f"{table}.{key}", "is defined twice"))
         else:

@@ -88,6 +88,11 @@ def _vector(v, path, P, dimension, kind):
         if not all(_number(c) for c in v):
             P.add(path, f"must be [{', '.join('xyz'[:dimension])}] numbers (m/s²): {v!r}")
             return None
+        g = math.hypot(*(float(c) for c in v))
+        if g > U.MAX_GRAVITY:
+            P.add(path, f"|g| = {g:.4g} m/s² is beyond any machine's ground (at most {U.MAX_GRAVITY:g} m/s², about "
+                        f"100 g; the Earth's is 9.81): {v!r}")
+            return None
         return tuple(float(c) for c in v)
     out = [_quantity(P, f"{path}[{j}]", c, kind) for j, c in enumerate(v)]
     return None if any(c is None for c in out) else tuple(out)
@@ -179,8 +184,10 @@ def _law(v, path, P, dimension, input_factor):
     return LoadLaw(tuple(float(c) * input_factor for c in inp), tuple(rows)), kind
 
 
-def read_loads(data, P, dimension, point_names, body_points, input_factor):
-    """The ``[[loads]]``. ``body_points``: body name → its points (links, blocks, cylinders, rods)."""
+def read_loads(data, P, dimension, point_names, body_points, input_factor, place=None):
+    """The ``[[loads]]``. ``body_points``: body name → its points (links, blocks, cylinders, rods); ``place(point)``
+    the body a force at a point without ``link`` acts on (ValueError where that is ambiguous: the rule of
+    :func:`assur.model.dynamics.load_body`)."""
     ldata = P.section(data, "loads", "must be an array of tables [[loads]]", list)
     loads = []
     for i, spec in enumerate(ldata):
@@ -212,6 +219,11 @@ def read_loads(data, P, dimension, point_names, body_points, input_factor):
             law, kind = _law(spec["law"], f"{path}.law", P, dimension, input_factor)
         if kind == "force" and point is None:
             P.add(f"{path}.point", "a force needs the point it acts at")
+        elif kind == "force" and link is None and point in point_names and place is not None:
+            try:
+                place(point)
+            except ValueError as exc:
+                P.add(f"{path}.link", str(exc))
         if kind == "torque" and link is None:
             P.add(f"{path}.link", "a torque needs the link it acts on")
         opposes = spec.get("opposes")
@@ -262,7 +274,12 @@ def read_dynamics(data, P, *, units, dimension, length_factor, point_names, link
     input_factor = None
     if drivers:
         input_factor = U.ANGLE[units.angle] if drivers[0].kind == "rotary" else U.LENGTH[units.length]
-    loads = read_loads(data, P, dimension, point_names, body_points, input_factor)
+    from ..model.dynamics import load_body
+    from ..model.mechanism import bodies_at
+
+    def place(point):
+        return load_body(point, None, *bodies_at(point, links, prismatic, actuators))
+    loads = read_loads(data, P, dimension, point_names, body_points, input_factor, place)
     dyn = P.section(data, "dynamics", "must be a table [dynamics]")
     if "dynamics" not in data and not bodies and not loads:
         return None

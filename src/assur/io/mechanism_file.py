@@ -85,7 +85,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("points", "must be a non-empty table of name = [x, y]")
         pdata = {}
     for name, xy in pdata.items():
-        if not _NAME.match(name):
+        if not isinstance(name, str) or not _NAME.match(name):
             P.add(f"points.{name}", "a point name must start with a letter or '_' and hold only letters, digits, _ or '")
         if (not isinstance(xy, list) or len(xy) != dimension or not all(_num(c) for c in xy)):
             P.add(f"points.{name}", f"must be [{', '.join('xyz'[:dimension])}] numbers: {xy!r}")
@@ -103,7 +103,7 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         P.add("links", f"must include the ground link '{FRAME}' (links: {', '.join(ldata)})")
     for lname, spec in ldata.items():
         path = f"links.{lname}"
-        if not _NAME.match(lname):
+        if not isinstance(lname, str) or not _NAME.match(lname):
             P.add(path, "a link name must start with a letter or '_' and hold only letters, digits, _ or '")
         length = None
         place: list[tuple[str, Placement]] = []
@@ -131,6 +131,8 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
         if not plist:
             P.add(ppath, "a link needs at least one point")
             ok = False
+        if not ok:             # names that are not strings go no further (nothing below could use them)
+            plist = [pn for pn in plist if isinstance(pn, str)]
         if isinstance(spec, dict):
             if "length" in spec:
                 if lname == FRAME:
@@ -322,8 +324,10 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
             axis = _joint_axis(spec.get("axis"), A, f"joints.{pn}.axis", P)
         if pn not in point_names:
             P.add(f"joints.{pn}", f"unknown point {pn!r} {_known(point_names)}")
-        elif kind not in _JOINT_KINDS:
-            P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}: {kind!r}")
+        elif not isinstance(kind, str) or kind not in _JOINT_KINDS:
+            hint = (f" (an axis goes in a table: {pn} = {{kind = \"revolute\", axis = [x, y, z]}})"
+                    if isinstance(kind, list) else "")
+            P.add(f"joints.{pn}", f"must be one of {', '.join(sorted(_JOINT_KINDS))}{hint}: {kind!r}")
         else:
             joints.append(Joint(pn, kind, axis))
     if joints and dimension == 2 and any(j.kind != "revolute" for j in joints):

@@ -241,7 +241,8 @@ def _write_dynamics(d: dict, m: Mechanism, ln) -> None:
 
 def dumps(m: Mechanism, clean: bool = False) -> str:
     """The mechanism as TOML text (``clean``: rounding noise as 0, see :func:`as_dict`)."""
-    return write_toml(as_dict(m, clean))
+    from ..model.mechanism import require_mechanism
+    return write_toml(as_dict(require_mechanism(m), clean))
 
 
 def dump(m: Mechanism, path=None, clean: bool = False) -> str:

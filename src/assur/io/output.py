@@ -3,8 +3,10 @@
 ``atomic_file(path)`` yields a temporary path to write; on success it becomes ``path``:
 
 - a regular file (or a new name) is replaced atomically (the temporary file sits next to it);
-- ``-`` is standard output, and a character device, block device or FIFO (``/dev/null``, a named pipe) is
-  written through: the complete content is copied into it, the node itself is never replaced;
+- ``-`` is standard output, and a character device, block device or FIFO (``/dev/null``, a named pipe,
+  ``/dev/stdout`` into a pipe) is written through: the complete content is copied into it, the node itself is never
+  replaced; a reader that closes the pipe early (``| head``) raises BrokenPipeError, which the command line ends
+  quietly with status 0, as Unix tools do;
 - a symbolic link is followed: what it points to is written by the rules above and the link stays;
 - a directory, a socket or an empty path is refused with :class:`~assur.errors.OutputError`.
 
@@ -46,11 +48,21 @@ MARKER = ".assur-output"
 
 
 def _target(path) -> Path:
-    """The path to write: ``path`` with symbolic links followed; OutputError for an empty path."""
+    """The path to write: ``path`` with symbolic links followed; OutputError for an empty path. A link to a device
+    or a pipe stays as given (``/dev/stdout`` into a pipe resolves to ``/proc/<pid>/fd/pipe:[…]``, a name that
+    cannot be opened, while the link itself opens the pipe)."""
     if str(path) == "":
         raise OutputError("the output path is empty")
     path = Path(path)
-    return Path(os.path.realpath(path)) if path.is_symlink() else path
+    if not path.is_symlink():
+        return path
+    try:
+        mode = path.stat().st_mode
+    except OSError:
+        mode = 0
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISFIFO(mode):
+        return path
+    return Path(os.path.realpath(path))
 
 
 def _write_through(path: Path) -> bool:
@@ -62,6 +74,20 @@ def _write_through(path: Path) -> bool:
     except OSError:
         return False
     return stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISFIFO(mode)
+
+
+def is_standard_output(path) -> bool:
+    """True when ``path`` is this process's standard output (``-``, ``/dev/stdout`` or another name of the same
+    file or pipe): a command writing its data there sends its report lines to standard error instead."""
+    if path is None:
+        return False
+    if str(path) == "-":
+        return True
+    try:
+        here, there = os.fstat(sys.stdout.fileno()), os.stat(path)
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
 
 
 def check_writable(path) -> Path:
@@ -104,6 +130,8 @@ def atomic_file(path):
             else:
                 with open(target, "wb") as out, open(tmp, "rb") as src:
                     shutil.copyfileobj(src, out)
+        except BrokenPipeError:
+            raise                   # the reader has gone (``| head``): the command ends quietly (cli.main)
         except OSError as exc:
             raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from None
     finally:

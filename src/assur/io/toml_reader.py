@@ -21,6 +21,9 @@ MAX_NESTING = 32
 
 def read_text(path) -> str:
     """A document's text; SpecError naming the file if it is missing, unreadable or too large."""
+    if not isinstance(path, str) and not hasattr(path, "__fspath__") or str(path) == "":
+        from ..errors import ArgumentTypeError
+        raise ArgumentTypeError([("path", f"must be a file's path (text or a pathlib.Path): {path!r:.60}")])
     path = Path(path)
     try:
         with open(path, "rb") as fh:
@@ -48,6 +51,11 @@ def _depth(x, limit: int) -> int:
 def parse_toml(text: str, source: str | None = None) -> dict:
     """TOML text as a dict; SpecError (of the document ``source``) with the parser's position if it is not
     valid TOML."""
+    if not isinstance(text, str):
+        from ..errors import ArgumentTypeError
+        hint = " (decode bytes first: data.decode('utf-8'))" if isinstance(text, (bytes, bytearray)) else ""
+        raise ArgumentTypeError([("text", f"must be the document's TOML text (str), not {type(text).__name__}"
+                                          f"{hint}")], source)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -40,6 +40,18 @@ QUANTITIES = {"mass": (MASS, "1 kg"), "inertia": (INERTIA, "0.02 kg*m^2"), "forc
               "pressure": (PRESSURE, "100 bar"), "area": (AREA, "20 cm^2"), "flow": (FLOW, "10 L/min")}
 #: a mass, inertia, force or torque above this in magnitude (SI) is a typo, not a machine
 MAX_QUANTITY = 1e12
+#: the largest magnitude (SI) a quantity of each kind may have, with the physical reason (docs/format.md, "Bounds"):
+#: a larger value is a typo or a unit slip, and it would only give forces that no machine carries (the other kinds:
+#: MAX_QUANTITY)
+LIMITS = {
+    "mass": (1e8, "kg", "100 000 t: more than the heaviest moving machine parts (a ship lift's caisson, 15 500 t)"),
+    "inertia": (MAX_QUANTITY, "kg*m^2", "a typo, not a machine"),
+    "force": (1e9, "N", "1 GN: more than the largest forging presses (0.8 GN)"),
+    "torque": (1e9, "N*m", "1 GN·m: a hundred times the largest marine diesel engine's shaft torque (7.6 MN·m)"),
+}
+#: the largest acceleration of free fall (m/s²) a [dynamics] gravity may have: about 100 g (a frame accelerating
+#: faster is a projectile, not a mechanism's ground)
+MAX_GRAVITY = 1000.0
 
 
 def _unit_name(text: str) -> str:
@@ -65,17 +77,26 @@ def _quantity(text, table: dict[str, float], bare: float, example: str) -> float
 
 def parse_quantity(text, kind: str, units=None) -> float:
     """A mass (kg), moment of inertia (kg·m²), force (N), torque (N·m) or, with the file's ``units``, a length
-    (m) or an angle (rad) from ``"<number> <unit>"`` or a bare number (SI; a length or angle in the file's unit). Raises SpecError on a
-    bad unit or a value that is not finite or not below :data:`MAX_QUANTITY` (a length: 1e9 m)."""
-    if kind == "length":
-        table, example, bare, limit = LENGTH, f"1 {units.length}", LENGTH[units.length], 1e9
-    elif kind == "angle":
-        table, example, bare, limit = ANGLE, f"30 {units.angle}", ANGLE[units.angle], 1e9
-    else:
-        (table, example), bare, limit = QUANTITIES[kind], 1.0, MAX_QUANTITY
+    (m) or an angle (rad) from ``"<number> <unit>"`` or a bare number (SI; a length or angle in the file's unit). Raises
+    SpecError on a bad unit or a value that is not finite or beyond its bound in :data:`LIMITS` (a length or an
+    angle: 1e9 m or rad)."""
+    if kind in ("length", "angle"):
+        if kind == "length":
+            table, example, bare = LENGTH, f"1 {units.length}", LENGTH[units.length]
+        else:
+            table, example, bare = ANGLE, f"30 {units.angle}", ANGLE[units.angle]
+        limit = 1e9
+        if not (math.isfinite(value := _quantity(text, table, bare, example)) and abs(value) < limit):
+            raise SpecError(f"must be a finite {kind} below {limit:g} (SI): {text!r}")
+        return value
+    (table, example), bare = QUANTITIES[kind], 1.0
     value = _quantity(text, table, bare, example)
-    if not (math.isfinite(value) and abs(value) < limit):
-        raise SpecError(f"must be a finite {kind} below {limit:g} (SI): {text!r}")
+    limit, unit, why = LIMITS.get(kind, (MAX_QUANTITY, "(SI)", "a typo, not a machine"))
+    if not math.isfinite(value):
+        raise SpecError(f"must be a finite {kind}: {text!r}")
+    if abs(value) > limit:
+        raise SpecError(f"a {kind} of {value:.4g} {unit} is beyond any machine (at most {limit:g} {unit} in "
+                        f"magnitude: {why}): {text!r}")
     return value
 
 

@@ -272,11 +272,42 @@ def load(source: str, what: str = "a kernel"):
         import tempfile
         from pathlib import Path
         k = load_kernel(source, Path(tempfile.gettempdir()) / "assur-kernels")
-    if not compiled(k):
-        import os
-        LOG.info("compiling %s for this mechanism (once, cached in %s)", what,
-                 os.path.dirname(k.py_func.__code__.co_filename))
+    if not compiled(k):       # said when it compiles (its first call), not when it is only looked at
+        return FirstCallTimed(k, what)
     return k
+
+
+class FirstCallTimed:
+    """A numba dispatcher not compiled yet: its first call (the compile, with the run) is announced and timed on
+    :data:`LOG` — ``compiling a kernel for this mechanism (once, cached in …)``, then ``compiled it in 3.2 s
+    (later runs load it from the cache)``: what the compiled backend costs once. Every other attribute is the
+    dispatcher's."""
+
+    def __init__(self, dispatcher, what: str):
+        self._k, self._what, self.done = dispatcher, what, False
+
+    def __call__(self, *args):
+        if self.done:
+            return self._k(*args)
+        import os
+        import time
+        LOG.info("compiling %s for this mechanism (once, cached in %s)", self._what,
+                 os.path.dirname(self._k.py_func.__code__.co_filename))
+        t0 = time.perf_counter()
+        out = self._k(*args)
+        self.done = True
+        LOG.info("compiled it in %.1f s (later runs load it from the cache)", time.perf_counter() - t0)
+        return out
+
+    def __getattr__(self, name):
+        return getattr(self._k, name)
+
+
+def ready(k) -> bool:
+    """True when the kernel ``k`` (from :func:`load`) runs without a compile: compiled in this process or cached."""
+    if isinstance(k, FirstCallTimed):
+        return k.done or compiled(k._k)
+    return compiled(k)
 
 
 def compiled(k) -> bool:

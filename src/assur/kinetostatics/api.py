@@ -13,9 +13,9 @@ import numpy as np
 import math
 
 from ..engine import solve
-from ..engine.options import AUTO_COMPILED_MIN_SAMPLES
-from ..engine.plan import PlanarPlan, SpatialPlan
-from ..errors import SpecError
+from ..engine.options import AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES
+from ..engine.plan import SpatialPlan, require_plan
+from ..errors import SpecError, one_of
 from ..tolerances import DEFAULT
 from . import kernel as K
 from .groups import body_rows, solve_rows
@@ -42,9 +42,10 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
         Input rates (default: the drivers' speeds, no input acceleration): they set the inertia loads.
     friction : bool
         Include the file's Coulomb friction (``[dynamics]`` friction radii and coefficients).
-    point_loads : sequence of (point, force), optional
+    point_loads : sequence of (point, force) or (point, force, link), optional
         Extra forces (N, frame coordinates, arrays (..., 2) broadcasting to the batch), each acting at a
-        point on its earliest-solved body, e.g. a foot's ground reaction (:func:`assur.kinetostatics.gait_forces`).
+        point on ``link`` or, without one, on the one body there or the slider there (the rule of a file's
+        ``[[loads]]``, docs/format.md), e.g. a foot's ground reaction (:func:`assur.kinetostatics.gait_forces`).
     state : State, optional
         An already solved state of the same plan, params and inputs (order 2).
     method : {'groups', 'matrix'}
@@ -55,10 +56,12 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
     Forces
         See :mod:`assur.kinetostatics.result` for the shapes and the sign convention.
     """
-    if backend not in ("auto", "numpy", "numba"):
+    require_plan(plan)
+    if not one_of(backend, ("auto", "numpy", "numba")):
         raise SpecError([("backend", f"must be one of auto, numpy, numba: {backend!r}")])
-    if method not in METHODS:
+    if not one_of(method, METHODS):
         raise SpecError([("method", f"must be one of {', '.join(METHODS)}: {method!r}")])
+    point_loads = _check_point_loads(plan, point_loads)
     if isinstance(plan, SpatialPlan):
         dyn = plan.mechanism.dynamics
         if point_loads:
@@ -69,8 +72,6 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
         from .spatial import spatial_forces
         return spatial_forces(plan, params, inputs, speeds=speeds, accels=accels, state=state,
                               tolerances=tolerances)
-    if not isinstance(plan, PlanarPlan):
-        raise TypeError(f"forces needs a plan from assur.compile, not {type(plan).__name__}")
     if state is None:
         state = solve(plan, params, inputs, speeds=speeds, accels=accels, order=2, backend=backend,
                       tolerances=tolerances)
@@ -78,15 +79,41 @@ def forces(plan, params=None, inputs=None, *, speeds=None, accels=None, friction
         raise SpecError([("state", "the force analysis needs accelerations: solve the state with order=2")])
     shape = state.shape
     n = math.prod(shape)
+    if n == 0:
+        raise SpecError([("inputs", f"no sample to analyse: the batch is empty (shape {shape}); give at least one "
+                                    "input value")])
     tables, prog = force_tables(plan), program_of(plan)
     with_friction = bool(friction) and tables.dynamics.friction.any
     plain = prog.compiled_ok and prog.loads_in_kernel and not point_loads and not with_friction and method == "groups"
-    if plain and backend != "numpy" and (backend == "numba" or n >= AUTO_COMPILED_MIN_SAMPLES):
-        from . import compiled
+    from . import compiled
+    if plain and backend != "numpy" and (backend == "numba" or n >= AUTO_COMPILE_MIN_SAMPLES or (
+            n >= AUTO_COMPILED_MIN_SAMPLES and compiled.kernel_ready(plan, prog))):
         out = compiled.solve_compiled(prog, state, required=backend == "numba")
         if out is not None:
             return _result(plan, state, *out, iterations=0, converged=True, method=method, tol=tolerances)
     return _solve_numpy(plan, tables, prog, state, point_loads, with_friction, method, tolerances)
+
+
+def _check_point_loads(plan, point_loads):
+    """``point_loads`` as a list of (point, force) or (point, force, link) tuples, else SpecError naming the entry
+    (a point the plan does not have included)."""
+    if point_loads is None or (isinstance(point_loads, (list, tuple)) and not point_loads):
+        return None
+    if isinstance(point_loads, (str, bytes, dict)) or not hasattr(point_loads, "__iter__"):
+        raise SpecError([("point_loads", f"must be a list of (point, force) or (point, force, link): "
+                                         f"{point_loads!r:.60}")])
+    out = []
+    for j, entry in enumerate(point_loads):
+        if (not isinstance(entry, (list, tuple)) or len(entry) not in (2, 3) or not isinstance(entry[0], str)
+                or (len(entry) == 3 and not isinstance(entry[2], str))):
+            raise SpecError([(f"point_loads[{j}]", f"must be (point, force) or (point, force, link) with names as "
+                                                   f"text: {entry!r:.60}")])
+        if entry[0] not in plan.point_names:
+            raise SpecError([(f"point_loads[{j}]", f"unknown point {entry[0]!r} (known: {', '.join(plan.point_names)})")])
+        from ..errors import float_array
+        float_array(entry[1], f"point_loads[{j}]", "a force (N): [fx, fy] numbers")
+        out.append(tuple(entry))
+    return out
 
 
 def state_rows(state, n):

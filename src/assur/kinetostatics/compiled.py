@@ -88,6 +88,13 @@ def _kernel(plan, prog):
     return k
 
 
+def kernel_ready(plan, prog) -> bool:
+    """True when the plan's force kernel runs without a compile (compiled in this process or in the disk cache)."""
+    if not available():
+        return False
+    return codegen.ready(_kernel(plan, prog))
+
+
 def _param_rows(params, shape, n_params):
     """(P (rows, n_params), pdiv, pmod): the parameters of sample s are P[(s // pdiv) % pmod]."""
     params = np.asarray(params, dtype=float)

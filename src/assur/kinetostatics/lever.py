@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..engine import solve
-from ..engine.plan import PlanarPlan
+from ..engine.plan import require_plan
 from .api import state_rows
 from .groups import body_rows
 from .kernel import cross
@@ -44,8 +44,7 @@ class Lever:
 
 def lever(plan, params=None, inputs=None, *, speeds=None, point_loads=None, state=None) -> Lever:
     """Zhukovsky's lever of a planar plan at a batch of inputs (see the module docstring)."""
-    if not isinstance(plan, PlanarPlan):
-        raise TypeError(f"Zhukovsky's lever needs a planar plan from assur.compile, not {type(plan).__name__}")
+    require_plan(plan, planar=True)
     if state is None:
         state = solve(plan, params, inputs, speeds=speeds, order=2)
     shape = state.shape

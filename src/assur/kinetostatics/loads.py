@@ -5,7 +5,8 @@ constant loads are applied by :func:`assur.kinetostatics.kernel.mass_loads` and 
 
 Inertia: a body of mass m and inertia I about its centre of mass C carries the force −m·a_C at C and the
 couple −I·α (d'Alembert); gravity m·g at C. A force load at a point acts on the link it names or, without
-one, on the earliest-solved body at the point. Friction, per pair, opposes the relative motion: a
+one, on the one body at the point, or on the slider where a slider meets other bodies (a ram's pin: the ram);
+a point where several links meet without a slider needs ``link`` (docs/format.md, "Loads"). Friction, per pair, opposes the relative motion: a
 revolute's couple −r_f·|R|·sign(ω_later − ω_earlier) on the later body (r_f the friction-circle radius), a
 slide's force −μ·|N|·sign(v_rel)·u at the slider's reference point (v_rel the slider's velocity along the
 line relative to the guide; the couple a slide carries is taken without friction); the equal and
@@ -17,16 +18,20 @@ import math
 
 import numpy as np
 
+from ..errors import SpecError
 from . import kernel as K
 from .tables import ForceTables, body_index
 
 
-def point_body(t: ForceTables, point: str, link: str | None = None) -> int:
-    """The body a load at ``point`` acts on: ``link`` when given, else the earliest-solved body there."""
-    if link is not None:
-        return body_index(t.plan, link)
-    at = t.plan.structure.graph.bodies_at(point)
-    return min(at, key=lambda b: t.order[b])
+def point_body(t: ForceTables, point: str, link: str | None = None, where: str = "point_loads") -> int:
+    """The body a load at ``point`` acts on: ``link`` when given, else the one body there, else the slider there
+    (:meth:`assur.model.mechanism.Mechanism.load_body`); SpecError at ``where`` when several bodies meet at the
+    point and none is a slider."""
+    try:
+        name = t.plan.mechanism.load_body(point, link)
+    except ValueError as exc:
+        raise SpecError([(where, str(exc))]) from None
+    return body_index(t.plan, name)
 
 
 def _add(F, M, b, force, at, moment=0.0):
@@ -46,7 +51,7 @@ def applied_items(t: ForceTables, prog, z, v, a, p, orient, omega, alpha, q0, po
             f, c, couple = K.mass_load(b, prog.mass, prog.inertia, prog.idef, prog.ipts, prog.cpts, prog.cw,
                                        prog.coff, prog.gravity, z, v, a, orient, omega, alpha)
             items.append((int(b), f, c, couple))
-    for load in t.dynamics.loads:
+    for i, load in enumerate(t.dynamics.loads):
         if not (kernel_loads or load.law is not None or load.opposes is not None):
             continue
         value = _load_value(t, load, q0)
@@ -60,11 +65,12 @@ def applied_items(t: ForceTables, prog, z, v, a, p, orient, omega, alpha, q0, po
             speed = np.abs(vk)
             with np.errstate(all="ignore"):
                 f = np.where(speed > 0, -np.abs(value) * vk / speed, 0j)
-        items.append((point_body(t, load.point, load.link), f, z[k], 0.0))
-    for point, force in point_loads or ():
+        items.append((point_body(t, load.point, load.link, f"loads[{i}].link"), f, z[k], 0.0))
+    for j, (point, force, *link) in enumerate(point_loads or ()):
         f = np.broadcast_to(np.asarray(force, dtype=float), shape + (2,)).reshape(-1, 2)
         k = t.plan.point_index(point)
-        items.append((point_body(t, point), f[:, 0] + 1j * f[:, 1], z[k], 0.0))
+        body = point_body(t, point, link[0] if link else None, f"point_loads[{j}]")
+        items.append((body, f[:, 0] + 1j * f[:, 1], z[k], 0.0))
     return items
 
 

@@ -23,6 +23,11 @@ from .result import Forces
 FLYWHEEL_DELTA = 0.05
 
 
+#: what the force analysis says of a file without masses, loads or a body weight (its forces are all zero)
+NO_LOADS = ("the file has no masses or loads: every force is zero (give its links a mass, [[loads]] or a [gait] "
+            "weight: docs/format.md, \"Forces\")")
+
+
 def has_loads(mechanism) -> bool:
     """True when the file gives the force analysis something to carry: a mass, a load or a body weight."""
     d = mechanism.dynamics
@@ -135,7 +140,7 @@ def force_summary(cycle: ForceCycle, *, friction: bool = False) -> dict:
     if friction:
         out["friction"] = {"iterations": int(f.iterations), "converged": bool(f.converged)}
     if not has_loads(plan.mechanism):
-        out["note"] = "the file has no masses or loads"
+        out = {"note": NO_LOADS, **out}
     g = cycle.gait
     if g is not None:
         M = np.asarray(g.module_driver, dtype=float)

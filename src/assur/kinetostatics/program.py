@@ -122,13 +122,13 @@ def build_program(t: ForceTables) -> Program:
     dyn = t.dynamics
     lpts, lforce, torque = [], [], np.zeros(nb)
     loads_in_kernel = True
-    for load in dyn.loads:
+    for i, load in enumerate(dyn.loads):
         if load.law is not None or load.opposes is not None:
             loads_in_kernel = False
         elif load.torque is not None:
             torque[body_index(plan, load.link)] += load.torque
         else:
-            lpts.append((point_body(t, load.point, load.link), plan.point_index(load.point)))
+            lpts.append((point_body(t, load.point, load.link, f"loads[{i}].link"), plan.point_index(load.point)))
             lforce.append(complex(load.force[0], load.force[1]))
     pr = np.array([(_KINDS[fp.kind], fp.earlier, fp.later, fp.point, fp.line, fp.driven, fp.columns[0])
                    for fp in t.pairs], np.int64).reshape(-1, 7)

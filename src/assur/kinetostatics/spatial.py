@@ -309,12 +309,11 @@ def _build(plan, tol) -> _Tables:
     dyn = m.dynamics or Dynamics()
     names = plan.body_names
     pidx = {p: i for i, p in enumerate(plan.point_names)}
-    cranks, dyads, hinged, rank = [], [], {}, {0: 0}
+    cranks, dyads, hinged = [], [], {}
     for st in plan.steps:
         if st.kind == "crank":
             cranks.append((st.body, pidx[st.pivot], st.input, int(st.sense)))
             hinged[st.body] = (st.pivot, st.arm)
-            rank.setdefault(st.body, len(rank))
         elif st.kind == "RSS":
             kind = plan.body_frames[st.coupler]
             uni = None
@@ -327,8 +326,6 @@ def _build(plan, tol) -> _Tables:
                                                                  "the force analysis needs it on a moving link")])
             dyads.append((st.body, st.coupler, pidx[st.pivot], pidx[st.start], pidx[st.joint], a_body, uni))
             hinged[st.body] = (st.pivot, st.joint)
-            rank.setdefault(st.body, len(rank))
-            rank.setdefault(st.coupler, len(rank))
     kinds, pnames, pbodies, ppoints = [], [], [], []
 
     def pair(kind, name, a, b, point):
@@ -359,7 +356,7 @@ def _build(plan, tol) -> _Tables:
         if sketch is None:
             sketch = solve(plan, plan.defaults, plan.sketch_inputs, order=0, tolerances=tol)
         masses[b] = _mass(plan, b, mp, hinged, pidx, sketch, tol)
-    loads = tuple(_resolve_load(plan, k, ld, hinged, pidx, rank) for k, ld in enumerate(dyn.loads))
+    loads = tuple(_resolve_load(plan, k, ld, hinged, pidx) for k, ld in enumerate(dyn.loads))
     return _Tables(tuple(cranks), tuple(dyads), tuple(masses), tuple(x for x in loads if x is not None), g,
                    tuple(kinds), tuple(pnames), tuple(pbodies), tuple(ppoints))
 
@@ -408,7 +405,7 @@ def _mass(plan, b, mp, hinged, pidx, sketch, tol) -> _Mass:
     return _Mass(float(mp.mass), points, weights, offset, mp.inertia, kind, ends, all_points)
 
 
-def _resolve_load(plan, k, ld, hinged, pidx, rank) -> _Load | None:
+def _resolve_load(plan, k, ld, hinged, pidx) -> _Load | None:
     m = plan.mechanism
     path = f"loads[{k}]"
     names = plan.body_names
@@ -439,8 +436,10 @@ def _resolve_load(plan, k, ld, hinged, pidx, rank) -> _Load | None:
         if ld.point not in m.link(ld.link).points:
             raise SpecError([(f"{path}.point", f"'{ld.point}' is not a point of link '{ld.link}'")])
     else:
-        at = [i for i, n in enumerate(names) if ld.point in m.link(n).points]
-        b = min(at, key=lambda i: rank.get(i, len(names))) if at else 0
+        try:
+            b = names.index(m.load_body(ld.point))       # the one body there, else the rule's error
+        except ValueError as exc:
+            raise SpecError([(f"{path}.link", str(exc))]) from None
     if b == 0:
         return None
     return _Load(b, pidx[ld.point], None if law is not None else tuple(float(x) for x in ld.force), None, law,

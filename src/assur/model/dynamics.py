@@ -50,6 +50,28 @@ class Load:
     law: LoadLaw | None = None
 
 
+def load_body(point: str, link: str | None, bodies, sliders) -> str:
+    """The body a force at ``point`` acts on (docs/format.md, "Loads"): ``link`` when given; else the one body at
+    the point; else, where a slider meets other bodies (a pin-in-slot's block, or a link that translates on a
+    guide: a ram, a piston, a carriage), that slider; else ValueError naming the bodies that meet there.
+
+    ``bodies``: the names of the bodies that carry the point; ``sliders``: those of them that translate on a guide
+    (:func:`assur.model.mechanism.bodies_at` gives both). Where several bodies meet, the load's body matters for
+    the reaction at that very joint (a pin's load on the rod or on the ram), never for the driving torque."""
+    if link is not None:
+        return link
+    bodies = tuple(bodies)
+    if len(bodies) == 1:
+        return bodies[0]
+    sliders = tuple(sliders)
+    if len(sliders) == 1:
+        return sliders[0]
+    if not bodies:
+        raise ValueError(f"no body carries the point {point!r}")
+    raise ValueError(f"the point {point!r} joins {', '.join(repr(b) for b in bodies)}: give link = the body the "
+                     "force acts on (it decides the reaction at that joint)")
+
+
 @dataclass(frozen=True, slots=True)
 class Friction:
     """Coulomb friction, used when the analysis asks for it.

@@ -207,6 +207,15 @@ class Mechanism:
                 return xy
         raise KeyError(point)
 
+    def bodies_at(self, point: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """(bodies, sliders) at ``point``: see :func:`bodies_at`."""
+        return bodies_at(point, self.links, self.prismatic, self.actuators)
+
+    def load_body(self, point: str, link: str | None = None) -> str:
+        """The body a force at ``point`` (of ``link``, if given) acts on: :func:`assur.model.dynamics.load_body`."""
+        from .dynamics import load_body
+        return load_body(point, link, *self.bodies_at(point))
+
     def link(self, name: str) -> Link:
         for lk in self.links:
             if lk.name == name:
@@ -247,3 +256,33 @@ class Mechanism:
         xy = np.array([c for _, c in self.points], dtype=float)
         span = float(np.max(np.ptp(xy, axis=0))) if len(xy) else 0.0
         return span if span > 0 else 1.0
+
+
+def bodies_at(point: str, links, prismatic, actuators) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The bodies that carry ``point`` and, among them, the sliders, named as the force analysis names bodies:
+    links (the frame too), a pin-in-slot's block ``"<pair>.block"``, an actuator's ``"<name>.cylinder"`` (at its
+    first point) and ``"<name>.rod"`` (at its second). Sliders: the blocks at the point and the links that
+    translate on a guide (``[[prismatic]] link``). ``links``, ``prismatic``, ``actuators``: the description's
+    elements (or those read so far)."""
+    bodies = [lk.name for lk in links if point in lk.points]
+    sliders = [pr.link for pr in prismatic if pr.link is not None and pr.link in bodies]
+    for pr in prismatic:
+        if pr.point == point:
+            bodies.append(f"{pr.name}.block")
+            sliders.append(f"{pr.name}.block")
+    for ac in actuators:
+        if ac.between[0] == point:
+            bodies.append(f"{ac.name}.cylinder")
+        if ac.between[1] == point:
+            bodies.append(f"{ac.name}.rod")
+    return tuple(bodies), tuple(dict.fromkeys(sliders))
+
+
+def require_mechanism(m, what: str = "mechanism"):
+    """``m`` when it is a :class:`Mechanism`, else ArgumentTypeError naming the argument ``what``."""
+    if isinstance(m, Mechanism):
+        return m
+    from ..errors import ArgumentTypeError
+    hint = ": read it first, assur.load(path)" if isinstance(m, str) or hasattr(m, "__fspath__") else ""
+    raise ArgumentTypeError([(what, f"must be a Mechanism (assur.load, assur.loads or assur.Builder), not "
+                                    f"{type(m).__name__}{hint}")])

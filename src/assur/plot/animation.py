@@ -231,15 +231,25 @@ def save_animation(anim, path, fps: float = 20.0, dpi: int = 100, progress=None,
                   progress_callback=progress)
 
 
-# the player's icons without the font-awesome style sheet that to_jshtml links from a CDN
-_ICONS = {"fa-minus": "&minus;", "fa-fast-backward": "&#x23EE;&#xFE0E;", "fa-step-backward": "&#x2759;&#x25C0;&#xFE0E;",
-          "fa-flip-horizontal": "&#x25C0;&#xFE0E;", "fa-pause": "&#x2759;&#x2759;", "fa-play": "&#x25B6;&#xFE0E;",
-          "fa-step-forward": "&#x25B6;&#xFE0E;&#x2759;", "fa-fast-forward": "&#x23ED;&#xFE0E;", "fa-plus": "+"}
+# the player's icons without the font-awesome style sheet that to_jshtml links from a CDN: small inline SVG paths
+# (14 × 14, the text colour), not characters, since fonts lack some of the media symbols (⏮, ⏭ are empty boxes in
+# Debian's Chromium)
+_PATHS = {"fa-minus": "M2 6h10v2H2z",
+          "fa-fast-backward": "M2 2h2v10H2zM8 7l5-5v10zM3 7l5-5v10z",
+          "fa-step-backward": "M3 2h2v10H3zM5 7l7-5v10z",
+          "fa-flip-horizontal": "M11 2v10L3 7z",
+          "fa-pause": "M3 2h3v10H3zM8 2h3v10H8z",
+          "fa-play": "M3 2l8 5-8 5z",
+          "fa-step-forward": "M9 2h2v10H9zM2 2l7 5-7 5z",
+          "fa-fast-forward": "M10 2h2v10h-2zM1 2l5 5-5 5zM6 2l5 5-5 5z",
+          "fa-plus": "M6 2h2v4h4v2H8v4H6V8H2V6h4z"}
+_ICONS = {k: (f'<svg width="14" height="14" viewBox="0 0 14 14" fill="currentColor" focusable="false" '
+              f'style="vertical-align:-2px"><path d="{d}"/></svg>') for k, d in _PATHS.items()}
 
 
 def jshtml(anim, fps: float = 20.0, default_mode: str = "loop", progress=None) -> str:
     """``anim.to_jshtml()`` made self-contained: the frames are embedded (base64 PNG) and the
-    link to the icon font on a CDN is replaced by plain Unicode symbols (no network access).
+    link to the icon font on a CDN is replaced by inline SVG icons (no network access, no font needed).
     An animation of :func:`animation` is drawn by blitting (``progress(i, n)`` is called per frame)."""
     fast = _blitted(anim, even=True)
     return _jshtml_text(anim if fast is None else _image_animation(*fast, fps, progress), fps, default_mode)

@@ -30,21 +30,44 @@ def _cycle(source, steps) -> ForceCycle:
     return Study.of(source, steps=steps).force_cycle
 
 
+def constant_rate(effort, power) -> float | None:
+    """The input's rate (rad/s or m/s) when ``power = rate · effort`` at every sample with the same rate (a crank at
+    constant speed, a linear driver at constant speed), else None. ``effort``, ``power``: (n,)."""
+    effort, power = np.asarray(effort, float), np.asarray(power, float)
+    ok = np.isfinite(effort) & np.isfinite(power) & (np.abs(effort) > 1e-12 * np.nanmax(np.abs(effort), initial=0))
+    if not ok.any():
+        return None
+    rate = power[ok] / effort[ok]
+    r = float(np.median(rate))
+    return r if np.all(np.abs(rate - r) <= 1e-9 * max(abs(r), 1e-300)) else None
+
+
 def draw_torque(ax, cycle: ForceCycle) -> None:
-    """The driving effort and (on a twin axis) the power against the input."""
+    """The driving effort and the power against the input. At a constant input speed the power is the effort
+    times that speed: one curve with two scales (the power's on the right axis, P = T·ω); two curves on twin
+    axes only where the speed varies."""
     f = cycle.forces
     plan = f.plan
     fac, iu = _input_scale(plan)
     x = cycle.q / fac
     rotary = plan.input_kinds[0] == "rotary"
-    ax.plot(x, f.driver[:, 0], color="C0", label="torque" if rotary else "force")
+    effort = f.driver[:, 0]
+    ax.plot(x, effort, color="C0", label="torque" if rotary else "force")
     ax.set_xlabel(f"{plan.input_names[0]} [{iu}]")
     ax.set_ylabel("driving torque [N·m]" if rotary else "actuator force [N]", color="C0")
     ax.axhline(0.0, color="0.6", linewidth=0.6)
-    ax2 = ax.twinx()
-    ax2.plot(x, f.power, color="C3", linestyle="--", label="power")
-    ax2.set_ylabel("power [W]", color="C3")
-    ax.set_title("driving " + ("torque" if rotary else "force") + " and power")
+    what = "torque" if rotary else "force"
+    rate = constant_rate(effort, f.power)
+    if rate is not None and rate != 0:
+        sec = ax.secondary_yaxis("right", functions=(lambda t: t * rate, lambda p: p / rate))
+        speed = f"ω = {rate:.4g} rad/s" if rotary else f"v = {rate:.4g} m/s"
+        sec.set_ylabel(f"power [W] = {what} × {speed.split(' =')[0]}", color="C3")
+        ax.set_title(f"driving {what}; power on the right scale ({speed} constant)")
+    else:
+        ax2 = ax.twinx()
+        ax2.plot(x, f.power, color="C3", linestyle="--", label="power")
+        ax2.set_ylabel("power [W]", color="C3")
+        ax.set_title(f"driving {what} and power")
     ax.grid(True, alpha=0.3)
 
 

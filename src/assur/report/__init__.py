@@ -7,6 +7,13 @@ outputs of ``assur gears`` and ``assur wheelstep``, table.py the table of ``assu
 """
 from __future__ import annotations
 
-from .mechanism import build_report, write_report
-
 __all__ = ["build_report", "write_report"]
+
+
+def __getattr__(name: str):
+    """``build_report`` and ``write_report`` load the page's modules (the analyses, scipy) on first use, so that
+    a command importing only ``report.text`` starts light."""
+    if name in __all__:
+        from . import mechanism
+        return getattr(mechanism, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -122,7 +122,7 @@ def build_document_page(design, s: dict, tmp: Path, *, frames: int = 36, source:
         body.append(section("Support shoe and displacement budget", table(["quantity", "value"], rows)
                              + _png(tmp, "shoe.png", "shoe profile")))
         if "gears" in s:
-            body.append("<h2>Gear drive</h2>")
+            body.append(section("Gear drive", ""))
             body.append(_gears_html(s["gears"], tmp, "gears/", frames))
         else:
             body.append(section("Files", _links(tmp)))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import base64
 import html
+import re
 
 from ..plot.animation import html_page
 
@@ -23,6 +24,7 @@ code, .formula { font-family: ui-monospace, "SFMono-Regular", Menlo, Consolas, m
 img.figure { max-width: 100%; height: auto; border: 1px solid #ddd; }
 .note { color: #666; font-style: italic; }
 .scroll { overflow-x: auto; }
+nav.toc { margin: 1em 0; padding: 0.5em 0.8em; background: #f3f5fa; border-radius: 4px; font-size: 0.92em; }
 """
 
 VIEWPORT = '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
@@ -53,9 +55,38 @@ def png_tag(png: bytes, alt: str) -> str:
             f'{base64.b64encode(png).decode("ascii")}">')
 
 
+def slug(title) -> str:
+    """The anchor of a section title: lower case letters, digits and hyphens (``Gait of the leg`` → ``gait-of-the-
+    leg``)."""
+    text = re.sub(r"[^0-9a-z]+", "-", str(title).lower()).strip("-")
+    return text or "section"
+
+
 def section(title, body) -> str:
-    """A titled section of a page."""
-    return f"<h2>{escape(title)}</h2>\n{body}\n"
+    """A titled section of a page (its heading carries the anchor :func:`slug` for the table of contents)."""
+    return f'<h2 id="{slug(title)}">{escape(title)}</h2>\n{body}\n'
+
+
+_HEADING = re.compile(r'<h2 id="([^"]+)">(.*?)</h2>')
+
+
+def _with_contents(parts: list[str]) -> list[str]:
+    """``parts`` with a table of contents before the first section when the page has three sections or more;
+    repeated anchors get a number so that every link leads to its own section."""
+    found = [(i, m) for i, part in enumerate(parts) for m in [_HEADING.match(part)] if m]
+    if len(found) < 3:
+        return parts
+    parts, seen, links = list(parts), {}, []
+    for i, m in found:
+        anchor = m.group(1)
+        seen[anchor] = seen.get(anchor, 0) + 1
+        if seen[anchor] > 1:
+            anchor = f"{anchor}-{seen[anchor]}"
+            parts[i] = parts[i].replace(f'<h2 id="{m.group(1)}">', f'<h2 id="{anchor}">', 1)
+        links.append(f'<a href="#{anchor}">{m.group(2)}</a>')
+    nav = '<nav class="toc" aria-label="Contents"><strong>Contents:</strong> ' + " · ".join(links) + "</nav>"
+    first = found[0][0]
+    return parts[:first] + [nav] + parts[first:]
 
 
 def header(title: str, meta: str, description: str = "") -> list[str]:
@@ -67,5 +98,6 @@ def header(title: str, meta: str, description: str = "") -> list[str]:
 
 
 def page(title: str, parts) -> str:
-    """A report page: the HTML ``parts`` one per line under the style sheet, titled ``title``."""
-    return html_page("\n".join(parts), title, meta=VIEWPORT, style=CSS)
+    """A report page: the HTML ``parts`` one per line under the style sheet, titled ``title``; a page of three
+    sections or more gets a table of contents under its header."""
+    return html_page("\n".join(_with_contents(list(parts))), title, meta=VIEWPORT, style=CSS)

@@ -184,7 +184,8 @@ _SPATIAL_CLASS = {"revolute": 5, "prismatic": 5, "cylindrical": 4, "universal": 
 
 def analyse(m: Mechanism) -> Structure:
     """Mobility and Assur decomposition of a mechanism description. Raises StructureError."""
-    g = build_graph(m)
+    from ..model.mechanism import require_mechanism
+    g = build_graph(require_mechanism(m))
     n = len(g.bodies) - 1
     if m.dimension == 3:
         counts = {f"p{k}": 0 for k in (5, 4, 3, 2, 1)}

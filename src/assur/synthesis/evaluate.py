@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.gait import population_gait, resolve_gait
-from ..errors import SpecError
+from ..errors import SpecError, float_array
 from ..tolerances import DEFAULT
 from . import fourbar as fb
 from .defects import defect_measures, nearest_inputs
@@ -70,6 +70,36 @@ def default_backend() -> str:
     return "numba" if available() else "numpy"
 
 
+#: the compiled kernels cost several seconds to compile for a new mechanism (``benchmarks/first_use.py``) and then
+#: evaluate a design in 1–20 µs; numpy takes about NUMPY_SECONDS_PER_UNIT per solved sample and plan step (18 µs for
+#: C2's 5 targets, 0.2–2 ms for the problems that solve a whole cycle). A run that names no backend compiles when its
+#: numpy evaluations would take at least PAYBACK_SECONDS by that estimate (or, without a budget, when its time limit
+#: is at least PAYBACK_SECONDS), and runs numpy otherwise
+NUMPY_SECONDS_PER_UNIT = 0.5e-6
+PAYBACK_SECONDS = 10.0
+
+
+def numpy_seconds(problem, evaluations: int) -> float:
+    """The estimated numpy time (s) of ``evaluations`` evaluations of ``problem``: the solved samples of one (its
+    targets, and a whole cycle's samples when a term or constraint needs one) times the plan's steps times
+    :data:`NUMPY_SECONDS_PER_UNIT`. A deterministic estimate: it depends on the problem, never on the machine."""
+    samples = (problem.targets.n if problem.targets is not None else 0) + \
+        (problem.cycle_samples if problem.needs_cycle() else 0)
+    return evaluations * max(samples, 1) * len(problem.plan.steps) * NUMPY_SECONDS_PER_UNIT
+
+
+def run_backend(problem, budget: int | None, time_limit: float | None) -> str:
+    """The backend of a synthesis run that names none: numba (when installed) for a run whose numpy evaluations
+    would take long enough to win back the first compile of its kernels, numpy for a shorter one. Decided from the
+    problem and the run's settings alone, so a seeded run gives the same design whether or not the kernels are in
+    the cache already."""
+    if budget is not None:
+        short = numpy_seconds(problem, budget) < PAYBACK_SECONDS
+    else:
+        short = time_limit is not None and time_limit < 6 * PAYBACK_SECONDS
+    return "numpy" if short else default_backend()
+
+
 class Evaluator:
     """Pure vectorised objective of a :class:`Problem`. Picklable (for worker processes)."""
 
@@ -78,6 +108,10 @@ class Evaluator:
     CHUNK, FUSED_CHUNK = 512, 8192
 
     def __init__(self, problem: Problem, *, chunk: int | None = None, backend: str | None = None):
+        if not isinstance(problem, Problem):
+            from ..errors import ArgumentTypeError
+            raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
+                                                 f"{type(problem).__name__}")])
         self.problem = problem
         self.backend = backend or default_backend()
         p = problem
@@ -120,7 +154,7 @@ class Evaluator:
         """X: (n, n_vars) design vectors in SI (angles in rad) → Evaluation. ``detail`` adds the
         per-target ``distances``/``offsets`` (the general route; without it the fused compiled
         reduction is used where it applies, which gives the same f and V to round-off)."""
-        X = np.atleast_2d(np.asarray(X, dtype=float))
+        X = np.atleast_2d(float_array(X, "X", "design vectors of numbers (n, n_vars)"))
         if X.shape[-1] != self.problem.n_vars:
             raise SpecError([("X", f"design vectors must have {self.problem.n_vars} entries: shape {X.shape}")])
         size = self.CHUNK if detail else self.chunk          # the detailed route keeps per-target arrays
@@ -479,4 +513,5 @@ def _sampled_forces(plan, st, valid, backend) -> dict:
     return {k: np.where(bad, np.nan, v) for k, v in out.items()}
 
 
-__all__ = ["Evaluation", "Evaluator", "default_backend"]
+__all__ = ["Evaluation", "Evaluator", "NUMPY_SECONDS_PER_UNIT", "PAYBACK_SECONDS", "default_backend", "numpy_seconds",
+           "run_backend"]

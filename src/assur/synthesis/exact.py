@@ -17,33 +17,19 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import SpecError
 from . import fourbar as fb
 from .burmester import Poses, burmester_points, centre_curve, snap_to_curve, three_pose_dyads
+from .exact_results import Candidates, ExactSolution, Rejections, SliderSolution
 from .freudenstein import chebyshev_points, freudenstein, precision_pairs, slider_freudenstein
 
 GRASHOF_TYPES = ("crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 GRASHOF_FILTERS = GRASHOF_TYPES + ("grashof", "crank")
 #: relative tolerance of a precision point reached by the engine (of the task's size)
 REACH_TOL = 1e-6
-
-
-@dataclass(frozen=True)
-class ExactSolution:
-    """One synthesised four-bar. ``inputs``: the driver's input at each precision point (rad), in the
-    order passed; ``residual``: the largest error of the engine's solution at the precision points (rad for
-    function generation, length for motion generation); ``transmission``: the worst transmission angle over
-    the stretch (rad, folded to [0, π/2]); ``lengths``: (ground, crank, coupler, rocker)."""
-    mechanism: object
-    inputs: np.ndarray
-    residual: float
-    transmission: float
-    grashof: str
-    lengths: tuple[float, float, float, float]
 
 
 def grashof_type(lengths) -> str:
@@ -156,9 +142,34 @@ def _fourbar(A0, B0, A, B, P=None, *, sense="ccw", units="m", name="four-bar", d
     return b.build()
 
 
+def _check_limit(limit) -> None:
+    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 0):
+        raise SpecError([("limit", f"must be a whole number of candidates (0 or None: all): {limit!r:.60}")])
+
+
+def _check_units(units) -> None:
+    from ..io.units import LENGTH
+    if not isinstance(units, str) or units not in LENGTH:
+        raise SpecError([("units", f"must be a length unit ({', '.join(LENGTH)}): {units!r:.60}")])
+
+
 def _rank(sols, limit, residual_quantum):
     sols.sort(key=lambda s: (np.floor(s[1] / residual_quantum), -s[2]))
     return sols[:limit] if limit else sols
+
+
+def _other_branch(A, B, B0):
+    """B mirrored about the line A → B0: the rocker pin of the other assembly branch with the same crank pin."""
+    d = B0 - A
+    return A + d / np.conj(d) * np.conj(B - A)
+
+
+#: how function generators are ranked (ExactSolution.residual, .transmission)
+FUNCTION_CRITERION = ("the output-angle residual at the precision points (in steps of 1e-9 rad), then the worst "
+                      "transmission angle (largest first)")
+SLIDER_CRITERION = ("the slider-position residual at the precision points (in steps of 1e-9 of the stroke), then the "
+                    "worst transmission angle (largest first)")
+MOTION_CRITERION = "the worst transmission angle over the stretch (largest first)"
 
 
 # -- function generation -----------------------------------------------------------------------------------
@@ -198,7 +209,7 @@ def _starts(starts, pair):
 
 
 def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, starts=None, grashof=None,
-                        units="m", limit=20, samples=60) -> list[ExactSolution]:
+                        units="m", limit=20, samples=60) -> Candidates:
     """Four-bar function generators by Freudenstein's equation (module ``freudenstein``), ranked.
 
     ``inputs``, ``outputs``: the input and output angles (rad, from the ground line A0 → B0) of the precision
@@ -207,31 +218,43 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
     ``starts``: (φ0, ψ0) pairs added to every input and output (the free start angles of a task given as
     angle changes); default (0, 0). ``ground``: the length A0B0 (in ``units``). Each candidate is solved by the
     engine over the stretch between the first and last input (``samples`` per gap) and kept only if that
-    stretch is buildable and on the branch of its sketch; the list is ranked by the residual of the output
-    angles at the precision points (in steps of 1e-9 rad), then by the worst transmission angle."""
+    stretch is buildable and no precision point lies on the other assembly branch (the engine follows the
+    sketch's branch: such a point would be missed; with three points, every point must be met within
+    ``REACH_TOL`` rad). Returns :class:`~assur.synthesis.exact_results.Candidates`: the kept ones ranked by the
+    residual of the output angles at the precision points (in steps of 1e-9 rad), then by the worst transmission
+    angle (``.criterion``), each with its ``residual`` and ``rank``; ``.rejected`` the candidates with a branch
+    defect (and their residual), ``.counts`` every reason a candidate was dropped, ``.reason`` why the list is
+    empty."""
     _check_grashof(grashof)
     inputs, outputs = _spaced(inputs, outputs, spacing, n, "outputs", "output angle")
     x, y = precision_pairs(inputs, outputs)
-    if not (np.isfinite(ground) and ground > 0):
-        raise SpecError([("ground", f"must be a positive length: {ground!r}")])
+    if isinstance(ground, bool) or not isinstance(ground, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(ground) and ground > 0):
+        raise SpecError([("ground", f"must be a positive length: {ground!r:.60}")])
+    _check_limit(limit)
+    _check_units(units)
     starts = _starts(starts, "(φ0, ψ0)")
+    out = Rejections()
     fits = []
     for phi0, psi0 in starts:
         phi, psi = x + phi0, y + psi0
         f = freudenstein(phi, psi, ground)
         if f is None:
+            out.count("singular fit")
             continue
         lengths = (f["d"], abs(f["a"]), f["b"], abs(f["c"]))
         if not _grashof_ok(grashof_type(lengths), grashof):
+            out.count(f"grashof filter ({grashof})")
             continue
         crank = np.angle(f["a"] * np.exp(1j * phi))          # the crank's direction at each point
         width = abs(phi[-1] - phi[0])
         start = crank[0] if phi[-1] > phi[0] else crank[0] - width
         if not _buildable(np.array([lengths]), np.array([start]), np.array([width]))[0]:
+            out.count("toggle inside the stretch")
             continue
         fits.append((f, phi, psi, lengths))
     if not fits:
-        return []
+        return Candidates(criterion=FUNCTION_CRITERION, counts=out.counts)
     k = len(fits)
     geo = {"A0": np.zeros(k, complex), "B0": np.array([f["d"] for f, *_ in fits], complex)}
     geo["A"] = np.array([f["a"] * np.exp(1j * phi[0]) for f, phi, *_ in fits])
@@ -241,16 +264,11 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
     q, cols = _stretch(t, samples)
     pos = _solve(geo, q)
     mu = _transmission(pos["A"], pos["B"], geo["B0"])
-    sols = []
-    for i, (f, phi, psi, lengths) in enumerate(fits):
-        B = pos["B"][i]
-        if not np.all(np.isfinite(B)):
-            continue
-        out = np.angle(B[cols] - geo["B0"][i]) + (np.pi if f["c"] < 0 else 0.0)
-        err = float(np.max(np.abs(np.angle(np.exp(1j * (out - psi))))))
-        sols.append((i, err, float(mu[i])))
-    result = []
-    for i, err, m in _rank(sols, limit, 1e-9):
+
+    def wrapped(a):
+        return np.abs(np.angle(np.exp(1j * a)))
+
+    def make(i, err, m, rank=0, defects=()):
         f, phi, psi, lengths = fits[i]
         note = ("Function generator by Freudenstein's equation: input = crank angle φ from the ground line "
                 f"A0→B0, output = rocker angle ψ (B0→B{' + π' if f['c'] < 0 else ''}).")
@@ -258,34 +276,51 @@ def function_candidates(inputs, outputs, *, spacing=None, n=3, ground=1.0, start
                         name="function generator", description=note)
         if f["a"] < 0:      # input = φ: the crank points along φ + π
             mech = dataclasses.replace(mech, drivers=tuple(dataclasses.replace(d, zero=np.pi) for d in mech.drivers))
-        result.append(ExactSolution(mech, phi, err, m, grashof_type(lengths), lengths))
-    return result
+        return ExactSolution(mech, phi, err, m, grashof_type(lengths), lengths, rank, tuple(defects), "rad")
+
+    sols, rejected_keys = [], set()
+    for i, (f, phi, psi, lengths) in enumerate(fits):
+        B = pos["B"][i]
+        if not np.all(np.isfinite(B)):
+            out.count("does not assemble along the stretch")
+            continue
+        flip = np.pi if f["c"] < 0 else 0.0
+        miss = wrapped(np.angle(B[cols] - geo["B0"][i]) + flip - psi)
+        # a precision point met on the other assembly branch: the engine, following the sketch's branch, misses it
+        other = wrapped(np.angle(_other_branch(pos["A"][i, cols], B[cols], geo["B0"][i]) - geo["B0"][i]) + flip - psi)
+        wrong = np.flatnonzero(other < miss - REACH_TOL)
+        if len(wrong) or (len(phi) == 3 and np.max(miss) > REACH_TOL):
+            where = wrong if len(wrong) else np.flatnonzero(miss > REACH_TOL)
+            key = tuple(np.round(np.asarray(lengths) / ground, 9)) + (round(float(np.max(miss)), 12),)
+            if key in rejected_keys:          # the same linkage from another start, rejected already
+                continue
+            rejected_keys.add(key)
+            out.add(make(i, float(np.max(miss)), float(mu[i]),
+                         defects=[f"branch: point {', '.join(str(j + 1) for j in where)} on the other assembly "
+                                  "branch"]), "branch defect")
+            continue
+        sols.append((i, float(np.max(miss)), float(mu[i])))
+    # start angles that differ by a rotation of the whole task fit the same linkage: keep one of each
+    seen, unique = set(), []
+    for i, err, m in sorted(sols, key=lambda r: (np.floor(r[1] / 1e-9), -r[2])):
+        key = tuple(np.round(np.asarray(fits[i][3]) / ground, 9)) + (round(err, 12),)
+        if key not in seen:
+            seen.add(key)
+            unique.append((i, err, m))
+    out.count("the same linkage from another start", len(sols) - len(unique))
+    result = [make(i, err, m, rank) for rank, (i, err, m) in enumerate(_rank(unique, limit, 1e-9), start=1)]
+    out.rejected.sort(key=lambda r: r.residual)
+    return Candidates(result, criterion=FUNCTION_CRITERION, rejected=out.rejected, counts=out.counts)
 
 
-def function_generation(inputs, outputs, *, spacing=None, ground=1.0, **options) -> list:
-    """Four-bar function generators (ranked list of Mechanism); see :func:`function_candidates`."""
-    return [s.mechanism for s in function_candidates(inputs, outputs, spacing=spacing, ground=ground, **options)]
+def function_generation(inputs, outputs, *, spacing=None, ground=1.0, **options) -> Candidates:
+    """Four-bar function generators (ranked list of Mechanism, with ``.rejected``, ``.criterion`` and ``.reason``
+    as :class:`~assur.synthesis.exact_results.Candidates`); see :func:`function_candidates`."""
+    c = function_candidates(inputs, outputs, spacing=spacing, ground=ground, **options)
+    return c.with_items(s.mechanism for s in c)
 
 
 # -- slider-crank function generation ----------------------------------------------------------------------
-@dataclass(frozen=True)
-class SliderSolution:
-    """One synthesised slider-crank. ``inputs``: the crank angles at the precision points (rad, from the slide
-    line's direction); ``residual``: the largest error of the engine's slider positions there (length);
-    ``transmission``: the worst transmission angle over the stretch (the angle between the rod and the normal
-    of the slide line, rad, in [0, π/2]; π/2 when the rod lies along the line); ``kind``: "crank-slider" when
-    the crank turns fully (crank + |offset| < rod), else "rocker-slider"; ``crank``, ``rod``, ``offset``: the
-    crank A0A and rod AB lengths and the slide line's signed offset from A0 (to the left of its direction)."""
-    mechanism: object
-    inputs: np.ndarray
-    residual: float
-    transmission: float
-    kind: str
-    crank: float
-    rod: float
-    offset: float
-
-
 def _slider_crank(a, e, phi0, s0, flip, *, units, name, description):
     """The Mechanism: A0 at the origin, the slide line y = e along +x, sketched at crank angle phi0 (the crank
     points along phi0 + π when ``flip``; the driver's input is phi0 either way) with B at (s0, e)."""
@@ -300,7 +335,7 @@ def _slider_crank(a, e, phi0, s0, flip, *, units, name, description):
 
 
 def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, units="m", limit=20,
-                      samples=60) -> list[SliderSolution]:
+                      samples=60) -> Candidates:
     """Slider-crank function generators (module ``freudenstein``, ``slider_freudenstein``), ranked.
 
     The crank turns about ``A0`` (the origin); the pin ``B`` of the rod ``A``–``B`` slides on a frame line of
@@ -316,21 +351,25 @@ def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, 
     assembly branch (B mirrored about the foot of A on the line) than the sketch's; ranked by the residual (in steps of 1e-9 of the stroke), then by the worst
     transmission angle."""
     from ..engine import compile as compile_, solve
+    _check_limit(limit)
+    _check_units(units)
     inputs, displacements = _spaced(inputs, displacements, spacing, n, "displacements", "slider position")
     x, y = precision_pairs(inputs, displacements, where=("inputs", "displacements"))
     starts = _starts(starts, "(φ0, s0)")
     scale = max(float(np.ptp(y)), float(np.max(np.abs(y))), 1e-300)
-    sols = []
+    sols, out = [], Rejections()
     for phi0, s0 in starts:
         phi, s = x + phi0, y + s0
         f = slider_freudenstein(phi, s)
         if f is None:
+            out.count("singular fit")
             continue
         a, b, e, flip = f["a"], f["b"], f["e"], f["flip"]
         q, cols = _stretch(phi[None, :], samples)
         # assembles without a toggle: |e − a sin θ| < b over the whole stretch (dense check, then the engine)
         th = q[0] + (np.pi if flip else 0.0)
         if not np.all(np.abs(e - a * np.sin(th)) < b * (1 - 1e-9)):
+            out.count("toggle inside the stretch")
             continue
         kind = "crank-slider" if a + abs(e) < b else "rocker-slider"
         note = ("Slider-crank function generator (loop closure, exact for three points): input = crank angle φ "
@@ -342,23 +381,31 @@ def slider_candidates(inputs, displacements, *, spacing=None, n=3, starts=None, 
         st = solve(compile_(mech), inputs=q[0], order=0, on_unbuildable="nan", backend="numpy")
         A, B = st.point("A").pos, st.point("B").pos
         if not (np.all(np.isfinite(B)) and np.all(np.isfinite(A))):
+            out.count("does not assemble along the stretch")
             continue
         miss = np.abs(B[cols, 0] - s)
-        # a precision point met better on the other assembly branch (B mirrored about A's foot): branch defect
-        other = np.abs(2 * A[cols, 0] - B[cols, 0] - s)
-        if np.any(other < miss - REACH_TOL * scale):
-            continue
         err = float(np.max(miss))
         rod = np.arctan2(B[:, 1] - A[:, 1], B[:, 0] - A[:, 0])
         mu = float(np.min(np.pi / 2 - np.abs(np.arcsin(np.clip(np.sin(rod), -1.0, 1.0)))))
-        sols.append((SliderSolution(mech, phi, err, mu, kind, a, b, e), err, mu))
+        # a precision point met better on the other assembly branch (B mirrored about A's foot): branch defect
+        other = np.abs(2 * A[cols, 0] - B[cols, 0] - s)
+        wrong = np.flatnonzero(other < miss - REACH_TOL * scale)
+        if len(wrong):
+            out.add(SliderSolution(mech, phi, err, mu, kind, a, b, e, 0, (
+                f"branch: point {', '.join(str(j + 1) for j in wrong)} on the other assembly branch",), units),
+                "branch defect")
+            continue
+        sols.append((SliderSolution(mech, phi, err, mu, kind, a, b, e, unit=units), err, mu))
     sols.sort(key=lambda r: (np.floor(r[1] / (1e-9 * scale)), -r[2]))
-    return [r[0] for r in (sols[:limit] if limit else sols)]
+    kept = [dataclasses.replace(r[0], rank=k) for k, r in enumerate(sols[:limit] if limit else sols, start=1)]
+    return Candidates(kept, criterion=SLIDER_CRITERION, rejected=out.rejected, counts=out.counts)
 
 
-def slider_function_generation(inputs, displacements, *, spacing=None, **options) -> list:
-    """Slider-crank function generators (ranked list of Mechanism); see :func:`slider_candidates`."""
-    return [s.mechanism for s in slider_candidates(inputs, displacements, spacing=spacing, **options)]
+def slider_function_generation(inputs, displacements, *, spacing=None, **options) -> Candidates:
+    """Slider-crank function generators (ranked list of Mechanism, with the rejections of
+    :class:`~assur.synthesis.exact_results.Candidates`); see :func:`slider_candidates`."""
+    c = slider_candidates(inputs, displacements, spacing=spacing, **options)
+    return c.with_items(s.mechanism for s in c)
 
 
 # -- motion generation -------------------------------------------------------------------------------------
@@ -394,14 +441,18 @@ def dyads(poses, *, free=None, samples=None, radius=1.5):
 
 
 def motion_candidates(poses, *, free=None, grashof=None, samples=None, radius=1.5, units="m", limit=20,
-                      per_gap=30) -> list[ExactSolution]:
+                      per_gap=30) -> Candidates:
     """Four-bars that carry the coupler through the poses (n, 3) = (x, y, angle rad), ranked by the worst
     transmission angle over the stretch. The dyads come from :func:`dyads`; every ordered pair (crank,
     rocker) with distinct ground pivots is a candidate, kept only if its Grashof type passes ``grashof``, the
     crank angles of the poses come in one turning sense within one turn, the stretch between the first and
     last pose is buildable without a toggle, and the engine, driven along it, reaches every pose on the
-    branch of the sketch (positions of A, B and P within 1e-6 of the task's size)."""
+    branch of the sketch (positions of A, B and P within 1e-6 of the task's size). Returns
+    :class:`~assur.synthesis.exact_results.Candidates` (``.counts``: how many pairs each defect removed)."""
     _check_grashof(grashof)
+    _check_limit(limit)
+    _check_units(units)
+    out = Rejections()
     P = Poses(poses)
     G, Z = dyads(poses, free=free, samples=samples, radius=radius)
     poses = np.asarray(poses, float)
@@ -416,18 +467,21 @@ def motion_candidates(poses, *, free=None, grashof=None, samples=None, radius=1.
                         np.abs(Z[jj] - G[jj])], axis=1)
     kinds = np.array([grashof_type(row) for row in lengths], dtype=object)
     keep = np.array([_grashof_ok(kd, grashof) for kd in kinds], dtype=bool)
+    out.count(f"grashof filter ({grashof})", int(np.count_nonzero(~keep)))
     ii, jj, lengths = ii[keep], jj[keep], lengths[keep]
     theta = np.angle(moving[ii] - G[ii, None]) - np.angle(G[jj] - G[ii])[:, None]      # (k, n) crank angles
-    cand = []
+    cand, passed = [], np.zeros(len(ii), dtype=bool)
     for sense, sign in (("ccw", 1.0), ("cw", -1.0)):
         gaps = np.mod(sign * np.diff(theta, axis=1), 2 * np.pi)
         total = gaps.sum(axis=1)
         t = theta[:, :1] + sign * np.concatenate([np.zeros((len(theta), 1)), np.cumsum(gaps, axis=1)], axis=1)
         ok = np.all(gaps > 1e-9, axis=1) & (total < 2 * np.pi)
         ok &= _buildable(lengths, t[:, 0] if sign > 0 else t[:, -1], total)
+        passed |= ok
         cand += [(ii[r], jj[r], sense, t[r], lengths[r]) for r in np.flatnonzero(ok)]
+    out.count("order defect or toggle inside the stretch", int(np.count_nonzero(~passed)))
     if not cand:
-        return []
+        return Candidates(criterion=MOTION_CRITERION, counts=out.counts)
     ii = np.array([c[0] for c in cand])
     jj = np.array([c[1] for c in cand])
     geo = {"A0": G[ii], "B0": G[jj], "A": Z[ii], "B": Z[jj], "P": np.full(len(cand), d[0])}
@@ -443,23 +497,27 @@ def motion_candidates(poses, *, free=None, grashof=None, samples=None, radius=1.
                   np.max(np.abs(pos["B"][r, cols] - moving[j])))
         if err <= tol:
             sols.append((r, float(err), float(mu[r])))
+        else:
+            out.count("a pose not reached on the sketch's branch")
     result = []
-    for r, err, mu_r in _rank(sols, limit, np.inf):
+    for rank, (r, err, mu_r) in enumerate(_rank(sols, limit, np.inf), start=1):
         i, j, sense, t, lengths = cand[r]
         note = (f"Motion generator (Burmester, {len(d)} poses), sketched in the first pose; the crank turns "
                 f"{sense} from the first pose to the last.")
         mech = _fourbar(G[i], G[j], Z[i], Z[j], d[0], sense=sense, units=units, name="motion generator",
                         description=note)
         result.append(ExactSolution(mech, t if sense == "ccw" else -t, err, mu_r,
-                                    grashof_type(lengths), tuple(float(v) for v in lengths)))
-    return result
+                                    grashof_type(lengths), tuple(float(v) for v in lengths), rank, (), units))
+    return Candidates(result, criterion=MOTION_CRITERION, counts=out.counts)
 
 
-def motion_generation(poses, *, free=None, **options) -> list:
-    """Four-bar motion generators (ranked list of Mechanism); see :func:`motion_candidates`."""
-    return [s.mechanism for s in motion_candidates(poses, free=free, **options)]
+def motion_generation(poses, *, free=None, **options) -> Candidates:
+    """Four-bar motion generators (ranked list of Mechanism, with the counts of
+    :class:`~assur.synthesis.exact_results.Candidates`); see :func:`motion_candidates`."""
+    c = motion_candidates(poses, free=free, **options)
+    return c.with_items(s.mechanism for s in c)
 
 
-__all__ = ["ExactSolution", "GRASHOF_FILTERS", "GRASHOF_TYPES", "SliderSolution", "chebyshev_points", "dyads",
-           "function_candidates", "function_generation", "grashof_type", "motion_candidates", "motion_generation",
+__all__ = ["Candidates", "ExactSolution", "GRASHOF_FILTERS", "GRASHOF_TYPES", "SliderSolution", "chebyshev_points",
+           "dyads", "function_candidates", "function_generation", "grashof_type", "motion_candidates", "motion_generation",
            "slider_candidates", "slider_function_generation"]

@@ -82,10 +82,15 @@ class LocalProcesses(InProcess):
         return Evaluation.concatenate(list(pool.map(_evaluate_in_worker, chunks, [detail] * len(chunks))))
 
     def map_starts(self, func, args_list):
+        """Whole starts as tasks; returns once every result is in, without waiting for the worker processes to
+        exit (a second under load: a run's time limit does not wait for it; they end in the background)."""
         from concurrent.futures import ProcessPoolExecutor
         import multiprocessing as mp
-        with ProcessPoolExecutor(self.workers, mp_context=mp.get_context("spawn")) as pool:
+        pool = ProcessPoolExecutor(self.workers, mp_context=mp.get_context("spawn"))
+        try:
             return list(pool.map(func, *zip(*args_list)))
+        finally:
+            pool.shutdown(wait=False, cancel_futures=True)
 
     def close(self):
         if self._pool is not None:

@@ -44,20 +44,29 @@ class _Stop(Exception):
 
 @dataclass
 class StartResult:
-    """The outcome of one start (picklable, returned by worker processes)."""
+    """The outcome of one start (picklable, returned by worker processes). ``x`` is None for a start that began
+    after the run's deadline had passed (it evaluated nothing). ``longest_batch``: the longest evaluation of one
+    population (s); ``first_batch_end``: the wall-clock time (``time.time()``) its first population was done."""
     seed: int
-    x: np.ndarray
+    x: np.ndarray | None
     penalised: float
     evaluations: int
     seconds: float
     stopped: str
     history: list
     restarts: int = 0
+    longest_batch: float = 0.0
+    first_batch_end: float | None = None
 
 
 class Tracker:
     """Evaluates populations through an executor, counts them, keeps the best design, records the
-    convergence history and stops the run on a budget, a deadline or Ctrl-C."""
+    convergence history and stops the run on a budget, a deadline or Ctrl-C.
+
+    ``deadline``: the wall-clock time (``time.time()``, comparable across the processes of one machine and the
+    machines of a cluster with synchronised clocks) after which no further population is evaluated; the first
+    population is always evaluated, so a run always has a design. A run therefore ends at most one evaluation
+    batch (``longest_batch``) after its deadline, or one batch after its first population when that comes later."""
 
     def __init__(self, evaluator: Evaluator, executor=None, *, budget=None, deadline=None, progress=None,
                  evaluations: int = 0, target=None, space: SearchSpace | None = None):
@@ -69,14 +78,19 @@ class Tracker:
         self.restarts = 0                  # restarts begun (the 'restart' method)
         self.history: list[tuple[int, float, float]] = []
         self.t0 = time.monotonic()
+        self.longest_batch, self.first_batch_end = 0.0, None
 
     def __call__(self, X, detail: bool = False) -> Evaluation:
         if self.budget is not None and self.evaluations >= self.budget:
             raise _Stop("budget")
-        if self.deadline is not None and time.monotonic() >= self.deadline:
+        if self.deadline is not None and self.best_x is not None and time.time() >= self.deadline:
             raise _Stop("time")
         X = self.space.expand(np.atleast_2d(np.asarray(X, dtype=float)))     # search vectors → design vectors
+        t = time.monotonic()
         ev = self.executor.evaluate(self.evaluator, X, detail)
+        self.longest_batch = max(self.longest_batch, time.monotonic() - t)
+        if self.first_batch_end is None:
+            self.first_batch_end = time.time()
         self.evaluations += len(X)
         i = int(np.argmin(ev.penalised))
         if ev.penalised[i] < self.best_F:       # the whole design, its solved timing included
@@ -110,6 +124,11 @@ class SynthesisResult:
     starts: list = field(default_factory=list)       # per start: seed, F, evaluations, seconds, stopped
     history: list = field(default_factory=list)      # (evaluations, seconds, best F) over the run
     executor: str = "in-process"
+    #: seconds: ``first_batch`` from the run's start to the last of its starts' first evaluated populations (each
+    #: start begun before the limit evaluates one), ``longest_batch`` the longest evaluation of one population,
+    #: ``finish`` from the last start's end to the result (the best design's re-check in this process); a time limit
+    #: holds within ``longest_batch`` + ``finish`` of the limit or of ``first_batch`` (docs/synthesis.md)
+    timing: dict = field(default_factory=dict)
     settings: dict = field(default_factory=dict)     # the resolved settings and where each came from
     on_bounds: list = field(default_factory=list)    # variables of the best design that sit on a bound
 
@@ -149,6 +168,15 @@ class SynthesisResult:
         except AssurError:
             return None
 
+    def __repr__(self) -> str:
+        what = (f"objective {self.objective:.6g} ({self.problem.deviation})" if self.feasible
+                else f"no feasible design (violation {self.violation:.4g})")
+        xs = ", ".join(f"{n} = {v:.6g}" for n, v in list(self.variables.items())[:8])
+        more = ", …" if len(self.variables) > 8 else ""
+        return (f"SynthesisResult({self.problem.name or 'problem'}: {what}; {self.evaluations} evaluations in "
+                f"{self.seconds:.2f} s, stopped: {self.stopped}, method {self.method}, seed {self.seed}; "
+                f"{xs}{more} [{self.problem.length_unit}, {self.problem.angle_unit}])")
+
     def _repr_html_(self) -> str:
         from ..model.display import html_table
         unit = self.problem.length_unit
@@ -165,6 +193,7 @@ class SynthesisResult:
                 "feasible": self.feasible, "violation": self.violation, "length_unit": self.problem.length_unit,
                 "angle_unit": self.problem.angle_unit, "variables": self.variables,
                 "evaluations": self.evaluations, "seconds": self.seconds, "stopped": self.stopped,
+                "timing": self.timing,
                 "constraints": list(self.problem.constraints), "details": self.details,
                 "gait": None if g is None else g.as_dict(), "starts": self.starts,
                 "settings": self.settings, "on_bounds": self.on_bounds,
@@ -360,9 +389,18 @@ def _polish(tracker, problem, x0, kind):
 
 
 def run_start(problem, method, seed, budget, time_limit, options, evaluator=None, executor=None, progress=None):
-    """One independent start: a global search then a polish. Returns a StartResult (picklable)."""
+    """One independent start: a global search then a polish. Returns a StartResult (picklable).
+
+    ``time_limit``: seconds from now; ``options["deadline"]``, when given, is the run's common wall-clock deadline
+    (``time.time()``) instead. A start that begins after that deadline (a start queued behind others on busy
+    workers) evaluates nothing and returns ``x = None``, unless ``options["first"]`` says it must give the run its
+    first design."""
+    deadline = options.get("deadline")
+    if deadline is None and time_limit is not None:
+        deadline = time.time() + time_limit
+    if deadline is not None and time.time() >= deadline and not options.get("first", True):
+        return StartResult(int(seed), None, math.inf, 0, 0.0, "time", [])
     evaluator = evaluator or Evaluator(problem, backend=options.get("backend"))
-    deadline = None if time_limit is None else time.monotonic() + time_limit
     space = SearchSpace(problem)                 # the optimisers see the searched variables only
     tracker = Tracker(evaluator, executor, budget=budget, deadline=deadline, progress=progress,
                       target=options.get("target"), space=space)
@@ -394,7 +432,21 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
     if tracker.best_x is None:
         raise SynthesisError(f"no design was evaluated (stopped: {stopped}); raise the budget or the time limit")
     return StartResult(int(seed), tracker.best_x, tracker.best_F, tracker.evaluations,
-                       time.monotonic() - tracker.t0, stopped, tracker.history, tracker.restarts)
+                       time.monotonic() - tracker.t0, stopped, tracker.history, tracker.restarts,
+                       tracker.longest_batch, tracker.first_batch_end)
+
+
+def _check_seed(seed) -> None:
+    """SettingError unless ``seed`` is None, a whole number ≥ 0 or a sequence of them (numpy's SeedSequence)."""
+    from ..errors import SettingError
+
+    def whole(v):
+        return isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0
+    if seed is None or whole(seed) or isinstance(seed, np.random.SeedSequence):
+        return
+    if isinstance(seed, (list, tuple)) and seed and all(whole(v) for v in seed):
+        return
+    raise SettingError([("seed", f"must be a whole number ≥ 0 (or None for a random run): {seed!r:.60}")])
 
 
 def _progress_bar(total, desc):
@@ -426,7 +478,11 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     restart's best polished, until the budget, the time limit or the target; with neither a budget nor a time
     limit the budget is :data:`~assur.synthesis.solver.DEFAULT_BUDGET`), 'de' (one scipy differential
     evolution per start, vectorised), 'cmaes' (cma), or 'local' (polish only, from ``x0`` in file units or a
-    random point). budget: evaluations over all starts; time_limit: seconds over all starts. starts:
+    random point). budget: evaluations over all starts; time_limit: a wall-time limit (s) of the whole run —
+    every start, on this process or on workers, with its polish and restarts: no population is evaluated after
+    it, so the run ends within one evaluation batch of it and the best design's re-check (``result.timing``:
+    ``longest_batch``, ``finish``; the first population is always evaluated, so a run whose first batch ends after
+    the limit — workers still starting — ends right after that, ``first_batch``). starts:
     independent starts with seeds spawned from ``seed``; with a parallel executor they run as tasks
     (``parallel_starts``, default when starts > 1), otherwise in turn with the population evaluation on the
     executor. Ctrl-C, the budget and the time limit end the run early and return the best design so far. A
@@ -437,7 +493,13 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     ``progress(evaluations, best_F)`` called after every evaluated population (evaluations counted over the
     run, best_F the optimiser's penalised scalar); a KeyboardInterrupt raised from it stops the run like Ctrl-C,
     keeping the best design so far. ``backend``: the engine backend of every evaluation ('numba' or 'numpy';
-    default :func:`~assur.synthesis.evaluate.default_backend`)."""
+    default :func:`~assur.synthesis.evaluate.run_backend`: numba for a run whose numpy evaluations would take at
+    least 10 s by a fixed estimate from the problem's size, or without a budget a time limit of at least 60 s;
+    numpy for a shorter one, whose first compile would cost more than it saves)."""
+    if not isinstance(problem, Problem):
+        from ..errors import ArgumentTypeError
+        raise ArgumentTypeError([("problem", f"must be a Problem (assur.synthesis.load_problem(path)), not "
+                                             f"{type(problem).__name__}")])
     cfg = resolve(getattr(problem, "solver", None),
                   {"method": method, "budget": budget, "time": time_limit, "target": target, "starts": starts,
                    "popsize": popsize, "strategy": strategy, "polish": polish, "maxiter": maxiter})
@@ -457,13 +519,20 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
             raise SynthesisError(f"{name} must be positive: {v!r}")
     if method == "cmaes":   # an optional package: say so before any work
         require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
+    _check_seed(seed)
+    backend_source = "given" if backend is not None else "default"
+    if backend is None:                    # the compiled kernels only for a run that wins back their compile
+        from .evaluate import run_backend
+        backend = run_backend(problem, budget, time_limit)
     executor = executor or InProcess()
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(starts)]
     options = {"popsize": popsize, "maxiter": maxiter, "tol": tol, "polish": polish, "patience": patience,
                "strategy": strategy, "target": target, "backend": backend,
                "x0": None if x0 is None else problem.to_si(x0)}
     per_budget = None if budget is None else max(1, budget // starts)
-    t0 = time.monotonic()
+    t0, wall0 = time.monotonic(), time.time()
+    # one deadline for the whole run, whatever runs where: the starts on workers, their polish and restarts
+    options["deadline"] = None if time_limit is None else wall0 + time_limit
     results: list[StartResult] = []
     stopped = "converged"
     evaluator = Evaluator(problem, backend=backend)
@@ -475,17 +544,18 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
         bar, update = _progress_bar(budget, problem.name or "synth") if progress else (None, None)
     try:
         if parallel_starts:
-            args = [(problem, method, s, per_budget, time_limit, options) for s in seeds]
-            results = list(executor.map_starts(run_start, args))
+            # the first start always gives a design; a later one that begins past the deadline evaluates nothing
+            args = [(problem, method, s, per_budget, time_limit, {**options, "first": k == 0})
+                    for k, s in enumerate(seeds)]
+            results = [r for r in executor.map_starts(run_start, args) if r.x is not None]
         else:
             done = 0
             for s in seeds:
-                remaining = None if time_limit is None else time_limit - (time.monotonic() - t0)
-                if remaining is not None and remaining <= 0:
+                if options["deadline"] is not None and results and time.time() >= options["deadline"]:
                     stopped = "time"
                     break
                 prog = None if update is None else (lambda e, b, base=done: update(base + e, b))
-                r = run_start(problem, method, s, per_budget, remaining, options, evaluator, executor, prog)
+                r = run_start(problem, method, s, per_budget, time_limit, options, evaluator, executor, prog)
                 results.append(r)
                 done += r.evaluations
                 if r.stopped in ("interrupted", "target"):
@@ -502,6 +572,8 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
     if stopped == "converged":
         reasons = {r.stopped for r in results}
         stopped = next((s for s in ("target", "interrupted", "time", "budget") if s in reasons), "converged")
+    ends = [r.first_batch_end for r in results if r.first_batch_end is not None]
+    finish0 = time.monotonic()
     ev = evaluator(best.x[None, :], detail=True)
     row = ev.row(0)
     history, offset_e, offset_t = [], 0, 0.0
@@ -515,8 +587,12 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
                            starts=[{"seed": r.seed, "best_F": r.penalised, "evaluations": r.evaluations,
                                     "seconds": r.seconds, "stopped": r.stopped, "restarts": r.restarts} for r in results],
                            history=history, executor=executor.name,
-                           settings={k: cfg[k] for k in ("method", "budget", "time", "target", "starts", "popsize",
-                                                         "strategy", "polish", "maxiter", "sources")},
+                           timing={"first_batch": (max(ends) - wall0) if ends else 0.0,
+                                   "longest_batch": max(r.longest_batch for r in results),
+                                   "finish": time.monotonic() - finish0},
+                           settings={**{k: cfg[k] for k in ("method", "budget", "time", "target", "starts", "popsize",
+                                                            "strategy", "polish", "maxiter")}, "backend": backend,
+                                     "sources": {**cfg["sources"], "backend": backend_source}},
                            on_bounds=bounds_reached(problem, best.x))
 
 

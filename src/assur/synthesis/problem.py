@@ -31,6 +31,7 @@ length unit (a sum of distances in mm for a problem in mm, squared distances in 
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -176,7 +177,11 @@ class Problem:
 
     def to_si(self, x_file) -> np.ndarray:
         """Design vectors in file units (..., n_vars) → SI."""
-        return np.asarray(x_file, dtype=float) / self.variable_scale()
+        from ..errors import float_array
+        x = float_array(x_file, "x0", "a design vector of numbers (file units)")
+        if x.shape[-1:] != (self.n_vars,):
+            raise SpecError([("x0", f"must have {self.n_vars} entries ({', '.join(self.names)}): shape {x.shape}")])
+        return x / self.variable_scale()
 
     def to_file(self, x_si) -> np.ndarray:
         return np.asarray(x_si, dtype=float) * self.variable_scale()
@@ -196,6 +201,9 @@ _TOP = {"format", "name", "description", "mechanism", "variables", "parameters",
 
 def load_problem(path) -> Problem:
     """Read a problem file. Raises SpecError listing every problem with its location."""
+    if not isinstance(path, str) and not hasattr(path, "__fspath__") or str(path) == "":
+        from ..errors import ArgumentTypeError
+        raise ArgumentTypeError([("path", f"must be a problem file's path (text or a pathlib.Path): {path!r:.60}")])
     path = Path(path)
     return problem_from_dict(read_toml(path), base_dir=path.parent, source=str(path))
 
@@ -218,7 +226,7 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             P.add("mechanism", f"must be the path of a mechanism file: {ref!r}")
             fail()
         mech_path = (Path(base_dir) / ref)
-        mech_source = str(mech_path)
+        mech_source = os.path.normpath(mech_path)     # examples/crank_rocker.toml, not examples/synthesis/../…
         try:
             mechanism = load(mech_path)
         except SpecError as exc:

@@ -64,33 +64,47 @@ def read_solver(raw, P) -> dict:
     for key, v in raw.items():
         if key not in KEYS:
             continue
-        where = f"solver.{key}"
-        if key in ("method", "strategy", "polish"):
-            choices = {"method": METHODS, "strategy": DE_STRATEGIES, "polish": POLISHES}[key]
-            if v not in choices:
-                P.add(where, f"must be one of {', '.join(choices)}: {v!r}")
-                continue
-            out[key] = v
-        elif key in ("budget", "starts", "popsize", "maxiter"):
-            low = 2 if key == "popsize" else 1
-            if isinstance(v, bool) or not isinstance(v, int) or v < low:
-                P.add(where, f"must be an integer ≥ {low}: {v!r}")
-                continue
-            out[key] = int(v)
-        else:   # time, target
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                P.add(where, f"must be a finite number: {v!r}")
-                continue
-            if key == "time" and not v > 0:
-                P.add(where, f"must be positive: {v!r}")
-                continue
-            out[key] = float(v)
+        value, problem = check_setting(key, v)
+        if problem:
+            P.add(f"solver.{key}", problem)
+        else:
+            out[key] = value
     return out
+
+
+def check_setting(key: str, v):
+    """(the setting ``key`` as its type, None) when ``v`` is a valid value, else (None, what is wrong)."""
+    import numpy as np
+    if key in ("method", "strategy", "polish"):
+        choices = {"method": METHODS, "strategy": DE_STRATEGIES, "polish": POLISHES}[key]
+        if not isinstance(v, str) or v not in choices:
+            return None, f"must be one of {', '.join(choices)}: {v!r:.60}"
+        return v, None
+    if key in ("budget", "starts", "popsize", "maxiter"):
+        low = 2 if key == "popsize" else 1
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
+            return None, f"must be an integer ≥ {low}: {v!r:.60}"
+        return int(v), None
+    # time, target
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v):
+        return None, f"must be a finite number: {v!r:.60}"
+    if key == "time" and not v > 0:
+        return None, f"must be positive: {v!r}"
+    return float(v), None
 
 
 def resolve(file_settings: dict | None, given: dict) -> dict:
     """The settings of a run: DEFAULTS ← the file's [solver] ← the caller's explicit (non-None) values. A run with
     neither a budget nor a time limit gets DEFAULT_BUDGET with the 'restart' method. Adds ``sources``: key → 'default' | 'file' | 'given'."""
+    from ..errors import SettingError
+    problems = []
+    for k, v in given.items():           # the caller's values, checked as the file's are (named as the arguments)
+        if v is not None and k in KEYS:
+            _, problem = check_setting(k, v)
+            if problem:
+                problems.append(("time_limit" if k == "time" else k, problem))
+    if problems:
+        raise SettingError(problems)
     settings, sources = dict(DEFAULTS), {k: "default" for k in DEFAULTS}
     for level, values in (("file", file_settings or {}), ("given", given)):
         for k, v in values.items():
@@ -102,4 +116,5 @@ def resolve(file_settings: dict | None, given: dict) -> dict:
     return settings
 
 
-__all__ = ["DEFAULTS", "DEFAULT_BUDGET", "DE_STRATEGIES", "KEYS", "METHODS", "POLISHES", "read_solver", "resolve"]
+__all__ = ["DEFAULTS", "DEFAULT_BUDGET", "DE_STRATEGIES", "KEYS", "METHODS", "POLISHES", "check_setting", "read_solver",
+           "resolve"]

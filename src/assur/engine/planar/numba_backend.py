@@ -71,6 +71,18 @@ def solve_source(plan, with_bodies: bool, order: int) -> str:
     return codegen.solve_source(t.tracer, rows, ok)
 
 
+def kernel_ready(plan, with_bodies: bool = False, order: int = 2) -> bool:
+    """True when the plan's kernel (:func:`kernel`) runs without a compile: compiled in this process or found in
+    the disk cache. False without numba or for a plan the backend does not cover."""
+    if not (covers(plan) and available()):
+        return False
+    try:
+        k = kernel(plan, with_bodies, order)
+    except OSError:
+        return False
+    return codegen.ready(k)
+
+
 def kernel(plan, with_bodies: bool, order: int = 2):
     """The plan's generated straight-line kernel for a derivative order (compiled once, cached on
     disk by numba)."""
