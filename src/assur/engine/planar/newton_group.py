@@ -72,7 +72,8 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
         og, eg = pose[guide]
         os_, es = pose[slider]
         U = eg * u
-        res.append((U.conj() * (es * us)).imag)
+        # the alignment of the slider with its guide (a sine) times the length scale: every residual in metres
+        res.append((U.conj() * (es * us)).imag * c.plan.length_scale)
         d = os_ + es * ref - og - eg * q
         res.append((U.conj() * d).imag)
         if kind == "actuator" and name in driven:
@@ -83,10 +84,38 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
 
 
 def _equilibrated_det(J):
-    """(...) det of J (..., n, n) with every row scaled to unit length: |det| ≤ 1, free of units."""
+    """(...) det of J (..., n, n) with every row scaled to unit length: |det| ≤ 1 (Hadamard)."""
     with np.errstate(all="ignore"):
         norms = np.linalg.norm(J, axis=-1, keepdims=True)
         return np.linalg.det(J / np.where(norms > 0, norms, 1.0))
+
+
+def body_scales(c, st):
+    """Per body of the group, its own length scale (m): the largest distance between two of its points in its
+    local frame, (...) arrays of the design's batch shape; a body with one point (a slider block) takes the
+    group's largest."""
+    sizes = []
+    for b in st.bodies:
+        ws = [np.asarray(c.w[(b, p)]) for p in c.g.bodies[b].points]
+        size = np.zeros(np.shape(ws[0]))
+        for w in ws[1:]:
+            size = np.maximum(size, np.abs(w - ws[0]))
+        sizes.append(size)
+    largest = np.maximum.reduce(sizes) if sizes else np.float64(c.plan.length_scale)
+    largest = np.where(largest > 0, largest, c.plan.length_scale)
+    return [np.where(s > 0, s, largest) for s in sizes]
+
+
+def certificate_det(c, st, J):
+    """The dimensionless branch certificate of a Newton-solved group: (...) the determinant of its loop equations'
+    Jacobian J (..., n, n) (rows in metres, columns x, y (m) and θ (rad) per body) with each body's θ column
+    divided by the body's own length scale (:func:`body_scales`) and then every row scaled to unit length. The
+    matrix is then a pure number: the same for the mechanism drawn at any size (|det| ≤ 1, and 0 exactly where two
+    assemblies meet)."""
+    cols = np.ones(np.shape(J)[:-2] + (np.shape(J)[-1],))
+    for i, s in enumerate(body_scales(c, st)):
+        cols[..., 3 * i + 2] = 1.0 / s
+    return _equilibrated_det(J * cols[..., None, :])
 
 
 def sketch_misfit(c, st, poses):
@@ -127,7 +156,7 @@ def sketch_branch_sign(c, st, poses) -> int:
     Jacobian determinant of its loop equations at the drawn body poses (x, y, θ) ``poses`` (``c``: a context with
     the group's known bodies placed, as for :func:`sketch_misfit`). The solver keeps every sample on this sign."""
     x = np.array([v for b in st.bodies for v in poses[b]], dtype=float)
-    return int(np.sign(_equilibrated_det(_residual_and_jacobian(c, st, x, ())[1])))
+    return int(np.sign(certificate_det(c, st, _residual_and_jacobian(c, st, x, ())[1])))
 
 
 def solve_group(c, st):
@@ -155,12 +184,12 @@ def solve_group(c, st):
     if sign_key not in c.warm:
         # the branch invariant: the sign of the equilibrated Jacobian determinant at the seed (the sketch
         # assembly, on the plan's branches); it changes only through a singular position
-        c.warm[sign_key] = np.sign(_equilibrated_det(F_and_J(x)[1]))
+        c.warm[sign_key] = np.sign(certificate_det(c, st, F_and_J(x)[1]))
     x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations,
                       accept_tol=1e3 * tol.newton_residual * scale)
     # a converged sample counts only where its branch is certified: the same determinant sign as the seed,
     # clear of the singular positions where two assemblies meet
-    det = _equilibrated_det(J)
+    det = certificate_det(c, st, J)
     certified = (np.sign(det) == c.warm[sign_key]) & (np.abs(det) > tol.newton_certify)
     ok = ok & certified
     x = np.where(ok[..., None], x, np.nan)
