@@ -50,6 +50,10 @@ class Tolerances:
     #: least this magnitude; closer to a singular position (a toggle, a change point) it is reported unbuildable,
     #: never possibly mirrored.
     newton_certify: float = 1e-9
+    #: Two assemblies of a group closer than this fraction of the length scale (the largest distance of one point
+    #: of the group between them) are one; a solved sample this close to another assembly of its group is at a
+    #: singular position (where two assemblies meet) and is reported unbuildable, never possibly the other one.
+    assembly_separation: float = 1e-6
     #: At compile time the drawn sketch must close the loop equations of every Newton-solved group to
     #: within this fraction of the length scale (the sketch seeds the solver and so fixes its branch).
     sketch_fit: float = 1e-3

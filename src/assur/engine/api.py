@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
 from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
@@ -79,6 +80,38 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
             return state
     return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
                        sweep=sweep)
+
+
+def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
+    """Every real assembly of the mechanism at each input: all combinations of its groups' assemblies (a dyad's two
+    closed-form branches, a triad's polynomial roots, any other group's certified one-parameter reduction; docs/
+    assemblies.md).
+
+    Parameters
+    ----------
+    plan : PlanarPlan
+    inputs : array_like (..., n_inputs), optional
+        Input values (default: the sketch's); for a single-input plan a scalar or a 1-D array is a batch of values.
+    params : array_like (n_params,), optional
+        One design (default: the file's).
+
+    Returns
+    -------
+    list of list of :class:`~assur.engine.planar.assemblies.Assembly`
+        One list per input (the batch flattened in C order), each assembly with its branch identity, its positions
+        ``pos (n_points, 2)``, whether it is the one :func:`solve` returns there (``sketch``), its loop closure and
+        whether the enumeration certified it.
+    """
+    from .planar.assemblies import enumerate_assemblies
+    if not isinstance(plan, PlanarPlan):
+        raise SpecError([("plan", "assemblies are enumerated for planar mechanisms (a spatial R–S–S dyad has its two "
+                                  "branches: SpatialPlan.with_branch)")])
+    params, inputs = prepare_batch(plan, params, inputs)
+    if params.shape != (plan.n_params,):
+        raise SpecError([("params", f"must be one design of {plan.n_params} parameters: shape {params.shape}")])
+    flat = inputs.reshape(-1, plan.n_inputs)
+    solved = solve(plan, params, flat, order=0, tolerances=tolerances).pos
+    return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):
