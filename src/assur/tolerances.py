@@ -25,13 +25,19 @@ class Tolerances:
     newton_residual: float = 1e-12
     #: Newton iteration cap per continuation step.
     newton_iterations: int = 30
-    #: Newton fallback: each sample is continued from the sketch to its input in stages of at most this
-    #: crank angle (rad) ...
+    #: Newton-solved groups are continued from the sketch to each sample in certified steps
+    #: (:mod:`assur.engine.planar.continuation`) of at most this crank angle (rad) ...
     stage_angle: float = 0.17453292519943295   # 10°
     #: ... or this actuator stroke, relative to the length scale ...
     stage_length: float = 0.05
-    #: ... and in at least this many stages when the design differs from the file's.
+    #: ... and of at most this many-th of a design change.
     stages_for_new_design: int = 12
+    #: A continuation step is certified only where Newton's correction of its prediction moves no point of a group
+    #: by more than this fraction of the length scale (else it is retried shorter) ...
+    continuation_correction: float = 0.05
+    #: ... and a sample whose steps would have to be shorter than this crank angle (rad; this fraction of the
+    #: length scale of stroke) to be certified is unbuildable (a toggle, a singular position).
+    continuation_min_step: float = 1e-9
     #: Branch choice at compile time is ambiguous when the two candidate assemblies are closer than
     #: this, relative to the length scale.
     branch_separation: float = 1e-6

@@ -158,6 +158,23 @@ def take_rows(c, idx, n: int):
     return out
 
 
+def before_group(c, st):
+    """A copy of a context in which the group ``st`` is solved, as it was before: without the group's bodies and
+    the points only they place."""
+    out = copy.copy(c)
+    group = set(st.bodies)
+    out.pose = {b: v for b, v in c.pose.items() if b not in group}
+    g = c.plan.structure.graph
+    out.pos = {p: z for p, z in c.pos.items() if any(b in out.pose for b in g.bodies_at(p))}
+    return out
+
+
+def _at(v, rows, n):
+    """A design's value at the samples ``rows`` (a scalar stays)."""
+    v = np.asarray(v)
+    return v if v.ndim == 0 else np.broadcast_to(v, (n,))[rows]
+
+
 def _pose_from_two(z1, z2, w1, w2):
     """(x, y, θ) arrays of a body whose local points w1, w2 are at z1, z2."""
     e = (z2 - z1) / (w2 - w1)
@@ -179,8 +196,8 @@ def _triad_estimates(c, st, n):
     e = np.exp(1j * phi)
     poses = {t: (p.real, p.imag, phi)}
     for j, (leg, inner, far) in enumerate(legs):
-        poses[leg] = _pose_from_two(Q[rows, j], p + e * w[rows, j], np.asarray(c.w[(leg, far)]),
-                                    np.asarray(c.w[(leg, inner)]))
+        poses[leg] = _pose_from_two(Q[rows, j], p + e * w[rows, j], _at(c.w[(leg, far)], rows, n),
+                                    _at(c.w[(leg, inner)], rows, n))
     return rows, _stack_poses(st, poses, len(rows)), phi
 
 
@@ -246,7 +263,8 @@ def _reduction_estimates(c, st, n):
     poses = {}
     for b in st.bodies:
         pts = c.plan.structure.graph.bodies[b].points
-        poses[b] = _pose_from_two(pos[pts[0]], pos[pts[1]], np.asarray(c.w[(b, pts[0])]), np.asarray(c.w[(b, pts[1])]))
+        poses[b] = _pose_from_two(pos[pts[0]], pos[pts[1]], _at(c.w[(b, pts[0])], sample, n),
+                                  _at(c.w[(b, pts[1])], sample, n))
     return sample, _stack_poses(st, poses, len(sample)), np.mod(phi, 2 * np.pi), certified
 
 

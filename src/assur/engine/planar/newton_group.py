@@ -23,16 +23,23 @@ from ...kernels.jet import Jet, expi
 from ...kernels.newton import newton
 
 
-def _residual(c, st, X, derivs: bool, labels: list | None = None):
+def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = False):
     """Residual components (list of real jets) for unknown jets X (3k of them); with ``labels``, the
-    joint point or slide name of each component is appended to it."""
+    joint point or slide name of each component is appended to it. ``lift``: the unknowns' values carry one more
+    trailing axis (of length 1, their derivatives one of length 3k: every direction at once), so every known value
+    of the context gets it too."""
     g = c.g
+
+    def up(a):
+        a = np.asarray(a)
+        return a[..., None] if lift and a.ndim else a
     group = list(st.bodies)
     gi = {b: i for i, b in enumerate(group)}
 
     def const(j):
-        return j if derivs else Jet(j.v, np.zeros_like(j.v) if X[0].d is not None else None,
-                                    np.zeros_like(j.v) if X[0].dd is not None else None)
+        v = up(j.v)
+        return j if derivs else Jet(v, np.zeros_like(v) if X[0].d is not None else None,
+                                    np.zeros_like(v) if X[0].dd is not None else None)
 
     pose = {}
     for b, i in gi.items():
@@ -42,7 +49,7 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
 
     def world(b, p):
         o, e = pose[b]
-        return o + e * c.w[(b, p)]
+        return o + e * up(c.w[(b, p)])
 
     res = []
     for point, at in g.joints:
@@ -68,7 +75,7 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
         kind, name, guide, slider = rec[:4]
         if not (guide in gi or slider in gi) or guide not in pose or slider not in pose:
             continue
-        q, u, ref, us = c.lines[idx]
+        q, u, ref, us = (up(a) for a in c.lines[idx])
         og, eg = pose[guide]
         os_, es = pose[slider]
         U = eg * u
@@ -136,19 +143,18 @@ def sketch_misfit(c, st, poses):
 
 
 def _residual_and_jacobian(c, st, x, shape):
-    """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``."""
+    """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``: one pass of the
+    residual on jets whose derivative holds all n directions at once."""
     n = 3 * len(st.bodies)
-    cols = []
-    F = None
-    for j in range(n):
-        X = [Jet(x[..., i], np.full(shape, 1.0 if i == j else 0.0), None) for i in range(n)]
-        r = _residual(c, st, X, derivs=False)
-        if len(r) != n:
-            raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
-        if F is None:
-            F = np.stack([np.broadcast_to(ri.v, shape) for ri in r], axis=-1)
-        cols.append(np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1))
-    return F, np.stack(cols, axis=-1)
+    x = np.broadcast_to(x, shape + (n,))
+    eye = np.eye(n)
+    X = [Jet(x[..., i:i + 1], np.broadcast_to(eye[i], shape + (n,)), None) for i in range(n)]
+    r = _residual(c, st, X, derivs=False, lift=True)
+    if len(r) != n:
+        raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
+    F = np.stack([np.broadcast_to(ri.v, shape + (1,))[..., 0] for ri in r], axis=-1)
+    J = np.stack([np.broadcast_to(ri.d, shape + (n,)) for ri in r], axis=-2)
+    return F, J
 
 
 def sketch_branch_sign(c, st, poses) -> int:
