@@ -134,6 +134,8 @@ def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float 
         lo, hi = np.stack([lo, mid], -1).ravel(), np.stack([mid, hi], -1).ravel()
     sample, sgn, lo, hi = (np.concatenate(x) if x else np.zeros(0) for x in (done_s, done_g, done_lo, done_hi))
     sample, sgn = sample.astype(int), sgn.astype(int)
+    if len(lo) == 0:
+        return sample, sgn, lo, hi, np.zeros(0, dtype=bool)
     order = np.lexsort((lo, sgn, sample))
     sample, sgn, lo, hi = sample[order], sgn[order], lo[order], hi[order]
     # adjacent cells of one sample and branch vector make one cluster (the turn is closed: 2π touches 0)

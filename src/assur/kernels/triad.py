@@ -81,20 +81,30 @@ def triad_polynomial(w, Q, ell):
 
 
 def triad_roots(w, Q, ell):
-    """Candidate assemblies of a batch of triads: orientations φ (..., 6) (rad, NaN where fewer) of the roots of
-    z³·G on the unit circle, and the platform origins p (..., 6) complex there. ``w``, ``Q``, ``ell`` as
-    :func:`triad_function`."""
+    """Candidate assemblies of a batch of triads: orientations φ (..., 6) (rad, in [0, 2π), ascending, NaN where
+    fewer) of the roots of z³·G on the unit circle, and the platform origins p (..., 6) complex there. ``w``,
+    ``Q``, ``ell`` as :func:`triad_function`. The roots are the eigenvalues of the companion matrices, all at once
+    (a polynomial whose leading coefficient vanishes to round-off, a lower degree, by numpy's ``roots``)."""
     coeff, _ = triad_polynomial(w, Q, ell)
     shape = coeff.shape[:-1]
     flat = coeff.reshape(-1, 7)
-    phi = np.full((flat.shape[0], 6), np.nan)
-    for i, a in enumerate(flat):
-        if not np.all(np.isfinite(a)) or not np.any(a):
-            continue
-        z = np.roots(a)           # leading zeros (a lower degree: roots at 0 and ∞ in pairs) are dropped
-        z = z[np.abs(np.abs(z) - 1.0) < ON_CIRCLE]
-        ang = np.sort(np.mod(np.angle(z), 2.0 * np.pi))
-        phi[i, :len(ang)] = ang[:6]
+    m = len(flat)
+    z = np.full((m, 6), np.nan + 0j)
+    big = np.max(np.abs(flat), axis=-1)
+    with np.errstate(all="ignore"):
+        regular = np.all(np.isfinite(flat), axis=-1) & (np.abs(flat[:, 0]) > 1e-13 * big)
+    if regular.any():
+        a = flat[regular]
+        comp = np.zeros((len(a), 6, 6), dtype=complex)
+        comp[:, 0, :] = -a[:, 1:] / a[:, :1]
+        comp[:, np.arange(1, 6), np.arange(5)] = 1.0
+        z[regular] = np.linalg.eigvals(comp)
+    for i in np.flatnonzero(~regular & np.all(np.isfinite(flat), axis=-1) & (big > 0)):
+        r = np.roots(flat[i])
+        z[i, :len(r)] = r
+    on = np.abs(np.abs(z) - 1.0) < ON_CIRCLE
+    phi = np.where(on, np.mod(np.angle(z), 2.0 * np.pi), np.nan)
+    phi = np.sort(phi, axis=-1)                       # NaN last
     phi = phi.reshape(shape + (6,))
     _, p = triad_function(np.where(np.isfinite(phi), phi, 0.0), w, Q, ell)
     return phi, np.where(np.isfinite(phi), p, np.nan)

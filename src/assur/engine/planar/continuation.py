@@ -37,12 +37,15 @@ from ...kernels.triad import triad_roots
 from ...tolerances import DEFAULT
 from .group_assemblies import (assembly_distances, before_group, group_assemblies, group_method, group_points,
                                take_rows, triad_layout)
+from .newton_group import _residual_and_jacobian, certificate_det
 from .steps import Context, _run
 
 #: the factors a step's length changes by after a failed or passed certificate
 SHRINK, GROW = 0.25, 2.0
 #: Newton iterations of a step's corrector
 CORRECTOR_ITERATIONS = 8
+#: the dimensionless determinant below which another group than a triad is checked against its other assemblies
+SEPARATION_GATE = 1e-2
 #: steps one row may try on one walk (a row that needs more cannot be certified: unbuildable)
 MAX_STEPS = 1000
 
@@ -181,31 +184,39 @@ class Walker:
         return ok
 
 
-def _nearest_triad_assembly(c, st, pred, x, n):
-    """(n,) whether ``x`` is the triad's assembly nearest the prediction ``pred`` and every other is at least twice
-    as far from the prediction (the roots of its polynomial, unpolished: good to far below the margin)."""
+def _triad_joints(c, st, n):
+    """(joints of every root of the triad's polynomial (n, 6, 3), NaN where fewer; a function giving the ternary's
+    three joints (n, 3) of group poses (n, 3k))."""
     t, legs = triad_layout(c.plan, st)
     w = np.stack([np.broadcast_to(np.asarray(c.w[(t, p)]), (n,)) for _, p, _ in legs], axis=-1)
     Q = np.stack([np.broadcast_to(c.pos[far].v, (n,)) for _, _, far in legs], axis=-1)
     ell = np.stack([np.broadcast_to(np.abs(np.asarray(c.w[(leg, far)]) - np.asarray(c.w[(leg, p)])), (n,))
                     for leg, p, far in legs], axis=-1)
     phi, p = triad_roots(w, Q, ell)                                             # (n, 6)
+    roots = p[..., None] + np.exp(1j * phi)[..., None] * w[:, None, :]         # (n, 6, 3)
     ti = st.bodies.index(t)
-    e = np.exp(1j * phi)
-    # the ternary's three joints in each root, against the prediction and the corrected pose
-    roots = p[..., None] + e[..., None] * w[:, None, :]                         # (n, 6, 3)
 
     def joints(y):
         return (y[:, 3 * ti] + 1j * y[:, 3 * ti + 1])[:, None] + np.exp(1j * y[:, 3 * ti + 2])[:, None] * w
 
-    zp, zx = joints(pred), joints(x)
-    dp = np.where(np.isfinite(phi), np.max(np.abs(roots - zp[:, None, :]), axis=-1), np.inf)
-    dx = np.where(np.isfinite(phi), np.max(np.abs(roots - zx[:, None, :]), axis=-1), np.inf)
+    return roots, joints
+
+
+def _distances(roots, z):
+    """(n, 6) the largest distance of a joint between each root and ``z (n, 3)``, inf where there is no root."""
+    d = np.max(np.abs(roots - z[:, None, :]), axis=-1)
+    return np.where(np.isfinite(d), d, np.inf)
+
+
+def _nearest_triad_assembly(c, st, pred, x, n):
+    """(n,) whether ``x`` is the triad's assembly nearest the prediction ``pred`` and every other is at least twice
+    as far from the prediction (the roots of its polynomial, unpolished: good to far below the margin)."""
+    roots, joints = _triad_joints(c, st, n)
+    dp, dx = _distances(roots, joints(pred)), _distances(roots, joints(x))
     mine = np.argmin(dx, axis=-1)
     d_mine = np.take_along_axis(dp, mine[:, None], axis=-1)[:, 0]
     others = np.where(np.arange(6)[None, :] == mine[:, None], np.inf, dp)
-    scale = c.plan.length_scale
-    is_root = np.take_along_axis(dx, mine[:, None], axis=-1)[:, 0] <= 1e-6 * scale
+    is_root = np.take_along_axis(dx, mine[:, None], axis=-1)[:, 0] <= 1e-6 * c.plan.length_scale
     return ~is_root | (2.0 * d_mine <= np.min(others, axis=-1))
 
 
@@ -252,21 +263,34 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
 
 def separate(plan, steps, c, method, tol, shape, x):
     """Flag the samples whose Newton-solved groups are closer to another of their assemblies than
-    ``tolerances.assembly_separation`` of the length scale (module docstring); groups without an enumeration are
+    ``tolerances.assembly_separation`` of the length scale (module docstring). A triad's assemblies are its
+    polynomial's roots, at every sample; another group's (the certified reduction, costlier) are enumerated where
+    its dimensionless determinant is below :data:`SEPARATION_GATE`: two assemblies that close meet at a singular
+    position, where the determinant vanishes about as fast as their distance. Groups without an enumeration are
     left to the determinant's certificate."""
     n = int(np.prod(shape))
     valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape).ravel().copy()
+    sep = tol.assembly_separation * plan.length_scale
     for st in newton_keys(steps, method):
-        if st.kind != "newton" or group_method(plan, st) is None or not valid.any():
+        method_ = group_method(plan, st) if st.kind == "newton" else None
+        if method_ is None or not valid.any():
             continue
         rows = np.flatnonzero(valid)
         flat = before_group(take_rows(_flat(c, shape), rows, n), st)
         xs = np.reshape(x[id(st)], (n, -1))[rows]
-        if group_method(plan, st) == "reduction" and np.ndim(flat.params) > 1:
-            continue                     # the reduction enumerates one design at a time
-        poses, found, _, _ = group_assemblies(flat, st, len(rows), tol)
-        _, second = assembly_distances(flat, st, xs, poses, found)
-        valid[rows[second <= tol.assembly_separation * plan.length_scale]] = False
+        m = len(rows)
+        if method_ == "triad":
+            roots, joints = _triad_joints(flat, st, m)
+            second = np.sort(_distances(roots, joints(xs)), axis=-1)[:, 1]
+        else:
+            det = certificate_det(flat, st, _residual_and_jacobian(flat, st, xs, (m,))[1])
+            near = np.flatnonzero(np.abs(det) < SEPARATION_GATE)
+            second = np.full(m, np.inf)
+            if len(near) and np.ndim(flat.params) <= 1:
+                sub = take_rows(flat, near, m)
+                poses, found, _, _ = group_assemblies(sub, st, len(near), tol)
+                second[near] = assembly_distances(sub, st, xs[near], poses, found)[1]
+        valid[rows[second <= sep]] = False
     c.valid = valid.reshape(shape)
     return c
 
