@@ -103,7 +103,7 @@ def _finite(c, n):
 
 
 def _order(branches):
-    return tuple((-b if not isinstance(b, tuple) else (-b[0], b[1])) for b in branches)
+    return tuple((-b if not isinstance(b, tuple) else b[1]) for b in branches)
 
 
 def _closure(plan, c, n):
