@@ -3,13 +3,14 @@ dispatch on the plan's type and one check of the options for planar and spatial 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
 from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
+from .options import AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
 from .plan import PlanarPlan, SpatialPlan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -51,9 +52,10 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         The groups' closed forms, or the batched Newton oracle for every group.
     backend : {'auto', 'numpy', 'numba'}
         'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
-        batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
-        for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples when numba is installed. Both
-        give the same numbers.
+        batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it when numba
+        is installed and either the batch has at least ``AUTO_COMPILED_MIN_SAMPLES`` samples or at least
+        ``AUTO_CACHED_MIN_SAMPLES`` and the plan's kernel is compiled already (loaded in this process, or in numba's
+        disk cache once numba is imported). Both give the same numbers (to round-off).
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
@@ -73,7 +75,7 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     if not isinstance(plan, PlanarPlan):
         raise TypeError(f"solve needs a plan from assur.compile, not {type(plan).__name__}")
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and size >= AUTO_COMPILED_MIN_SAMPLES)):
+    if method == "closed" and (backend == "numba" or (backend == "auto" and _auto_compiled(plan, size, order))):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
                                 required=backend == "numba")
         if state is not None:
@@ -112,6 +114,24 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
     flat = inputs.reshape(-1, plan.n_inputs)
     solved = solve(plan, params, flat, order=0, tolerances=tolerances).pos
     return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
+
+
+def _auto_compiled(plan, size: int, order: int) -> bool:
+    """``backend="auto"``: the compiled backend where numba is installed and the plan has an op table, for a large
+    batch (``AUTO_COMPILED_MIN_SAMPLES``) or for one of at least ``AUTO_CACHED_MIN_SAMPLES`` when the plan's kernel
+    for this order costs nothing to start: loaded in this process already, or in numba's disk cache while numba is
+    imported already (a small batch never pays numba's import)."""
+    if not numba_backend.covers(plan):
+        return False
+    if size >= AUTO_COMPILED_MIN_SAMPLES:
+        return numba_backend.available()
+    if size < AUTO_CACHED_MIN_SAMPLES or "numba" not in sys.modules:
+        return False
+    loaded = numba_backend._KERNELS.get(plan, {}).get(f"points_{order}")
+    try:
+        return numba_backend._compiled(loaded if loaded is not None else numba_backend.kernel(plan, False, order))
+    except OSError:
+        return False
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):

@@ -13,8 +13,11 @@ from ..kernels.runs import runs
 ON_UNBUILDABLE = ("nan", "warn", "raise")
 METHODS = ("closed", "newton")
 BACKENDS = ("auto", "numpy", "numba")
-#: with backend="auto", batches at least this large use the compiled backend when numba is installed
+#: with backend="auto", batches at least this large use the compiled backend when numba is installed ...
 AUTO_COMPILED_MIN_SAMPLES = 20_000
+#: ... and batches at least this large when the plan's kernel is compiled already (loaded in this process, or in
+#: numba's disk cache while numba is imported): it then costs nothing to start
+AUTO_CACHED_MIN_SAMPLES = 16
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.
