@@ -14,7 +14,8 @@ import numpy as np
 
 from ...kernels.jet import Jet, expi
 from ..plan import BRANCHED
-from .group_assemblies import group_assemblies, take_rows
+from ...errors import StructureError
+from .group_assemblies import group_assemblies, group_method, take_rows
 from .steps import EXECUTORS, Context
 
 
@@ -65,6 +66,10 @@ def enumerate_assemblies(plan, params, inputs, tol, solved=None) -> list[Assembl
                 ids = [i + (s,) for i in ids for s in (1, -1)]
                 certified = certified[rows]
             elif st.kind == "newton":
+                if group_method(plan, st) is None:
+                    names = ", ".join(plan.body_names[b] for b in st.bodies)
+                    raise StructureError(f"the assemblies of the group {names} are not enumerated: it has a prismatic "
+                                         "pair, or no single cut link leaves a chain of dyads (docs/assemblies.md)")
                 poses, found, sign, cert = group_assemblies(c, st, n, tol)
                 rows, k = np.nonzero(found)
                 c = take_rows(c, rows, n)

@@ -158,14 +158,18 @@ def take_rows(c, idx, n: int):
     return out
 
 
-def before_group(c, st):
-    """A copy of a context in which the group ``st`` is solved, as it was before: without the group's bodies and
-    the points only they place."""
+def before_group(c, st, steps):
+    """A copy of a context in which the step ``st`` of ``steps`` (and maybe later ones) is solved, as it was before
+    ``st``: the bodies of the earlier steps and the points they place only."""
+    earlier = set()
+    for other in steps:
+        if other is st:
+            break
+        earlier |= set(other.bodies)
     out = copy.copy(c)
-    group = set(st.bodies)
-    out.pose = {b: v for b, v in c.pose.items() if b not in group}
+    out.pose = {b: v for b, v in c.pose.items() if b in earlier}
     g = c.plan.structure.graph
-    out.pos = {p: z for p, z in c.pos.items() if any(b in out.pose for b in g.bodies_at(p))}
+    out.pos = {p: z for p, z in c.pos.items() if any(b in earlier for b in g.bodies_at(p))}
     return out
 
 
