@@ -223,3 +223,25 @@ def test_class_four_assemblies_agree_with_a_brute_force(seed):
             _match(found, brute, plan)
             compared += 1
     assert compared >= 3 and params is not None
+
+
+def test_a_dyad_hinged_on_a_group_point_multiplies_its_assemblies():
+    """A dyad hinged to a point of the class-IV group (Q1) and to the frame: that point is the group's own, not one
+    the group is hinged to; every assembly is a group assembly times the dyad's closing branches."""
+    from conftest import EXAMPLES
+    text = (EXAMPLES / "classiv_sixbar.toml").read_text(encoding="utf-8")
+    text = text.replace('Q4 = [136, -34]\n', 'Q4 = [136, -34]\nR = [60, 160]\nS = [-40, 120]\n')
+    text = text.replace('frame = ["O", "P"]', 'frame = ["O", "P", "S"]')
+    text = text.replace('b2 = ["Q2", "Q4"]\n', 'b2 = ["Q2", "Q4"]\nd1 = ["Q1", "R"]\nd2 = ["S", "R"]\n')
+    plan = assur.compile(assur.loads(text))
+    base = assur.compile(assur.load(EXAMPLES / "classiv_sixbar.toml"))
+    for q in (0.4, 2.0):
+        found = assur.assemblies(plan, q)[0]
+        groups = assur.assemblies(base, q)[0]
+        assert all(a.closure <= 1e-12 for a in found) and sum(a.sketch for a in found) == 1
+        assert len(groups) < len(found) <= 2 * len(groups)
+        # each assembly's group part is one of the group's own assemblies
+        idx = [plan.point_index(p) for p in ("Q1", "Q2", "Q3", "Q4")]
+        jdx = [base.point_index(p) for p in ("Q1", "Q2", "Q3", "Q4")]
+        for a in found:
+            assert min(np.max(np.abs(a.pos[idx] - g.pos[jdx])) for g in groups) < 1e-9

@@ -276,7 +276,7 @@ def separate(plan, steps, c, method, tol, shape, x):
         if method_ is None or not valid.any():
             continue
         rows = np.flatnonzero(valid)
-        flat = before_group(take_rows(_flat(c, shape), rows, n), st, steps)
+        flat = before_group(take_rows(_flat(c, shape), rows, n), st)
         xs = np.reshape(x[id(st)], (n, -1))[rows]
         m = len(rows)
         if method_ == "triad":

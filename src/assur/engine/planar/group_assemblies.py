@@ -42,8 +42,20 @@ def _layout(plan, st):
         return None
     if any(rec[2] in group or rec[3] in group for rec in plan.lines):
         return None
-    outer = sorted({p for b in group for p in g.bodies[b].points if any(o not in group for o in g.bodies_at(p))})
+    earlier = earlier_bodies(plan, st)
+    outer = sorted({p for b in group for p in g.bodies[b].points if any(o in earlier for o in g.bodies_at(p))})
     return {b: tuple(g.bodies[b].points) for b in st.bodies}, tuple(outer)
+
+
+def earlier_bodies(plan, st) -> set:
+    """The bodies the plan's steps before ``st`` place (those the group is hinged to; a later group may be hinged to
+    the group's own points)."""
+    out = set()
+    for other in plan.steps:
+        if other is st or other == st:
+            return out
+        out |= set(other.bodies)
+    return out
 
 
 def triad_layout(plan, st):
@@ -158,14 +170,10 @@ def take_rows(c, idx, n: int):
     return out
 
 
-def before_group(c, st, steps):
-    """A copy of a context in which the step ``st`` of ``steps`` (and maybe later ones) is solved, as it was before
-    ``st``: the bodies of the earlier steps and the points they place only."""
-    earlier = set()
-    for other in steps:
-        if other is st:
-            break
-        earlier |= set(other.bodies)
+def before_group(c, st):
+    """A copy of a context in which the group ``st`` (and maybe later steps) is solved, as it was before ``st``: the
+    bodies of the earlier steps and the points they place only."""
+    earlier = earlier_bodies(c.plan, st)
     out = copy.copy(c)
     out.pose = {b: v for b, v in c.pose.items() if b in earlier}
     g = c.plan.structure.graph
