@@ -74,11 +74,12 @@ TAIL = """## Found on the way
 - **pylinkage's own conversion** `Linkage.to_hypergraph()` → `to_mechanism()` keeps a component's *current*
   position as its dimension; for the Strider's unassembled initial coordinates it builds another mechanism.
   `assur import` therefore reads a live `Linkage` component by component, from the components' dimensions.
-- **assur (ours):** the branch certificate of a Newton-solved group (`engine/planar/newton_group.py`, the
-  equilibrated Jacobian determinant against `tolerances.newton_certify = 1e-9`) is not free of units: its angle
-  columns carry lengths, so a small mechanism is never certified. PMKS+'s *Double butterfly linkage* (an eight-bar
-  that no dyad reaches, 7 cm across, in the current gallery) is read by `assur import` but solves to no valid
-  position; the same drawing read in metres solves. Recorded as an expected failure in `tests/test_interop.py`.
+- **assur (ours), fixed:** the branch certificate of a Newton-solved group (`engine/planar/newton_group.py`, the
+  equilibrated Jacobian determinant against `tolerances.newton_certify = 1e-9`) was not free of units: its angle
+  columns carried lengths, so a small mechanism was never certified, and PMKS+'s *Double butterfly linkage* (an
+  eight-bar that no dyad reaches, 7 cm across, in the current gallery) solved to no valid position. Each body's
+  angle column is now divided by the body's own size before the test (a pure number, the same at any size); the
+  linkage assembles over its whole turn, at its own size and scaled by 10⁻³ … 10³ (`tests/test_scale.py`).
 """
 
 if __name__ == "__main__":

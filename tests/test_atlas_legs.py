@@ -146,24 +146,25 @@ def test_six_link_ranking_end_to_end(tmp_path, six):
     """Every six-link candidate dimensioned with a small budget, ranked and written: the page, the data and a
     mechanism file and drawing per entry, each file walking with the metrics the ranking reports."""
     from assur.report.legs import write_leg_ranking
-    ranking = rank_legs(6, settings={"budget": 1200, "starts": 2, "backend": "numpy"})
+    # every closed-form candidate and two with a Newton-solved (class III) group: all of them dimensioned and ranked
+    # together (the other class III candidates cost a minute each at this budget on the numpy path)
+    subset = [c for c in six if not c.newton] + [c for c in six if c.newton][:2]
+    ranking = rank_legs(6, settings={"budget": 1200, "starts": 2, "backend": "numpy"}, candidates=subset)
     out = tmp_path / "legs"
-    write_leg_ranking(ranking, out, six)
+    write_leg_ranking(ranking, out, subset)
     entries = ranking.entries
-    assert len(entries) == len(six) == 31
-    assert [e["rank"] for e in entries] == list(range(1, 32))
-    # the candidates with a Newton-solved (class III) group are listed last, undimensioned, with the reason
-    skipped = [e for e in entries if e["skipped"]]
-    assert {e["key"] for e in skipped} == {c.key for c in six if c.newton}
-    assert [e["rank"] for e in skipped] == list(range(32 - len(skipped), 32))
+    n = len(subset)
+    assert len(entries) == n == 24
+    assert [e["rank"] for e in entries] == list(range(1, n + 1))
+    assert not any(e["skipped"] for e in entries) and all(e["evaluations"] >= 1200 for e in entries)
     ok = [bool(e["feasible"] and e["metrics"]) for e in entries]
     assert ok == sorted(ok, reverse=True) and sum(ok) >= 10          # feasible first
     objectives = [e["objective"] for e, good in zip(entries, ok) if good]
     assert objectives == sorted(objectives)
     data = json.loads((out / "ranking.json").read_text(encoding="utf-8"))
-    assert data["format"] == "assur-legs/1" and len(data["entries"]) == 31
+    assert data["format"] == "assur-legs/1" and len(data["entries"]) == n
     page = (out / "index.html").read_text(encoding="utf-8")
-    assert page.count("<svg") == 31 and page.count('class="foot"') == 31
+    assert page.count("<svg") == n and page.count('class="foot"') == n
     for e, row in zip(entries, data["entries"]):
         text = (out / row["file"]).read_text(encoding="utf-8")
         assert text == e["mechanism"]
@@ -192,10 +193,21 @@ def test_the_newton_candidates_are_the_class_iii_decompositions(six):
 
 
 @pytest.mark.slow
-def test_a_triad_candidate_is_dimensioned_when_asked(six):
-    """With triads on, a class III candidate runs too (swept Newton cycle, no polish): a result, not a skip."""
+def test_a_class_iii_candidate_ranks_the_same_on_local_processes(six):
+    """A candidate with a Newton-solved group: in-process and on two local processes, the same numbers."""
+    subset = [c for c in six if c.newton][:1] + six[:1]
+    settings = {"budget": 200, "starts": 2, "backend": "numpy"}
+    ref = rank_legs(6, settings=settings, candidates=subset)
+    with LocalProcesses(2) as ex:
+        local = rank_legs(6, settings=settings, candidates=subset, executor=ex)
+    assert local.as_dict(timings=False) == ref.as_dict(timings=False)
+
+
+@pytest.mark.slow
+def test_a_triad_candidate_is_dimensioned_by_default(six):
+    """A class III candidate runs like any other (a swept Newton cycle in certified steps, no polish): a result."""
     c = next(c for c in six if c.newton)
-    r = run_candidate(c, {"budget": 150, "starts": 1, "triads": True})
+    r = run_candidate(c, {"budget": 150, "starts": 1})
     assert r["skipped"] is None and r["evaluations"] >= 150
     assert r["feasible"] == (r["objective"] is not None)
 
@@ -235,3 +247,10 @@ def test_cli_refuses_a_foreign_output_directory_before_any_work(tmp_path, capsys
     err = capsys.readouterr().err
     assert "not an earlier output" in err and "candidates" not in err
     assert (keep / "notes.txt").read_text(encoding="utf-8") == "mine"
+
+
+def test_the_triads_setting_is_deprecated_and_ignored(six):
+    from assur.synthesis.legs import settings_of
+    with pytest.warns(DeprecationWarning, match="every candidate is dimensioned"):
+        s = settings_of({"triads": True, "budget": 10})
+    assert "triads" not in s and s["budget"] == 10

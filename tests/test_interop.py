@@ -33,7 +33,7 @@ REFUSED_BY = {
     "pylinkage": {"walker_sixbar_beta1_60.toml": "links.crank"},
     "pmks": {"walker_fourbar_adjustable.toml": "drivers"},
     "pyslvs": {},
-    "fourbar": {n: "links" for n in ("jansen.toml", "klann.toml", "stephenson3.toml", "triad_sixbar.toml",
+    "fourbar": {n: "links" for n in ("classiv_sixbar.toml", "jansen.toml", "klann.toml", "stephenson3.toml", "triad_sixbar.toml",
                                       "walker_sixbar.toml", "walker_sixbar_beta1_60.toml", "watt2.toml")}
                | {"slider_crank.toml": "prismatic", "slider_crank_motor.toml": "prismatic",
                   "walker_crank_slider.toml": "prismatic",
@@ -179,19 +179,8 @@ PMKS_REFUSED = {"Elliptical trammel": "no point fixed to the ground", "Elliptica
                 "Screw jack": "driven slider"}
 
 
-#: assur's own defect, found by this corpus: a Newton-solved group's branch certificate (the equilibrated Jacobian
-#: determinant, engine/planar/newton_group.py) scales with the mechanism's size (its angle columns carry lengths),
-#: so this eight-bar drawn in cm (0.07 m across) is never certified, while the same drawing in m solves
-ENGINE_DEFECT = {"Double butterfly linkage"}
-
-
 def _gallery_params():
-    out = []
-    for name, gallery, link in fixture_links():
-        marks = [pytest.mark.xfail(strict=True, reason="assur: the Newton certificate is not scale-free")] \
-            if name in ENGINE_DEFECT else []
-        out.append(pytest.param(name, gallery, link, marks=marks, id=f"{name}-{gallery}"))
-    return out
+    return [pytest.param(name, gallery, link, id=f"{name}-{gallery}") for name, gallery, link in fixture_links()]
 
 
 @pytest.mark.parametrize("name,gallery,link", _gallery_params())

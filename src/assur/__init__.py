@@ -17,7 +17,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the same names, for type checkers and editors
-    from .engine import PlanarPlan, SpatialPlan, SpatialState, State, compile, solve  # noqa: A004
+    from .engine import PlanarPlan, SpatialPlan, SpatialState, State, assemblies, compile, solve  # noqa: A004
     from .errors import (AssurError, SpecError, StructureError, SynthesisError, UnbuildableError,
                          UnbuildableWarning)
     from .io.builder import Builder
@@ -33,7 +33,7 @@ from .version import __version__
 
 _LAZY = {
     **{name: ("assur.engine", name) for name in ("PlanarPlan", "SpatialPlan", "SpatialState", "State", "compile",
-                                                  "solve")},
+                                                  "solve", "assemblies")},
     **{name: ("assur.errors", name) for name in ("AssurError", "SpecError", "StructureError", "SynthesisError",
                                                   "UnbuildableError", "UnbuildableWarning")},
     **{name: ("assur.io.mechanism_file", name) for name in ("dump", "dumps", "load", "loads")},
@@ -88,5 +88,5 @@ def __dir__():
 
 __all__ = ["AssurError", "AssurGroup", "Builder", "GroupKind", "Mechanism", "PlanarPlan", "SpatialPlan", "SpatialState",
            "SpecError", "State", "Structure", "StructureError", "Study", "SynthesisError", "UnbuildableError",
-           "UnbuildableWarning", "__version__", "analyse_structure", "compile", "dead_centres", "dump", "dumps",
-           "forces", "gait_curves", "gait_metrics", "load", "loads", "simulate", "solve", "transmission_angles"]
+           "UnbuildableWarning", "__version__", "analyse_structure", "assemblies", "compile", "dead_centres", "dump",
+           "dumps", "forces", "gait_curves", "gait_metrics", "load", "loads", "simulate", "solve", "transmission_angles"]

@@ -1,8 +1,10 @@
 """Numeric tolerances, in one documented place.
 
-All lengths are SI (metres) inside the toolkit; tolerances that compare lengths are relative to
-a length scale of the mechanism (its sketch bounding box), so a millimetre-scale and a
-metre-scale mechanism behave alike.
+All lengths are SI (metres) inside the toolkit. Every tolerance is a pure number: one that compares a length, a
+determinant or a residual says what it is relative to (the mechanism's length scale, the size of its sketch's
+bounding box; a group's or a body's own size; a squared length for a radicand), so a mechanism drawn at any size
+(tests/test_scale.py: every example scaled by 10⁻³ … 10³) has the same buildability, branches, dead centres and
+gait ratios, and positions that scale exactly.
 """
 from __future__ import annotations
 
@@ -11,22 +13,31 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True, slots=True)
 class Tolerances:
-    #: A radicand (e.g. of a circle-circle intersection) in ``[-radicand, 0)`` relative to the
-    #: squared length scale is treated as a tangent contact (0); below that the sample is unbuildable.
+    #: A radicand of a dyad's closed form, divided by a squared length of its own (circle ∩ circle: the squared
+    #: distance of the centres; circle ∩ line: the squared radius; a slide: the squared distance of its revolutes),
+    #: in ``[-radicand, 0)`` is a tangent contact (0); below that the sample is unbuildable. A pure number.
     radicand: float = 1e-12
-    #: Two lines whose direction cross product is below this are parallel (unbuildable intersection).
+    #: Two lines whose unit directions' cross product (a sine, a pure number) is below this are parallel
+    #: (unbuildable intersection).
     parallel: float = 1e-12
-    #: Newton iterations stop when the residual, relative to the length scale, is below this.
+    #: Newton iterations stop when every residual (m: each loop equation is written as a distance) is below this
+    #: times the mechanism's length scale.
     newton_residual: float = 1e-12
     #: Newton iteration cap per continuation step.
     newton_iterations: int = 30
-    #: Newton fallback: each sample is continued from the sketch to its input in stages of at most this
-    #: crank angle (rad) ...
+    #: Newton-solved groups are continued from the sketch to each sample in certified steps
+    #: (:mod:`assur.engine.planar.continuation`) of at most this crank angle (rad) ...
     stage_angle: float = 0.17453292519943295   # 10°
     #: ... or this actuator stroke, relative to the length scale ...
     stage_length: float = 0.05
-    #: ... and in at least this many stages when the design differs from the file's.
+    #: ... and of at most this many-th of a design change.
     stages_for_new_design: int = 12
+    #: A continuation step is certified only where Newton's correction of its prediction moves no point of a group
+    #: by more than this fraction of the length scale (else it is retried shorter) ...
+    continuation_correction: float = 0.05
+    #: ... and a sample whose steps would have to be shorter than this crank angle (rad; this fraction of the
+    #: length scale of stroke) to be certified is unbuildable (a toggle, a singular position).
+    continuation_min_step: float = 1e-9
     #: Branch choice at compile time is ambiguous when the two candidate assemblies are closer than
     #: this, relative to the length scale.
     branch_separation: float = 1e-6
@@ -39,10 +50,16 @@ class Tolerances:
     #: A spatial arm (or a universal joint's pin) within this fraction of its length of its axis (of
     #: the coupler) is parallel to it.
     axis_offset: float = 1e-9
-    #: A Newton-solved sample is certified on the seed's branch only where the determinant of its
-    #: row-equilibrated Jacobian has the seed's sign and at least this magnitude (|det| ≤ 1); closer to a
-    #: singular position (a toggle, a change point) it is reported unbuildable, never possibly mirrored.
+    #: A Newton-solved sample is certified on the seed's branch only where the determinant of its dimensionless
+    #: Jacobian (each body's angle column divided by the body's own size, then every row scaled to unit length:
+    #: a pure number, |det| ≤ 1, :func:`assur.engine.planar.newton_group.certificate_det`) has the seed's sign and at
+    #: least this magnitude; closer to a singular position (a toggle, a change point) it is reported unbuildable,
+    #: never possibly mirrored.
     newton_certify: float = 1e-9
+    #: Two assemblies of a group closer than this fraction of the length scale (the largest distance of one point
+    #: of the group between them) are one; a solved sample this close to another assembly of its group is at a
+    #: singular position (where two assemblies meet) and is reported unbuildable, never possibly the other one.
+    assembly_separation: float = 1e-6
     #: At compile time the drawn sketch must close the loop equations of every Newton-solved group to
     #: within this fraction of the length scale (the sketch seeds the solver and so fixes its branch).
     sketch_fit: float = 1e-3
@@ -68,7 +85,8 @@ class Tolerances:
     #: The sector partition of a gear pair is symmetric, and its sectors tile a turn, within this (rad;
     #: relative to the centre distance for radii).
     sector_symmetry: float = 1e-9
-    #: Consecutive points of a tooth outline closer than this (m) are one point.
+    #: Consecutive points of a tooth outline closer than this fraction of the outline's largest radius are one
+    #: point.
     outline_point: float = 1e-12
     #: A ray within this fraction of the ray spacing beyond a polyline segment's end still crosses the
     #: segment (a ray through a shared end belongs to both neighbours).
@@ -94,7 +112,8 @@ class Tolerances:
     #: (rounding noise): no extremum lies between them, a quantity within it is constant, and a value within
     #: it of zero is shown as 0.
     rounding_noise: float = 1e-9
-    #: A value (SI) of magnitude below this is shown as 0.
+    #: A value (SI; display only, no result depends on it) of magnitude below this, and within the rounding noise of
+    #: its own quantity, is shown as 0.
     shown_zero: float = 1e-12
     #: The triangle a rod sweeps from the start is empty (the ratio of two rods' triangles is undefined) below
     #: this area, relative to the squared length scale.
@@ -106,7 +125,7 @@ class Tolerances:
     #: this of zero or below it, relative to the squared rod length.
     literal_singular: float = 1e-9
     #: A gear design's installation centre distance is a second one (its mesh checked too) when it differs from
-    #: the design's by more than this (m).
+    #: the design's by more than this fraction of the design's centre distance.
     distinct_distance: float = 1e-12
     #: A force analysis flags a sample singular (a toggle: its reactions grow without bound) where a group's
     #: dimensionless condition measure (|sin| of the angle between the two unknown directions of a dyad, the

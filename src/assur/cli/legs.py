@@ -21,7 +21,8 @@ def add_arguments(sp) -> None:
     g.add_argument("--starts", type=positive(1), default=None, metavar="K", help="starts per candidate (default 4)")
     g.add_argument("--seed", type=int, default=None, metavar="S", help="random seed of the ranking (default 0)")
     g.add_argument("--triads", action="store_true",
-                   help="also dimension the candidates with a class III group (Newton-solved: about 0.1 s per design)")
+                   help="deprecated, ignored: every candidate is dimensioned now, those with a class III or IV group "
+                        "included")
     g.add_argument("--limit", type=positive(1), default=None, metavar="M",
                    help="rank only the first M candidates (a quick look)")
     ex = g.add_mutually_exclusive_group()
@@ -49,7 +50,9 @@ def cmd_walking_legs(args) -> int:
         from ..io.output import check_output_directory
         check_output_directory(args.output)
     settings = {k: getattr(args, k) for k in ("budget", "starts", "seed") if getattr(args, k) is not None}
-    settings["triads"] = bool(args.triads)
+    if args.triads:
+        print("note: --triads is deprecated and ignored: every candidate is dimensioned now, those with a class III "
+              "or IV group included", file=sys.stderr)
     candidates = leg_candidates(args.links)
     if args.limit is not None:
         candidates = candidates[:args.limit]

@@ -31,7 +31,12 @@ def register(sub) -> None:
         return sp
 
     add("validate", cmd_validate, "load and compile a mechanism file and report whether it is valid")
-    add("info", cmd_info, "structure (mobility, Assur groups, structural formula), parameters and drivers")
+    sp = add("info", cmd_info, "structure (mobility, Assur groups, structural formula), parameters and drivers")
+    sp.add_argument("--assemblies", action="store_true",
+                    help="also list every assembly of the mechanism at one input (all combinations of its groups' "
+                         "assemblies) and which one the sketch chose")
+    sp.add_argument("--at", nargs="+", metavar="INPUT",
+                    help="with --assemblies: the input(s) in the file's units, one per driver (default: the sketch's)")
     sp = add("solve", cmd_solve, "positions, velocities, accelerations and analogues over one turn")
     sp.add_argument("--steps", type=positive(1), required=True, metavar="N", help="number of input positions")
     sp.add_argument("--csv", type=path_arg, metavar="OUT", help="write every point's values to this CSV file")
@@ -56,9 +61,12 @@ def register(sub) -> None:
     sp.add_argument("--forces", action="store_true",
                     help="draw the force analysis instead: driving torque and power, reaction hodographs, the forces "
                          "on the diagram and Zhukovsky's lever (planar, one driver)")
+    sp.add_argument("--assemblies", action="store_true",
+                    help="draw every assembly of the mechanism at one input side by side instead (planar)")
     sp.add_argument("--at", metavar="INPUT", help="with --forces: the input (file units) of the diagram and the lever "
                                                   "(default: where the driving effort peaks); with --centres or "
-                                                  "--centrodes: the input drawn (default: the first of the run)")
+                                                  "--centrodes: the input drawn (default: the first of the run); with "
+                                                  "--assemblies: the first driver's input (default: the sketch's)")
     sp.add_argument("--centres", action="store_true",
                     help="draw every relative instant centre with Kennedy's lines at --at (planar)")
     sp.add_argument("--centrodes", metavar="BODY",
@@ -117,6 +125,11 @@ def cmd_info(args) -> int:
     from ..engine import compile as compile_
     from ..report import text
     m = load_mechanism(args.file)
+    if args.at is not None and not args.assemblies:
+        raise SpecError([("--at", "is for the assemblies: add --assemblies")])
+    if args.assemblies and m.dimension == 3:
+        raise SpecError([("--assemblies", "assemblies are listed for planar mechanisms (a spatial R–S–S dyad has "
+                                          "its two branches, chosen by [branches])")])
     s = structure_summary(m)
     _emit(text.info_head_lines(m, _title(m, args.file), args.file, s))
     if m.dimension == 3:
@@ -139,6 +152,11 @@ def cmd_info(args) -> int:
     from ..analysis.fourbar import four_bar_loops
     _emit([loop.describe() for loop in four_bar_loops(plan)])
     _emit(text.parameter_lines(plan) + text.gait_lines(m))
+    if args.assemblies:
+        from ..engine import assemblies
+        from ..report.assemblies import assembly_lines, input_values
+        q = input_values(plan, args.at)
+        _emit(assembly_lines(plan, assemblies(plan, q)[0], q))
     return 0
 
 
@@ -220,12 +238,28 @@ def cmd_plot(args) -> int:
         raise SpecError([("--output", "an .html view is for spatial mechanisms; use .png, .svg or .pdf")])
     ranges = input_ranges(plan, args)
     if getattr(args, "forces", False):
+        if args.assemblies:
+            raise SpecError([("--assemblies", "draws the assemblies, --forces the forces: give one of them")])
         return _plot_forces(args, plan, ext)
+    if args.assemblies:
+        if args.centres or args.centrodes:
+            raise SpecError([("--assemblies", "draws the assemblies, --centres/--centrodes the centres: give one "
+                                              "of them")])
+        if plan.dimension == 3:
+            raise SpecError([("--assemblies", "assemblies are drawn for planar mechanisms")])
+        from ..engine import assemblies
+        from ..plot.assemblies import assemblies_figure
+        from ..report.assemblies import branch_labels, input_text, input_values
+        q = input_values(plan, None if args.at is None else [args.at])
+        found = assemblies(plan, q)[0]
+        fig = assemblies_figure(plan, found, [branch_labels(plan, a) for a in found], input_text(plan, q),
+                                dpi=args.dpi, units=args.units)
+        return _save_figure(fig, args, ext)
     if args.centres or args.centrodes:
         return _plot_centres(args, plan, ext, ranges)
     if args.at is not None:
-        raise SpecError([("--at", "is for the force, centre and centrode figures: add --forces, --centres or "
-                                  "--centrodes")])
+        raise SpecError([("--at", "is for the force, centre, centrode and assembly figures: add --forces, --centres, "
+                                  "--centrodes or --assemblies")])
     if plan.dimension == 3:
         from ..plot import spatial as view
         if ext == ".html":

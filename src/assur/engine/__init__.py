@@ -4,12 +4,12 @@ states (layer 2; see docs/architecture.md).
 ``compile(m)`` → :class:`PlanarPlan` or :class:`SpatialPlan`; ``solve(plan, params, inputs)`` →
 :class:`State` or :class:`SpatialState`.
 """
-from .api import compile, solve  # noqa: A004 - the public verbs
+from .api import assemblies, compile, solve  # noqa: A004 - the public verbs
 from .plan import STEP_KINDS, PARAM_KINDS, PlanarPlan, PlanBase, SpatialPlan
 from .planar.geometry import geometry
 from .state import PointView, SpatialState, State
 
-__all__ = ["compile", "solve", "geometry", "PlanBase", "PlanarPlan", "SpatialPlan", "State",
+__all__ = ["assemblies", "compile", "solve", "geometry", "PlanBase", "PlanarPlan", "SpatialPlan", "State",
            "SpatialState", "PointView", "STEP_KINDS", "PARAM_KINDS"]
 
 

@@ -3,12 +3,15 @@ dispatch on the plan's type and one check of the options for planar and spatial 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
+from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options, prepare_batch
+from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options,
+                      prepare_batch)
 from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -56,8 +59,10 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
         batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
         when numba is installed for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples whose kernel
-        is compiled already (in this process or in the disk cache), and compiles it first only for a batch
-        of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs seconds). Both give the same numbers to round-off.
+        is compiled already (in this process or in the disk cache), for batches of at least
+        ``AUTO_CACHED_MIN_SAMPLES`` when besides numba is imported already (the kernel then costs nothing to
+        start), and compiles it first only for a batch of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs
+        seconds). Both give the same numbers to round-off.
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
@@ -85,12 +90,48 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
                        sweep=sweep)
 
 
+def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
+    """Every real assembly of the mechanism at each input: all combinations of its groups' assemblies (a dyad's two
+    closed-form branches, a triad's polynomial roots, any other group's certified one-parameter reduction; docs/
+    assemblies.md).
+
+    Parameters
+    ----------
+    plan : PlanarPlan
+    inputs : array_like (..., n_inputs), optional
+        Input values (default: the sketch's); for a single-input plan a scalar or a 1-D array is a batch of values.
+    params : array_like (n_params,), optional
+        One design (default: the file's).
+
+    Returns
+    -------
+    list of list of :class:`~assur.engine.planar.assemblies.Assembly`
+        One list per input (the batch flattened in C order), each assembly with its branch identity, its positions
+        ``pos (n_points, 2)``, whether it is the one :func:`solve` returns there (``sketch``), its loop closure and
+        whether the enumeration certified it.
+    """
+    from .planar.assemblies import enumerate_assemblies
+    if not isinstance(plan, PlanarPlan):
+        raise SpecError([("plan", "assemblies are enumerated for planar mechanisms (a spatial R–S–S dyad has its two "
+                                  "branches: SpatialPlan.with_branch)")])
+    params, inputs = prepare_batch(plan, params, inputs)
+    if params.shape != (plan.n_params,):
+        raise SpecError([("params", f"must be one design of {plan.n_params} parameters: shape {params.shape}")])
+    flat = inputs.reshape(-1, plan.n_inputs)
+    solved = solve(plan, params, flat, order=0, tolerances=tolerances).pos
+    return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
+
+
 def _compiled_pays(plan, size: int, order: int) -> bool:
-    """backend="auto": the compiled kernel for a batch of ``size`` samples when it is compiled already and the batch
-    is large enough to gain from it, or when the batch alone wins back a first compile (engine/options.py)."""
+    """backend="auto": the compiled kernel for a batch of ``size`` samples when it costs nothing to start and the
+    batch is large enough to gain from it (compiled already, in this process or the disk cache: from
+    ``AUTO_COMPILED_MIN_SAMPLES`` samples, or from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported, so a small
+    batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py)."""
     if size >= AUTO_COMPILE_MIN_SAMPLES:
         return True
-    return size >= AUTO_COMPILED_MIN_SAMPLES and numba_backend.kernel_ready(plan, False, order)
+    if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and "numba" not in sys.modules):
+        return False
+    return numba_backend.kernel_ready(plan, False, order)
 
 
 def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):

@@ -450,8 +450,9 @@ def sector_outline(model: SectorModel, module: float, backlash: float, *, linkin
 def _dedupe(xy):
     """Drop consecutive duplicate points (and a closing duplicate of the first)."""
     keep = np.ones(len(xy), dtype=bool)
-    keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > TOL.outline_point
+    close = TOL.outline_point * float(np.max(np.linalg.norm(xy, axis=1))) if len(xy) else 0.0
+    keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > close
     xy = xy[keep]
-    if np.linalg.norm(xy[-1] - xy[0]) <= TOL.outline_point:
+    if np.linalg.norm(xy[-1] - xy[0]) <= close:
         xy = xy[:-1]
     return xy

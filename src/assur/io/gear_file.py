@@ -303,7 +303,7 @@ def _gear_design(data, source, P) -> GearDesign | None:
     elif isinstance(law, WheelStepLaw) and sectors is not None and not P:
         model = _check_sector_module(law, L, sectors, m, 1.25 if hf is None else hf, P)
     ha_m = (1.0 if ha is None else ha) * m
-    if L_inst is not None and abs(L_inst - L) > 2 * ha_m + TOL.distinct_distance:
+    if L_inst is not None and abs(L_inst - L) > 2 * ha_m + TOL.distinct_distance * L:
         P.add("pair.installation_distance",
               f"{L_inst / pr.L:.6g} {length} is {abs(L_inst - L) / pr.L:.4g} {length} from the centre distance "
               f"{L / pr.L:.6g} {length}: the teeth mesh only within the working depth 2·addendum·m = "

@@ -4,15 +4,30 @@
 once: ``x (..., n)``, ``F_and_J(x) -> (F (..., n), J (..., n, n))``. Converged samples stop moving;
 samples whose Jacobian is singular become NaN. One more Newton step then polishes the converged
 samples to round-off, and a sample is accepted where every residual is below ``accept_tol``.
+
+Newton's step is the same for any scaling of the equations and the unknowns; only the tests depend on units: the
+residual tolerances are the caller's (in the residual's own unit), and a Jacobian counts as singular by the
+determinant of its equilibrated form (:func:`scaled_det`), a pure number.
 """
 from __future__ import annotations
 
 import numpy as np
 
-#: a Jacobian determinant below this (in absolute value) is singular
+#: a Jacobian whose equilibrated determinant (:func:`scaled_det`, a pure number) is below this in absolute value is
+#: singular
 SINGULAR_DETERMINANT = 1e-300
 #: the acceptance test allows this factor over the iteration's residual tolerance
 ACCEPT_FACTOR = 1e3
+
+
+def scaled_det(J):
+    """(...) the determinant of J (..., n, n) after every column and then every row is divided by its largest
+    magnitude: free of the units of the equations and of the unknowns (0 where J is singular)."""
+    with np.errstate(all="ignore"):
+        col = np.max(np.abs(J), axis=-2, keepdims=True)
+        J = J / np.where(col > 0, col, 1.0)
+        row = np.max(np.abs(J), axis=-1, keepdims=True)
+        return np.linalg.det(J / np.where(row > 0, row, 1.0))
 
 
 def newton(F_and_J, x: np.ndarray, residual_tol: float, iterations: int, accept_tol: float | None = None):
@@ -51,7 +66,7 @@ def newton(F_and_J, x: np.ndarray, residual_tol: float, iterations: int, accept_
         with np.errstate(all="ignore"):
             Jr = np.where(done[..., None, None], np.eye(n), J)
             Jr = np.where(np.isfinite(Jr), Jr, 0.0) + 0.0
-            singular = np.abs(np.linalg.det(Jr)) < SINGULAR_DETERMINANT
+            singular = ~(np.abs(scaled_det(Jr)) >= SINGULAR_DETERMINANT)
             Jr = np.where(singular[..., None, None], np.eye(n), Jr)
             dx = np.linalg.solve(Jr, -np.where(np.isfinite(F), F, 0.0)[..., None])[..., 0]
         dx = np.where(done[..., None], 0.0, np.where(singular[..., None], np.nan, dx))
@@ -59,7 +74,7 @@ def newton(F_and_J, x: np.ndarray, residual_tol: float, iterations: int, accept_
     F, J = F_and_J(x)
     # one more Newton step polishes the converged samples to round-off
     with np.errstate(all="ignore"):
-        good = np.all(np.isfinite(F), axis=-1) & (np.abs(np.linalg.det(np.where(np.isfinite(J), J, 0.0)))
+        good = np.all(np.isfinite(F), axis=-1) & (np.abs(scaled_det(np.where(np.isfinite(J), J, 0.0)))
                                                   > SINGULAR_DETERMINANT)
         if good.any():
             x[good] = x[good] - np.linalg.solve(J[good], F[good][..., None])[..., 0]

@@ -292,22 +292,25 @@ def newton_rss(a, d, e, rocker_length, axial, coupler_length, x0, *, tol: float 
     (x − D)·e = h, |x − D|² = l_r², |x − A|² = l_c² (the test oracle of the closed form).
 
     a, d, e, x0: (..., 3); rocker_length, axial, coupler_length: (...). Returns ``(x, converged)``:
-    the root reached from x0 (the branch connected to the seed) and (...) bool (residual ≤ tol).
+    the root reached from x0 (the branch connected to the seed) and (...) bool (every residual, in metres, ≤ tol).
     """
     x = np.array(x0, dtype=float)
-    lr2, lc2 = np.asarray(rocker_length) ** 2, np.asarray(coupler_length) ** 2
+    lr, lc = np.asarray(rocker_length, dtype=float), np.asarray(coupler_length, dtype=float)
+    lr2, lc2 = lr ** 2, lc ** 2
     ok = np.zeros(x.shape[:-1], dtype=bool)
     with np.errstate(all="ignore"):
         for _ in range(iterations):
             r = x - d
             c = x - a
-            F = np.stack([np.sum(r * e, -1) - axial, 0.5 * (np.sum(r * r, -1) - lr2),
-                          0.5 * (np.sum(c * c, -1) - lc2)], axis=-1)
+            # each equation in metres (the two distances' squares divided by their lengths), so that one
+            # length tolerance holds at any size
+            F = np.stack([np.sum(r * e, -1) - axial, 0.5 * (np.sum(r * r, -1) - lr2) / lr,
+                          0.5 * (np.sum(c * c, -1) - lc2) / lc], axis=-1)
             done = ok
             ok = np.max(np.abs(F), axis=-1) <= tol
             if (ok & done).all():   # converged, and polished by one more step
                 break
-            J = np.stack([np.broadcast_to(e, r.shape), r, c], axis=-2)
+            J = np.stack([np.broadcast_to(e, r.shape), r / lr[..., None], c / lc[..., None]], axis=-2)
             bad = ~np.isfinite(np.linalg.cond(J))
             J = np.where(bad[..., None, None], np.eye(3), J)
             step = np.linalg.solve(J, F[..., None])[..., 0]

@@ -274,7 +274,7 @@ def _compute_gears(design, tmp: Path, *, mesh_steps: int, figures: bool, log, fr
         summary["sectors"]["mesh"] = {}
         reps = {}
         distances = [design.centre_distance]
-        if abs(design.installation_distance - design.centre_distance) > TOL.distinct_distance:
+        if abs(design.installation_distance - design.centre_distance) > TOL.distinct_distance * design.centre_distance:
             distances.append(design.installation_distance)
         # the step boundaries (the driving curve's corners) are where the scheme is tight: scan ±12° around
         # each at 0.25° besides the coarse cycle (docs/papers/001.md B6.9)

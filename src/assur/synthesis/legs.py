@@ -20,9 +20,11 @@ Every candidate is dimensioned by the same problem (:func:`leg_problem`), in uni
   step counts as 0.1) plus the spread of the foot's horizontal speed over the central 80 % of the stride
   (``gait.vx_spread``, the body's surge).
 
-A candidate whose decomposition has a group without a closed form (a class III triad: some Stephenson inversions)
-is evaluated by Newton iterations swept through the cycle (``solve(..., sweep=True)``), some fifty times slower than
-the compiled closed forms, and skips the local polish (one design at a time); the search itself is the same.
+Every candidate is dimensioned. One whose decomposition has a group without a closed form (a class III triad, a
+class IV group: some Stephenson inversions and many eight-link ones) is evaluated by Newton iterations swept through
+the cycle in certified steps (``solve(..., sweep=True)``, :mod:`assur.engine.planar.continuation`), on the numpy
+path until the compiled Newton kernels land, and skips the local polish (one design at a time); the search itself is
+the same.
 
 The ground is the x axis and up is +y; the frame pivots are free, so the optimiser also chooses the leg's
 orientation. Each candidate runs :func:`assur.synthesis.synthesize` from ``starts`` independent starts with a seed
@@ -61,8 +63,9 @@ DEFAULTS = {
     "reach": 8.0,            # longest link / farthest frame pivot, in r
     "below": 1.0,            # the whole foot path at least this far below the crank's axis, in r
     "backend": None,         # the engine backend of the evaluations: None (numba when installed), "numpy"
-    "triads": False,         # also dimension the candidates with a group solved by Newton iterations (slow)
 }
+#: settings that are gone: accepted with a DeprecationWarning and ignored (name → why)
+DEPRECATED = {"triads": "every candidate is dimensioned now, those with a Newton-solved group included"}
 #: the name of the foot point added to the foot link
 FOOT = "F"
 
@@ -136,14 +139,17 @@ def settings_of(settings: dict | None) -> dict:
     """DEFAULTS overridden by ``settings``; SpecError naming an unknown or bad setting."""
     s = dict(DEFAULTS)
     for k, v in (settings or {}).items():
+        if k in DEPRECATED:
+            import warnings
+            warnings.warn(f"the walking-leg setting {k!r} is deprecated and ignored: {DEPRECATED[k]}",
+                          DeprecationWarning, stacklevel=3)
+            continue
         if k not in DEFAULTS:
             raise SpecError([(k, f"unknown walking-leg setting; known: {', '.join(DEFAULTS)}")])
         s[k] = v
     for k in ("budget", "starts", "cycle_samples"):
         if not (isinstance(s[k], (int, np.integer)) and s[k] >= 1):
             raise SpecError([(k, f"must be a positive integer: {s[k]!r}")])
-    if not isinstance(s["triads"], bool):
-        raise SpecError([("triads", f"must be true or false: {s['triads']!r}")])
     if s["backend"] not in (None, "numba", "numpy"):
         raise SpecError([("backend", f"must be 'numba' or 'numpy': {s['backend']!r}")])
     for k in ("step", "lift", "reach", "below"):
@@ -260,23 +266,7 @@ class LegRanking:
                 "entries": [{k: v for k, v in e.items() if k not in drop} for e in self.entries]}
 
 
-#: why a candidate with a Newton-solved group is not dimensioned unless asked
-SKIPPED = ("not dimensioned: a group without a closed form (class III) is solved by Newton iterations, about 0.1 s "
-           "per design over a cycle, beyond a short synthesis; run with triads = true (--triads) to include it")
-
-
-def _skipped(c: LegCandidate) -> dict:
-    """The entry of a candidate left undimensioned: its template (the atlas sketch with the foot) as its file."""
-    from ..io.mechanism_file import from_dict
-    from ..io.mechanism_writer import dumps
-    return {"key": c.key, "objective": None, "feasible": False, "violation": None, "variables": {}, "starts": [],
-            "evaluations": 0, "seconds": 0.0, "metrics": None, "skipped": SKIPPED,
-            "mechanism": dumps(from_dict(c.document, c.key))}
-
-
 def _order(entry: dict):
-    if entry.get("skipped"):
-        return (2, 0.0, entry["key"])
     bad = not entry["feasible"] or entry["metrics"] is None
     return (int(bad), entry["violation"] if bad else entry["objective"], entry["key"])
 
@@ -291,7 +281,7 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
     cands = leg_candidates(links) if candidates is None else list(candidates)
     executor = executor or InProcess()
     t0 = time.monotonic()
-    todo = [c for c in cands if s["triads"] or not c.newton]
+    todo = cands
     if type(executor) is InProcess:          # a subclass (local processes, Dask) maps the candidates as tasks
         results = []
         for i, c in enumerate(todo):
@@ -300,7 +290,6 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
                 progress(i + 1, len(todo))
     else:
         results = list(executor.map_starts(run_candidate, [(c, s) for c in todo])) if todo else []
-    results += [_skipped(c) for c in cands if c not in todo]
     by_key = {c.key: c for c in cands}
     entries = []
     for r in results:

@@ -21,7 +21,7 @@ from ..plan import (BRANCHED, PARAM_KINDS, CrankStep, FrameStep, GearSlot, GearS
                     PPRStep, PRPStep, RPRStep, RRPStep, RRRStep, Side)
 from .cam_steps import cam_step
 from .newton_group import sketch_branch_sign, sketch_misfit
-from .steps import context_at, run_steps
+from .continuation import context_at, run_steps
 
 
 def _c(xy) -> complex:

@@ -23,16 +23,23 @@ from ...kernels.jet import Jet, expi
 from ...kernels.newton import newton
 
 
-def _residual(c, st, X, derivs: bool, labels: list | None = None):
+def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = False):
     """Residual components (list of real jets) for unknown jets X (3k of them); with ``labels``, the
-    joint point or slide name of each component is appended to it."""
+    joint point or slide name of each component is appended to it. ``lift``: the unknowns' values carry one more
+    trailing axis (of length 1, their derivatives one of length 3k: every direction at once), so every known value
+    of the context gets it too."""
     g = c.g
+
+    def up(a):
+        a = np.asarray(a)
+        return a[..., None] if lift and a.ndim else a
     group = list(st.bodies)
     gi = {b: i for i, b in enumerate(group)}
 
     def const(j):
-        return j if derivs else Jet(j.v, np.zeros_like(j.v) if X[0].d is not None else None,
-                                    np.zeros_like(j.v) if X[0].dd is not None else None)
+        v = up(j.v)
+        return j if derivs else Jet(v, np.zeros_like(v) if X[0].d is not None else None,
+                                    np.zeros_like(v) if X[0].dd is not None else None)
 
     pose = {}
     for b, i in gi.items():
@@ -42,7 +49,7 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
 
     def world(b, p):
         o, e = pose[b]
-        return o + e * c.w[(b, p)]
+        return o + e * up(c.w[(b, p)])
 
     res = []
     for point, at in g.joints:
@@ -68,11 +75,12 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
         kind, name, guide, slider = rec[:4]
         if not (guide in gi or slider in gi) or guide not in pose or slider not in pose:
             continue
-        q, u, ref, us = c.lines[idx]
+        q, u, ref, us = (up(a) for a in c.lines[idx])
         og, eg = pose[guide]
         os_, es = pose[slider]
         U = eg * u
-        res.append((U.conj() * (es * us)).imag)
+        # the alignment of the slider with its guide (a sine) times the length scale: every residual in metres
+        res.append((U.conj() * (es * us)).imag * c.plan.length_scale)
         d = os_ + es * ref - og - eg * q
         res.append((U.conj() * d).imag)
         if kind == "actuator" and name in driven:
@@ -83,10 +91,38 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None):
 
 
 def _equilibrated_det(J):
-    """(...) det of J (..., n, n) with every row scaled to unit length: |det| ≤ 1, free of units."""
+    """(...) det of J (..., n, n) with every row scaled to unit length: |det| ≤ 1 (Hadamard)."""
     with np.errstate(all="ignore"):
         norms = np.linalg.norm(J, axis=-1, keepdims=True)
         return np.linalg.det(J / np.where(norms > 0, norms, 1.0))
+
+
+def body_scales(c, st):
+    """Per body of the group, its own length scale (m): the largest distance between two of its points in its
+    local frame, (...) arrays of the design's batch shape; a body with one point (a slider block) takes the
+    group's largest."""
+    sizes = []
+    for b in st.bodies:
+        ws = [np.asarray(c.w[(b, p)]) for p in c.g.bodies[b].points]
+        size = np.zeros(np.shape(ws[0]))
+        for w in ws[1:]:
+            size = np.maximum(size, np.abs(w - ws[0]))
+        sizes.append(size)
+    largest = np.maximum.reduce(sizes) if sizes else np.float64(c.plan.length_scale)
+    largest = np.where(largest > 0, largest, c.plan.length_scale)
+    return [np.where(s > 0, s, largest) for s in sizes]
+
+
+def certificate_det(c, st, J):
+    """The dimensionless branch certificate of a Newton-solved group: (...) the determinant of its loop equations'
+    Jacobian J (..., n, n) (rows in metres, columns x, y (m) and θ (rad) per body) with each body's θ column
+    divided by the body's own length scale (:func:`body_scales`) and then every row scaled to unit length. The
+    matrix is then a pure number: the same for the mechanism drawn at any size (|det| ≤ 1, and 0 exactly where two
+    assemblies meet)."""
+    cols = np.ones(np.shape(J)[:-2] + (np.shape(J)[-1],))
+    for i, s in enumerate(body_scales(c, st)):
+        cols[..., 3 * i + 2] = 1.0 / s
+    return _equilibrated_det(J * cols[..., None, :])
 
 
 def sketch_misfit(c, st, poses):
@@ -107,19 +143,18 @@ def sketch_misfit(c, st, poses):
 
 
 def _residual_and_jacobian(c, st, x, shape):
-    """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``."""
+    """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``: one pass of the
+    residual on jets whose derivative holds all n directions at once."""
     n = 3 * len(st.bodies)
-    cols = []
-    F = None
-    for j in range(n):
-        X = [Jet(x[..., i], np.full(shape, 1.0 if i == j else 0.0), None) for i in range(n)]
-        r = _residual(c, st, X, derivs=False)
-        if len(r) != n:
-            raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
-        if F is None:
-            F = np.stack([np.broadcast_to(ri.v, shape) for ri in r], axis=-1)
-        cols.append(np.stack([np.broadcast_to(ri.d, shape) for ri in r], axis=-1))
-    return F, np.stack(cols, axis=-1)
+    x = np.broadcast_to(x, shape + (n,))
+    eye = np.eye(n)
+    X = [Jet(x[..., i:i + 1], np.broadcast_to(eye[i], shape + (n,)), None) for i in range(n)]
+    r = _residual(c, st, X, derivs=False, lift=True)
+    if len(r) != n:
+        raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
+    F = np.stack([np.broadcast_to(ri.v, shape + (1,))[..., 0] for ri in r], axis=-1)
+    J = np.stack([np.broadcast_to(ri.d, shape + (n,)) for ri in r], axis=-2)
+    return F, J
 
 
 def sketch_branch_sign(c, st, poses) -> int:
@@ -127,7 +162,7 @@ def sketch_branch_sign(c, st, poses) -> int:
     Jacobian determinant of its loop equations at the drawn body poses (x, y, θ) ``poses`` (``c``: a context with
     the group's known bodies placed, as for :func:`sketch_misfit`). The solver keeps every sample on this sign."""
     x = np.array([v for b in st.bodies for v in poses[b]], dtype=float)
-    return int(np.sign(_equilibrated_det(_residual_and_jacobian(c, st, x, ())[1])))
+    return int(np.sign(certificate_det(c, st, _residual_and_jacobian(c, st, x, ())[1])))
 
 
 def solve_group(c, st):
@@ -155,12 +190,12 @@ def solve_group(c, st):
     if sign_key not in c.warm:
         # the branch invariant: the sign of the equilibrated Jacobian determinant at the seed (the sketch
         # assembly, on the plan's branches); it changes only through a singular position
-        c.warm[sign_key] = np.sign(_equilibrated_det(F_and_J(x)[1]))
+        c.warm[sign_key] = np.sign(certificate_det(c, st, F_and_J(x)[1]))
     x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations,
                       accept_tol=1e3 * tol.newton_residual * scale)
     # a converged sample counts only where its branch is certified: the same determinant sign as the seed,
     # clear of the singular positions where two assemblies meet
-    det = _equilibrated_det(J)
+    det = certificate_det(c, st, J)
     certified = (np.sign(det) == c.warm[sign_key]) & (np.abs(det) > tol.newton_certify)
     ok = ok & certified
     x = np.where(ok[..., None], x, np.nan)

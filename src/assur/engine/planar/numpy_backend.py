@@ -10,7 +10,7 @@ from ...errors import UnbuildableWarning
 from ...kernels.jet import Jet
 from ..options import input_rates, report_unbuildable
 from ..state import State, _Once
-from .steps import execute
+from .continuation import execute
 from .sweep import execute_cycle
 
 

@@ -2,8 +2,8 @@
 
 A :class:`Context` holds one pass over a batch: the bodies' local geometry, the input jets and
 the poses and point positions placed so far. Each executor reads its step record's named fields
-and places the bodies it solves. :func:`execute` runs a step table, continuing Newton-solved
-groups from the sketch; :func:`run_steps` is the compile-time entry (branch choice, seeds).
+and places the bodies it solves. :func:`_run` runs a step table once;
+:mod:`assur.engine.planar.continuation` continues Newton-solved groups from the sketch.
 """
 from __future__ import annotations
 
@@ -11,8 +11,6 @@ import numpy as np
 
 from ...kernels import planar
 from ...kernels.jet import Jet, expi
-from ...tolerances import DEFAULT
-from ..options import continuation, stage_count
 from .cam_steps import cam_slide, slot_jet
 from .geometry import geometry
 from .newton_group import solve_group
@@ -193,72 +191,3 @@ def _run(plan, steps, params, q_jets, order, tol, method, warm):
                 kind = "newton"
             EXECUTORS[kind](c, st)
     return c
-
-
-def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
-    """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)).
-
-    With Newton groups, every sample is continued from the sketch inputs to its own inputs in stages
-    (:func:`assur.engine.options.continuation`), each stage warm-started from the previous one: first
-    the short way round; samples that fail are continued again the long way round (a crank past a
-    locked range of its assembly mode reaches it from the other side)."""
-    uses_newton = method == "newton" or any(st.kind == "newton" for st in steps)
-    if not (uses_newton and len(q_jets)):
-        return _run(plan, steps, params, q_jets, order, tol, method, {})
-    m, deltas, dp = continuation(plan, [qj.v for qj in q_jets], params, tol)
-    c = _continue(plan, steps, params, q_jets, order, tol, method, m, deltas, dp)
-    rotary = [k for k in range(len(q_jets)) if plan.input_kinds[k] == "rotary"]
-    failed = ~np.asarray(c.valid, dtype=bool)
-    if not (rotary and failed.any()):
-        return c
-    shape = np.broadcast_shapes(failed.shape, *(np.shape(d) for d in deltas))
-    failed = np.broadcast_to(failed, shape)
-    other_way = [np.where(failed & (d != 0), d - np.copysign(2 * np.pi, d), d) if k in rotary else d
-                 for k, d in enumerate(deltas)]
-    m2 = max(stage_count(plan, other_way, tol), m)
-    c2 = _continue(plan, steps, params, q_jets, order, tol, method, m2, other_way, dp)
-    take = failed & np.broadcast_to(np.asarray(c2.valid, dtype=bool), shape)
-    return _merge(c, c2, take) if take.any() else c
-
-
-def _continue(plan, steps, params, q_jets, order, tol, method, m, deltas, dp) -> Context:
-    """Stages 1 … m − 1 of a continuation along ``deltas`` from the sketch inputs, then the requested inputs."""
-    q_s = plan.sketch_inputs
-    warm: dict = {}
-    for i in range(1, m):
-        t = i / m
-        q_stage = [Jet.const(q_s[k] + t * deltas[k], 0) for k in range(len(q_jets))]
-        _run(plan, steps, plan.defaults + t * dp if dp is not None else params, q_stage, 0, tol, method, warm)
-    return _run(plan, steps, params, q_jets, order, tol, method, warm)
-
-
-def _pick(take, a, b):
-    """b where ``take``, else a: jets (component by component) or plain arrays."""
-    if isinstance(a, Jet):
-        parts = [None if x is None else np.where(take, y, x) for x, y in ((a.v, b.v), (a.d, b.d), (a.dd, b.dd))]
-        return Jet(*parts)
-    return np.where(take, b, a)
-
-
-def _merge(c1: Context, c2: Context, take) -> Context:
-    """Context c1 with the samples of ``take`` (...) taken from c2."""
-    c1.pos = {p: _pick(take, z, c2.pos[p]) for p, z in c1.pos.items()}
-    c1.pose = {b: (_pick(take, o, c2.pose[b][0]), _pick(take, e, c2.pose[b][1])) for b, (o, e) in c1.pose.items()}
-    c1.valid = np.where(take, True, c1.valid)
-    return c1
-
-
-def context_at(plan, steps, params, inputs, tol=DEFAULT) -> Context:
-    """The context after running ``steps`` (positions only) at one design ``params (n_params,)`` and one
-    input vector ``inputs (n_inputs,)``."""
-    q = [Jet.const(np.asarray(inputs[k], dtype=float), 0) for k in range(len(inputs))]
-    return execute(plan, steps, np.asarray(params, dtype=float), q, 0, tol)
-
-
-def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False, tol=DEFAULT):
-    """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
-    orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
-    q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
-    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, tol)
-    poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
-    return {p: z.v for p, z in c.pos.items()}, poses, c.valid

@@ -1,35 +1,35 @@
 """Newton-solved groups over one turn of a crank, swept sample after sample.
 
-:func:`assur.engine.planar.steps.execute` continues every sample from the sketch on its own, in stages: right for
-any batch, but a cycle of M samples then costs some twenty full-batch solves. When the batch is one turn of a
-single crank — the M inputs along the last batch axis, the same for every design, as a synthesis evaluation
-solves them — :func:`execute_cycle` instead
+:func:`assur.engine.planar.continuation.execute` continues every sample from the sketch on its own: right for any
+batch, but a cycle of M samples of D designs then walks D·M paths. When the batch is one turn of a single crank —
+the M inputs along the last batch axis, the same for every design, as a synthesis evaluation solves them —
+:func:`execute_cycle` instead walks the D designs (:class:`~assur.engine.planar.continuation.Walker`, the same
+certified steps)
 
-1. continues each design's parameters from the file's at the sketch's crank angle (the same
-   ``stages_for_new_design`` stages, on the designs alone);
-2. sweeps the crank forward through the samples in turn (each warm-started from the one before, with steps of at
-   most ``stage_angle``), then backward from the sketch through the samples the forward sweep could not reach
-   (past a dead point, as ``execute`` continues failed samples the long way round);
-3. solves the whole batch once more from those poses, for the derivatives and the branch certificate.
+1. from the file's design to each design at the sketch's crank angle;
+2. forward through the samples by their angle past the sketch's, then backward from the sketch through the samples
+   the forward sweep could not reach (past a dead point, as ``execute`` continues failed samples the long way
+   round);
+3. and solves the whole batch once more from those poses, for the derivatives and the branch certificate.
 
-Every sample keeps the branch of the sketch (the sign of the group's equilibrated Jacobian determinant, as in
-:func:`~assur.engine.planar.newton_group.solve_group`); the positions equal ``execute``'s to the Newton
-tolerance.
+Every sample keeps the branch of the sketch; the positions equal ``execute``'s to the Newton tolerance wherever the
+sketch's assembly closes after one turn (a branch that needs two turns to close meets itself at the sketch's angle
+here, at the opposite angle there).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ...kernels.jet import Jet
-from .steps import Context, _run, execute
+from .continuation import Walker, execute, newton_keys, separate
+from .steps import Context, _run
 
 TWO_PI = 2.0 * np.pi
 
 
 def sweepable(plan, steps, q_jets, method) -> bool:
     """Whether :func:`execute_cycle` applies: Newton-solved groups and a single rotary input."""
-    newton = method == "newton" or any(st.kind == "newton" for st in steps)
-    return newton and len(q_jets) == 1 and plan.input_kinds[0] == "rotary"
+    return bool(newton_keys(steps, method)) and len(q_jets) == 1 and plan.input_kinds[0] == "rotary"
 
 
 def _angles(q_jets, shape):
@@ -42,8 +42,8 @@ def _angles(q_jets, shape):
 
 
 def execute_cycle(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
-    """:func:`~assur.engine.planar.steps.execute` for a batch whose inputs are crank angles along the last axis
-    (module docstring); any other batch goes to ``execute``. params (..., 1, n_params) or (..., M, n_params)."""
+    """:func:`~assur.engine.planar.continuation.execute` for a batch whose inputs are crank angles along the last
+    axis (module docstring); any other batch goes to ``execute``. params (..., 1, n_params) or (..., M, n_params)."""
     params = np.asarray(params, dtype=float)
     shape = np.broadcast_shapes(params.shape[:-1], np.shape(q_jets[0].v))
     q = _angles(q_jets, shape) if len(shape) else None
@@ -52,48 +52,41 @@ def execute_cycle(plan, steps, params, q_jets, order, tol, method="closed") -> C
     rows = params if params.ndim >= 2 else params[None, :]
     if not np.all(rows == rows[..., :1, :]):          # the designs must not vary along the samples' axis
         return execute(plan, steps, params, q_jets, order, tol, method)
-    design = rows[..., :1, :]
-    keys = [id(st) for st in steps if st.kind == "newton" or method == "newton"]
+    design = np.broadcast_to(rows[..., :1, :], shape[:-1] + (1, plan.n_params)).reshape(-1, plan.n_params)
+    D, M = len(design), len(q)
     q_s = float(plan.sketch_inputs[0])
     # 1. the designs at the sketch's crank angle, continued from the file's parameters
-    dp = design - plan.defaults
-    stages = tol.stages_for_new_design if np.any(dp != 0) else 1
-    warm: dict = {}
-    at_sketch = [Jet.const(np.float64(q_s), 0)]
-    for i in range(1, stages + 1):
-        _run(plan, steps, plan.defaults + (i / stages) * dp, at_sketch, 0, tol, method, warm)
-    start = dict(warm)
-    # 2. forward through the samples by their angle past the sketch's, then backward for what failed
-    M = len(q)
+    start = Walker.at_sketch(plan, steps, tol, method, D)
+    start.advance(design, np.full((D, 1), q_s))
+    keys = list(start.x)
+    poses = {k: np.full((D, M, v.shape[-1]), np.nan) for k, v in start.x.items()}
     ahead = np.mod(q - q_s, TWO_PI)
-    poses = {k: np.full(shape + warm[k].shape[-1:], np.nan) for k in keys}
 
     def sweep(order_, signed, todo):
-        w = dict(start)
-        last = 0.0
+        w = Walker(plan, steps, tol, method, start.params, start.q, start.x, start.sign)
         for j in order_:
-            if not todo[j]:
+            if not todo[:, j].any():
                 continue
-            target = signed[j]
-            n_sub = max(1, int(np.ceil(abs(target - last) / tol.stage_angle)))
-            for s in range(1, n_sub + 1):
-                t = last + (target - last) * s / n_sub
-                _run(plan, steps, design, [Jet.const(np.float64(q_s + t), 0)], 0, tol, method, w)
-            last = target
+            w.advance(design, np.full((D, 1), q_s + signed[j]))
             for k in keys:
-                x = w[k][..., 0, :]
-                poses[k][..., j, :] = np.where(np.isfinite(poses[k][..., j, :]), poses[k][..., j, :], x)
-            todo[j] = bool(np.any(~np.isfinite(poses[keys[0]][..., j, 0]))) if keys else False
+                fill = todo[:, j] & w.alive
+                poses[k][fill, j] = w.x[k][fill]
+            todo[:, j] &= ~w.alive
+            if not w.alive.any():
+                break
         return todo
 
-    todo = sweep(np.argsort(ahead, kind="stable"), ahead, np.ones(M, dtype=bool))
+    todo = sweep(np.argsort(ahead, kind="stable"), ahead, np.repeat(start.alive[:, None], M, axis=1))
     if todo.any():
-        behind = ahead - TWO_PI
-        sweep(np.argsort(-behind, kind="stable"), behind, todo)
+        sweep(np.argsort(-(ahead - TWO_PI), kind="stable"), ahead - TWO_PI, todo)
     # 3. the whole batch from the swept poses: derivatives and the branch certificate
-    final = {k: np.broadcast_to(v, shape + v.shape[-1:]).copy() for k, v in poses.items()}
-    final.update({k: v for k, v in start.items() if k not in keys})
-    return _run(plan, steps, params, q_jets, order, tol, method, final)
+    final = {k: v.reshape(shape + v.shape[-1:]) for k, v in poses.items()}
+    for k, v in start.sign.items():
+        final[(k, "det_sign")] = np.repeat(v[:, None], M, axis=1).reshape(shape)
+    c = _run(plan, steps, params, q_jets, order, tol, method, dict(final))
+    reached = np.all(np.isfinite(poses[keys[0]]), axis=-1).reshape(shape) if keys else True
+    c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & reached
+    return separate(plan, steps, c, method, tol, shape, final)
 
 
 __all__ = ["execute_cycle", "sweepable"]

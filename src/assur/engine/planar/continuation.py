@@ -1,0 +1,331 @@
+"""Certified continuation of Newton-solved groups: every sample follows the sketch's assembly without a jump.
+
+A group without a closed form has several assemblies at one input; which one Newton's method reaches depends on
+where it starts. The solver therefore never starts far from where it is going: each *row* (a sample, or a design in
+a sweep) walks from where it is known — the sketch, at the file's design and the sketch's inputs — to its target
+along the straight line of inputs and parameters, in steps it controls (:class:`Walker`):
+
+1. a predictor: the last step's secant (the first step: the last position);
+2. a corrector: Newton's method on the loop equations (:func:`~assur.engine.planar.newton_group.solve_group`);
+3. the step's certificate: the corrector converged; the dimensionless Jacobian determinant kept the sketch's sign
+   and stayed clear of zero (``tolerances.newton_certify``); the correction moved no point of the group by more
+   than ``tolerances.continuation_correction`` of the length scale; and, for a triad, the corrected assembly is
+   the one of its at most six assemblies (:mod:`assur.kernels.triad`) nearest the prediction, with every other
+   at least twice as far from the prediction.
+
+A step that fails its certificate is retried at a quarter of its length, one that passes lets the next be twice as
+long (never more than ``stage_angle`` of crank, ``stage_length`` of stroke, or a ``stages_for_new_design``-th of a
+design change). A row whose step falls below ``min_step`` cannot be continued certifiably (a toggle: the input
+cannot go further on this assembly; a singular position) and is unbuildable there, never possibly on another
+assembly.
+
+:func:`execute` continues every sample on its own from the sketch (the short way round; samples a crank cannot
+reach that way, past a locked range, the long way), so a sample's result does not depend on the batch it is in or
+on the step of a grid. After the last step each sample's group is checked against its other assemblies
+(:mod:`assur.engine.planar.group_assemblies`): a sample closer to another assembly than
+``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
+"""
+from __future__ import annotations
+
+import copy
+from dataclasses import replace
+
+import numpy as np
+
+from ...kernels.jet import Jet
+from ...kernels.triad import triad_roots
+from ...tolerances import DEFAULT
+from .group_assemblies import (assembly_distances, before_group, group_assemblies, group_method, group_points,
+                               take_rows, triad_layout)
+from .newton_group import _residual_and_jacobian, certificate_det
+from .steps import Context, _run
+
+#: the factors a step's length changes by after a failed or passed certificate
+SHRINK, GROW = 0.25, 2.0
+#: Newton iterations of a step's corrector
+CORRECTOR_ITERATIONS = 8
+#: the dimensionless determinant below which another group than a triad is checked against its other assemblies
+SEPARATION_GATE = 1e-2
+#: steps one row may try on one walk (a row that needs more cannot be certified: unbuildable)
+MAX_STEPS = 1000
+
+
+def newton_keys(steps, method):
+    """The Newton-solved steps of a step list (with ``method='newton'`` every group)."""
+    return [st for st in steps if st.kind == "newton" or (method == "newton" and st.kind not in ("frame", "crank",
+                                                                                                   "gear"))]
+
+
+class Walker:
+    """Rows walked in certified steps from where they are to targets (module docstring).
+
+    ``params (R, n_params)``, ``q (R, n_inputs)`` where the rows are now; ``x {step id: (R, 3k)}`` their groups'
+    poses there and ``sign {step id: (R,)}`` the branch invariant to keep; ``alive (R,)``."""
+
+    def __init__(self, plan, steps, tol, method, params, q, x, sign):
+        self.plan, self.steps, self.tol, self.method = plan, steps, tol, method
+        #: a step's corrector: a few Newton iterations (a prediction that needs more is too far: a shorter step)
+        self.step_tol = replace(tol, newton_iterations=min(tol.newton_iterations, CORRECTOR_ITERATIONS))
+        self.newton = newton_keys(steps, method)
+        self.params, self.q = np.array(params, dtype=float), np.array(q, dtype=float)
+        self.x = {k: np.array(v, dtype=float) for k, v in x.items()}
+        self.sign = {k: np.array(v, dtype=float) for k, v in sign.items()}
+        self.alive = np.all([np.all(np.isfinite(v), axis=-1) for v in self.x.values()], axis=0) \
+            if self.x else np.ones(len(self.q), dtype=bool)
+
+    @classmethod
+    def at_sketch(cls, plan, steps, tol, method, rows: int):
+        """``rows`` rows at the sketch: the file's design at the sketch's inputs, its groups solved from the sketch."""
+        warm: dict = {}
+        params = plan.defaults[None, :]
+        q = [Jet.const(np.asarray([v]), 0) for v in plan.sketch_inputs]
+        _run(plan, steps, params, q, 0, tol, method, warm)
+        keys = [id(st) for st in newton_keys(steps, method)]
+        x = {k: np.repeat(warm[k].reshape(1, -1), rows, axis=0) for k in keys}
+        sign = {k: np.repeat(np.reshape(warm[(k, "det_sign")], (1,)), rows) for k in keys}
+        return cls(plan, steps, tol, method, np.repeat(params, rows, axis=0),
+                   np.repeat(plan.sketch_inputs[None, :], rows, axis=0), x, sign)
+
+    def _h_max(self, dq, dp):
+        """(R,) the longest step in t ∈ [0, 1] along dq (R, n_inputs), dp (R, n_params)."""
+        tol, plan = self.tol, self.plan
+        h = np.ones(len(dq))
+        with np.errstate(divide="ignore"):
+            for k, kind in enumerate(plan.input_kinds):
+                stage = tol.stage_angle if kind == "rotary" else tol.stage_length * plan.length_scale
+                h = np.minimum(h, stage / np.abs(dq[:, k]))
+        moved = np.any(dp != 0, axis=-1)
+        return np.where(moved, np.minimum(h, 1.0 / tol.stages_for_new_design), h)
+
+    def _min_step(self, dq):
+        """(R,) the shortest step in t: ``continuation_min_step`` of crank or of the length scale of stroke."""
+        plan, tol = self.plan, self.tol
+        span = np.zeros(len(dq))
+        for k, kind in enumerate(plan.input_kinds):
+            span = np.maximum(span, np.abs(dq[:, k]) / (1.0 if kind == "rotary" else plan.length_scale))
+        with np.errstate(divide="ignore"):
+            return np.where(span > 0, tol.continuation_min_step / span, 1e-12)
+
+    def advance(self, params, q, rows=None):
+        """Walk the rows ``rows`` (default all alive) to ``params (R, n_params)``, ``q (R, n_inputs)``
+        (broadcastable); rows that cannot be certified die. Returns the alive mask (R,)."""
+        R = len(self.q)
+        params = np.broadcast_to(np.asarray(params, dtype=float), (R, self.plan.n_params))
+        q = np.broadcast_to(np.asarray(q, dtype=float), (R, self.plan.n_inputs))
+        idx = np.flatnonzero(self.alive if rows is None else (self.alive & rows))
+        if len(idx) == 0:
+            return self.alive
+        p0, q0 = self.params[idx], self.q[idx]
+        dp, dq = params[idx] - p0, q[idx] - q0
+        t = np.zeros(len(idx))
+        h_max = self._h_max(dq, dp)
+        h_min = self._min_step(dq)
+        h = h_max.copy()
+        x = {k: v[idx] for k, v in self.x.items()}
+        last = {k: v.copy() for k, v in x.items()}           # the previous accepted point, for the secant
+        t_last = np.full(len(idx), np.nan)
+        todo = t < 1.0
+        todo &= ~np.all(dq == 0, axis=-1) | np.any(dp != 0, axis=-1)
+        dead = np.zeros(len(idx), dtype=bool)
+        tries = np.zeros(len(idx), dtype=int)
+        while True:
+            act = np.flatnonzero(todo & ~dead)
+            if len(act) == 0:
+                break
+            ta, ha = t[act], h[act]
+            tn = np.minimum(ta + ha, 1.0)
+            with np.errstate(all="ignore"):
+                ratio = np.where(np.isfinite(t_last[act]), (tn - ta) / (ta - t_last[act]), 0.0)
+            warm = {}
+            pred = {}
+            for k in x:
+                pred[k] = x[k][act] + ratio[:, None] * (x[k][act] - last[k][act])
+                warm[k] = pred[k].copy()
+                warm[(k, "det_sign")] = self.sign[k][idx[act]]
+            pa = p0[act] + tn[:, None] * dp[act]
+            qa = q0[act] + tn[:, None] * dq[act]
+            c = _run(self.plan, self.steps, pa, [Jet.const(qa[:, j], 0) for j in range(qa.shape[1])], 0, self.step_tol,
+                     self.method, warm)
+            ok = np.broadcast_to(np.asarray(c.valid, dtype=bool), (len(act),)).copy()
+            for st in self.newton:
+                k = id(st)
+                # a body's angle is continued, never wrapped: θ within half a turn of its prediction
+                warm[k][:, 2::3] = pred[k][:, 2::3] + np.remainder(warm[k][:, 2::3] - pred[k][:, 2::3] + np.pi,
+                                                                   2 * np.pi) - np.pi
+                ok &= np.all(np.isfinite(warm[k]), axis=-1)
+                ok &= self._certify(c, st, pred[k], warm[k], len(act))
+
+            good, bad = act[ok], act[~ok]
+            for k in x:
+                last[k][good] = x[k][good]
+                x[k][good] = warm[k][ok]
+            t_last[good] = t[good]
+            t[good] = tn[ok]
+            h[good] = np.minimum(h[good] * GROW, h_max[good])
+            h[bad] *= SHRINK
+            tries[act] += 1
+            dead[bad[h[bad] < h_min[bad]]] = True
+            dead[act[tries[act] > MAX_STEPS]] = True
+            todo = t < 1.0
+        for k in x:
+            self.x[k][idx] = np.where(dead[:, None], np.nan, x[k])
+        self.params[idx] = np.where(dead[:, None], self.params[idx], params[idx])
+        self.q[idx] = np.where(dead[:, None], self.q[idx], q[idx])
+        self.alive[idx[dead]] = False
+        return self.alive
+
+    def _certify(self, c, st, pred, x, n):
+        """(n,) the step's certificate beyond convergence and the determinant (module docstring, 3)."""
+        rows = np.arange(n)
+        moved = np.max(np.abs(group_points(c, st, x, rows, n) - group_points(c, st, pred, rows, n)), axis=-1)
+        ok = moved <= self.tol.continuation_correction * self.plan.length_scale
+        if triad_layout(self.plan, st) is not None and np.any(ok):
+            ok &= _nearest_triad_assembly(c, st, pred, x, n)
+        return ok
+
+
+def _triad_joints(c, st, n):
+    """(joints of every root of the triad's polynomial (n, 6, 3), NaN where fewer; a function giving the ternary's
+    three joints (n, 3) of group poses (n, 3k))."""
+    t, legs = triad_layout(c.plan, st)
+    w = np.stack([np.broadcast_to(np.asarray(c.w[(t, p)]), (n,)) for _, p, _ in legs], axis=-1)
+    Q = np.stack([np.broadcast_to(c.pos[far].v, (n,)) for _, _, far in legs], axis=-1)
+    ell = np.stack([np.broadcast_to(np.abs(np.asarray(c.w[(leg, far)]) - np.asarray(c.w[(leg, p)])), (n,))
+                    for leg, p, far in legs], axis=-1)
+    phi, p = triad_roots(w, Q, ell)                                             # (n, 6)
+    roots = p[..., None] + np.exp(1j * phi)[..., None] * w[:, None, :]         # (n, 6, 3)
+    ti = st.bodies.index(t)
+
+    def joints(y):
+        return (y[:, 3 * ti] + 1j * y[:, 3 * ti + 1])[:, None] + np.exp(1j * y[:, 3 * ti + 2])[:, None] * w
+
+    return roots, joints
+
+
+def _distances(roots, z):
+    """(n, 6) the largest distance of a joint between each root and ``z (n, 3)``, inf where there is no root."""
+    d = np.max(np.abs(roots - z[:, None, :]), axis=-1)
+    return np.where(np.isfinite(d), d, np.inf)
+
+
+def _nearest_triad_assembly(c, st, pred, x, n):
+    """(n,) whether ``x`` is the triad's assembly nearest the prediction ``pred`` and every other is at least twice
+    as far from the prediction (the roots of its polynomial, unpolished: good to far below the margin)."""
+    roots, joints = _triad_joints(c, st, n)
+    dp, dx = _distances(roots, joints(pred)), _distances(roots, joints(x))
+    mine = np.argmin(dx, axis=-1)
+    d_mine = np.take_along_axis(dp, mine[:, None], axis=-1)[:, 0]
+    others = np.where(np.arange(6)[None, :] == mine[:, None], np.inf, dp)
+    is_root = np.take_along_axis(dx, mine[:, None], axis=-1)[:, 0] <= 1e-6 * c.plan.length_scale
+    return ~is_root | (2.0 * d_mine <= np.min(others, axis=-1))
+
+
+def _broadcast_batch(plan, params, q_jets):
+    shape = np.broadcast_shapes(np.shape(params)[:-1], *(np.shape(qj.v) for qj in q_jets))
+    P = np.broadcast_to(params, shape + (plan.n_params,)).reshape(-1, plan.n_params)
+    Q = np.stack([np.broadcast_to(qj.v, shape).ravel() for qj in q_jets], axis=-1) if q_jets else \
+        np.zeros((int(np.prod(shape)), 0))
+    return shape, P, Q
+
+
+def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
+    """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)); Newton-solved groups continued from
+    the sketch to every sample in certified steps (module docstring), a crank the short way round first, then the
+    long way for the samples that failed."""
+    keys = newton_keys(steps, method)
+    if not (keys and len(q_jets)):
+        return _run(plan, steps, params, q_jets, order, tol, method, {})
+    shape, P, Q = _broadcast_batch(plan, params, q_jets)
+    R = len(Q)
+    walker = Walker.at_sketch(plan, steps, tol, method, R)
+    rotary = np.array([k == "rotary" for k in plan.input_kinds])
+    q_s = plan.sketch_inputs
+    short = np.where(rotary, q_s + (Q - q_s + np.pi) % (2 * np.pi) - np.pi, Q)
+    start = (walker.params.copy(), walker.q.copy(), {k: v.copy() for k, v in walker.x.items()},
+             {k: v.copy() for k, v in walker.sign.items()})
+    alive = walker.advance(P, short).copy()
+    if rotary.any() and not alive.all():
+        other = Walker(plan, steps, tol, method, *start)
+        d = short - q_s
+        longer = np.where(rotary & (d != 0), short - np.copysign(2 * np.pi, d), short)
+        again = other.advance(P, longer, rows=~alive)
+        take = ~alive & again
+        for k in walker.x:
+            walker.x[k][take] = other.x[k][take]
+        alive = alive | take
+    final = {k: v.reshape(shape + v.shape[-1:]) for k, v in walker.x.items()}
+    for k, v in walker.sign.items():
+        final[(k, "det_sign")] = v.reshape(shape)
+    c = _run(plan, steps, params, q_jets, order, tol, method, final)
+    c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & alive.reshape(shape)
+    return separate(plan, steps, c, method, tol, shape, final)
+
+
+def separate(plan, steps, c, method, tol, shape, x):
+    """Flag the samples whose Newton-solved groups are closer to another of their assemblies than
+    ``tolerances.assembly_separation`` of the length scale (module docstring). A triad's assemblies are its
+    polynomial's roots, at every sample; another group's (the certified reduction, costlier) are enumerated where
+    its dimensionless determinant is below :data:`SEPARATION_GATE`: two assemblies that close meet at a singular
+    position, where the determinant vanishes about as fast as their distance. Groups without an enumeration are
+    left to the determinant's certificate."""
+    n = int(np.prod(shape))
+    valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape).ravel().copy()
+    sep = tol.assembly_separation * plan.length_scale
+    for st in newton_keys(steps, method):
+        method_ = group_method(plan, st) if st.kind == "newton" else None
+        if method_ is None or not valid.any():
+            continue
+        rows = np.flatnonzero(valid)
+        flat = before_group(take_rows(_flat(c, shape), rows, n), st)
+        xs = np.reshape(x[id(st)], (n, -1))[rows]
+        m = len(rows)
+        if method_ == "triad":
+            roots, joints = _triad_joints(flat, st, m)
+            second = np.sort(_distances(roots, joints(xs)), axis=-1)[:, 1]
+        else:
+            det = certificate_det(flat, st, _residual_and_jacobian(flat, st, xs, (m,))[1])
+            near = np.flatnonzero(np.abs(det) < SEPARATION_GATE)
+            second = np.full(m, np.inf)
+            if len(near) and np.ndim(flat.params) <= 1:
+                sub = take_rows(flat, near, m)
+                poses, found, _, _ = group_assemblies(sub, st, len(near), tol)
+                second[near] = assembly_distances(sub, st, xs[near], poses, found)[1]
+        valid[rows[second <= sep]] = False
+    c.valid = valid.reshape(shape)
+    return c
+
+
+def _flat(c, shape):
+    """A copy of the context with its values flattened to one batch axis (positions only)."""
+    n = int(np.prod(shape))
+
+    def flat(v):
+        v = np.asarray(v)
+        return v if v.ndim == 0 else np.broadcast_to(v, shape).reshape(n)
+
+    out = copy.copy(c)
+    out.pos = {p: Jet(flat(z.v)) for p, z in c.pos.items()}
+    out.pose = {b: (Jet(flat(o.v)), Jet(flat(e.v))) for b, (o, e) in c.pose.items()}
+    out.q = [Jet(flat(q.v)) for q in c.q]
+    out.w = {k: flat(v) for k, v in c.w.items()}
+    out.lines = [tuple(flat(a) for a in rec) for rec in c.lines]
+    out.valid = flat(c.valid)
+    params = np.asarray(c.params)
+    out.params = params if params.ndim <= 1 else np.broadcast_to(params, shape + params.shape[-1:]).reshape(n, -1)
+    return out
+
+
+def context_at(plan, steps, params, inputs, tol=DEFAULT) -> Context:
+    """The context after running ``steps`` (positions only) at one design ``params (n_params,)`` and one
+    input vector ``inputs (n_inputs,)``."""
+    q = [Jet.const(np.asarray(inputs[k], dtype=float), 0) for k in range(len(inputs))]
+    return execute(plan, steps, np.asarray(params, dtype=float), q, 0, tol)
+
+
+def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False, tol=DEFAULT):
+    """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
+    orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
+    q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
+    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, tol)
+    poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
+    return {p: z.v for p, z in c.pos.items()}, poses, c.valid

@@ -1,0 +1,48 @@
+"""``backend="auto"`` (issue 26 §5): the compiled kernels whenever numba is installed and the plan's kernel costs
+nothing to start (loaded already, or in numba's disk cache once numba is imported) or the batch is large; a small
+batch never imports numba; both backends give the same numbers."""
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import assur
+from assur.engine.options import AUTO_CACHED_MIN_SAMPLES
+
+pytest.importorskip("numba")
+ROOT = Path(__file__).resolve().parents[1]
+Q = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+
+
+def _compiled(state) -> bool:
+    """Whether a State came from the compiled backend (it keeps the kernel's float views)."""
+    return state._xyz is not None
+
+
+def test_a_loaded_kernel_serves_an_ordinary_batch(fourbar_plan):
+    assur.solve(fourbar_plan, inputs=Q, backend="numba")               # the kernel is loaded in this process
+    auto = assur.solve(fourbar_plan, inputs=Q)
+    assert _compiled(auto)
+    ref = assur.solve(fourbar_plan, inputs=Q, backend="numpy")
+    assert not _compiled(ref)
+    for k in ("pos", "vel", "acc"):
+        np.testing.assert_allclose(getattr(auto, k), getattr(ref, k), rtol=0, atol=1e-12)
+    tiny = assur.solve(fourbar_plan, inputs=Q[:AUTO_CACHED_MIN_SAMPLES - 1])
+    assert not _compiled(tiny)
+
+
+def test_newton_groups_and_the_oracle_stay_on_numpy(triad_sixbar_plan, fourbar_plan):
+    assert not _compiled(assur.solve(triad_sixbar_plan, inputs=Q[:40]))
+    assert not _compiled(assur.solve(fourbar_plan, inputs=Q, method="newton"))
+
+
+def test_a_small_batch_does_not_import_numba():
+    code = ("import sys, numpy as np, assur; p = assur.compile(assur.load(sys.argv[1])); "
+            "assur.solve(p, inputs=np.linspace(0, 6.28, 720)); print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code, str(ROOT / "examples" / "crank_rocker.toml")],
+                         capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
