@@ -5,12 +5,14 @@
 // `model.on("msg:custom", (msg, buffers) => ...)` receives its answers (docs/designer.md, "Protocol").
 // The model stays in SI (m, rad, s); the unit selects change the display only.
 //
-// This is the entry part; util.js, channel.js, canvas.js, panels.js and synthesis.js hold the rest by concern.
+// This is the entry part; util.js, channel.js, canvas.js, gestures.js, panels.js and synthesis.js hold the rest by
+// concern.
 // assembly.py joins them into the one module the page and the widget load (no build tool).
 
 import { formatNumber, UnitConverter, html, setText, sampleOfInput, preferReadbackCanvases } from "./util.js";
 import { messageType, decodeArrays, Snapshot, RequestChannel, shareCodec } from "./channel.js";
 import { CanvasPart } from "./canvas.js";
+import { GesturesPart } from "./gestures.js";
 import { PanelsPart } from "./panels.js";
 import { SynthesisPart } from "./synthesis.js";
 
@@ -485,7 +487,7 @@ class Designer {
 }
 
 // the methods of the other parts, by concern
-for (const part of [CanvasPart, PanelsPart, SynthesisPart]) {
+for (const part of [CanvasPart, GesturesPart, PanelsPart, SynthesisPart]) {
   for (const name of Object.getOwnPropertyNames(part.prototype)) {
     if (name !== "constructor") Object.defineProperty(Designer.prototype, name, Object.getOwnPropertyDescriptor(part.prototype, name));
   }
