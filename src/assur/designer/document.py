@@ -268,7 +268,12 @@ def _drop_link_refs(new: dict, ln: str) -> None:
 
 
 def _tidy(new: dict) -> dict:
-    """Drop empty optional tables and points no element uses any more."""
+    """Drop empty optional tables, a ``[motor]`` whose driver is gone and points no element uses any more."""
+    motor = new.get("motor")
+    if isinstance(motor, dict):
+        names = [d.get("name") for d in new.get("drivers", [])]
+        if not names or motor.get("driver", names[0]) not in names:
+            del new["motor"]
     for key in ("prismatic", "drivers", "branches", "actuators"):
         if key in new and not new[key]:
             del new[key]

@@ -8,6 +8,7 @@ feet on the ground of a module and, when the file has masses, the driving torque
 """
 from __future__ import annotations
 
+import copy
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -42,6 +43,7 @@ def _model_of_doc(doc: dict) -> dict:
     from ..io.units import parse_speed
     from ..model.mechanism import Units
     from .document import angle_factor, link_points, locks
+    from .motor_job import motor_hint
     links = doc.get("links", {})
     lp, ll = locks(doc)
     try:
@@ -71,6 +73,8 @@ def _model_of_doc(doc: dict) -> dict:
         "drivers": drivers,
         "locks": {"points": lp, "links": ll},
         "foot": gait.get("foot"),
+        "motor": copy.deepcopy(doc["motor"]) if isinstance(doc.get("motor"), dict) else None,
+        "motor_hint": motor_hint(doc),
         "groups": [], "mobility": None, "formula": None, "params": [],
     }
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from ..errors import AssurError
 from . import document as D
 from .compiled import Compiled, StructureCache, compile_doc
-from .payload import Description, branched_steps, describe, pack
+from .payload import DESIGNER_STEPS, Description, branched_steps, describe, pack
 
 #: the largest history a session keeps (older entries are dropped)
 HISTORY_LIMIT = 500
@@ -140,6 +140,7 @@ class Session:
         self.path = path
         self.overrides: dict = {}
         self.job = None
+        self.motor_job = None
         self.best_toml: str | None = None
         self.clients = 0
         self._texts: dict = {}        # id(doc) → (doc, its TOML text): history documents are never changed
@@ -295,6 +296,10 @@ class Session:
     def result(self, seq, doc: dict | None = None, committed: bool = True, exact: bool = True) -> Reply:
         doc = self.doc if doc is None else doc
         desc: Description = describe(doc, self.overrides, exact=exact, compiled=self.compiled(doc))
+        if desc.meta["model"].get("motor_hint"):
+            from .motor_job import located_hint
+            desc.meta["model"]["motor_hint"] = located_hint(desc.meta["model"]["motor_hint"], self.path,
+                                                            self.file_text)
         index, blob = pack(desc.arrays)
         msg = {"type": "result", "seq": seq, "committed": committed, "doc": doc, "toml": self.text(doc),
                "history": {"undo": self.position, "redo": len(self.history) - 1 - self.position,
@@ -455,6 +460,50 @@ class Session:
         self._push(doc)
         return [self.result(seq)]
 
+    # -- the run on the motor --------------------------------------------------------------------------------------
+    def op_motor_start(self, seq, req):
+        """Run the committed document on its motor in a worker process (:mod:`.motor_job`): ``motor_started`` now,
+        ``motor_done`` when it ends (:meth:`poll_jobs`)."""
+        from .motor_job import MotorJob, check_runnable
+        if self.motor_job is not None and self.motor_job.running:
+            raise D.EditRefused("a run on the motor is going; cancel it first", "motor")
+        try:
+            check_runnable(self.doc, self.entry(self.doc))
+        except D.EditRefused as exc:
+            from .motor_job import located_hint, motor_hint
+            hint = motor_hint(self.doc)
+            if hint is None:
+                raise
+            raise D.EditRefused(located_hint(hint, self.path, self.file_text)["message"], exc.where) from None
+        self.motor_job = MotorJob(self.doc, DESIGNER_STEPS)
+        return [Reply({"type": "motor_started", "seq": seq, "job": self.motor_job.id})]
+
+    def op_motor_cancel(self, seq, req):
+        if self.motor_job is None or not self.motor_job.running:
+            raise D.EditRefused("no run on the motor is going", "motor")
+        self.motor_job.cancel()
+        return self.poll_motor()
+
+    def poll_motor(self) -> list[Reply]:
+        """The run on the motor's ``motor_done`` once it has ended (its arrays packed as a result's)."""
+        if self.motor_job is None:
+            return []
+        out = []
+        for message, arrays in self.motor_job.poll():
+            index, blob = pack(arrays)
+            out.append(Reply(_json_safe({**message, "binary": True, "arrays": index}), blob))
+        return out
+
+    def poll_jobs(self) -> list[Reply]:
+        """The messages of the page's jobs that arrived: a synthesis's progress and end, a run on the motor's
+        end."""
+        return self.poll_synthesis() + self.poll_motor()
+
+    @property
+    def jobs_running(self) -> bool:
+        """A synthesis or a run on the motor has not ended (or its last message has not been polled)."""
+        return any(j is not None and j.running for j in (self.job, self.motor_job))
+
     def poll_synthesis(self, wait: float = 0.0) -> list[Reply]:
         """The synthesis messages that arrived (``synth_progress``, ``synth_done``); waits up to ``wait`` s for
         the end of a cancelled run."""
@@ -471,8 +520,9 @@ class Session:
             time.sleep(0.02)
 
     def close(self) -> None:
-        if self.job is not None:
-            self.job.cancel()
+        for job in (self.job, self.motor_job):
+            if job is not None:
+                job.cancel()
 
 
 def _json_safe(x):

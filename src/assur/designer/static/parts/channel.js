@@ -91,6 +91,8 @@ export const ANSWER_TYPES = {
   save: ["saved", "refused", "error"],
   synth_start: ["synth_started", "synth_done", "refused", "error"],
   synth_cancel: ["synth_done", "refused", "error"],
+  motor_start: ["motor_started", "motor_done", "refused", "error"],
+  motor_cancel: ["motor_done", "refused", "error"],
 };
 export const DEFAULT_ANSWER_TYPES = ["result", "refused", "error"];
 

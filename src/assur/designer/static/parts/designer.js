@@ -5,8 +5,8 @@
 // `model.on("msg:custom", (msg, buffers) => ...)` receives its answers (docs/designer.md, "Protocol").
 // The model stays in SI (m, rad, s); the unit selects change the display only.
 //
-// This is the entry part; util.js, channel.js, canvas.js, gestures.js, panels.js and synthesis.js hold the rest by
-// concern.
+// This is the entry part; util.js, channel.js, canvas.js, gestures.js, panels.js, synthesis.js and motor.js hold the
+// rest by concern.
 // assembly.py joins them into the one module the page and the widget load (no build tool).
 
 import { formatNumber, UnitConverter, html, setText, sampleOfInput, preferReadbackCanvases } from "./util.js";
@@ -15,6 +15,7 @@ import { CanvasPart } from "./canvas.js";
 import { GesturesPart } from "./gestures.js";
 import { PanelsPart } from "./panels.js";
 import { SynthesisPart } from "./synthesis.js";
+import { MotorPart } from "./motor.js";
 
 // ---------------------------------------------------------------------------------------------------------
 // The designer
@@ -220,6 +221,7 @@ class Designer {
     else if (type === "synth_started") this.onSynth({ running: true, status: "running", evaluations: 0, best: null, toml: null });
     else if (type === "synth_progress") this.onSynth({ evaluations: message.evaluations, best: message.best, elapsed: message.elapsed });
     else if (type === "synth_done") this.onSynth({ running: false, status: message.status, best: message.best ?? this.synth.best, toml: message.toml || null, evaluations: message.evaluations ?? this.synth.evaluations });
+    else if (type === "motor_started" || type === "motor_done") this.onMotorMessage(message, buffers, request);
     else if (type === "error") this.reportError(message.message || "server error");
     else if (type === "connection") setText(this.ui.status, `connection ${message.state}`);
   }
@@ -250,7 +252,8 @@ class Designer {
     this.setRefusal(message.message || "refused");
     const op = request ? request.message.op : null;
     if (op === "synth_start") this.onSynth({ running: false, status: "refused" });
-    if (op && op.startsWith("synth")) return;
+    if (op === "motor_start") this.onMotorMessage(message, null, request);
+    if (op && (op.startsWith("synth") || op.startsWith("motor"))) return;
     // a refused preview goes back to the last good pose, anything else to the committed document
     if (op !== "preview") this.dragging = null;
     if (op !== "preview" || !this.dragging) {
@@ -344,6 +347,7 @@ class Designer {
     this.drawTorque();
     this.drawPointSelects();
     this.drawSynth();
+    this.drawMotor();
     this.drawDiagnostics();
     if (spatial) this.draw3d(true);
     else this.drawScene();
@@ -487,7 +491,7 @@ class Designer {
 }
 
 // the methods of the other parts, by concern
-for (const part of [CanvasPart, GesturesPart, PanelsPart, SynthesisPart]) {
+for (const part of [CanvasPart, GesturesPart, PanelsPart, SynthesisPart, MotorPart]) {
   for (const name of Object.getOwnPropertyNames(part.prototype)) {
     if (name !== "constructor") Object.defineProperty(Designer.prototype, name, Object.getOwnPropertyDescriptor(part.prototype, name));
   }

@@ -66,11 +66,12 @@ export class PanelsPart {
     const pointPlot = this.section("Point", "point-plot", html("label", {}, "point ", ui.plotPoint), ui.plotVel, ui.plotAcc);
 
     const synth = this.buildSynthPanel(ui);
+    const motor = this.buildMotorPanel(ui);
     ui.diagnostics = html("ul", { class: "asd-diagnostics", testid: "diagnostics" });
     const diagnostics = this.section("Diagnostics", "diagnostics-panel", ui.diagnostics);
 
     return html("aside", { class: "asd-side" }, ui.refusal, ui.resumed, ui.status, mechanism, selection, display, drivers,
-      ui.paramsPanel, ui.gaitPanel, ui.torquePanel, pointPlot, synth, diagnostics);
+      ui.paramsPanel, ui.gaitPanel, ui.torquePanel, motor, pointPlot, synth, diagnostics);
   }
 
   section(title, testid, ...children) {
