@@ -85,7 +85,8 @@ def branched_steps(plan) -> list:
 
 
 def group_records(plan, structure) -> list[dict]:
-    """One record per branched step: its label, kind, point, branch sign and whether the page may flip it."""
+    """One record per branched step: its label, kind, point, branch sign and whether the page may flip it (an RPR
+    group also names its ``slide``: the prismatic pair or actuator it slides on)."""
     labels = {}
     if structure is not None:
         from ..structure.assur import roman
@@ -99,7 +100,8 @@ def group_records(plan, structure) -> list[dict]:
         label = next((labels[b] for b in st.bodies if b in labels), f"{st.kind}({st.key_point})")
         out.append({"index": k, "step": i, "label": label, "kind": st.kind, "point": st.key_point,
                     "points_in": list(st.points_in()), "branch": int(st.branch),
-                    "flippable": plan.dimension == 2})
+                    "flippable": plan.dimension == 2}
+                   | ({"slide": plan.lines[st.line][1]} if st.kind == "RPR" else {}))
     return out
 
 

@@ -258,7 +258,9 @@ class Session:
     def flipped(self, doc: dict, index) -> tuple[dict, str]:
         """(``doc`` with group ``index`` assembled on its other branch: the sketch of the group and of everything it
         carries is re-solved at the sketch inputs on the new branch, and a ``[branches]`` hint of its point flips; the
-        group's point). Points the flip does not move (beyond round-off) keep their sketch exactly."""
+        group's point). Points the flip does not move (beyond round-off) keep their sketch exactly. An RPR group's
+        ``slide`` hint flips with it; where the sketch cannot show an RPR group's branch (its bodies carry no point but
+        their hinges: both branches put every point at the same place), the flip writes one."""
         from ..engine import solve
         c = self.compiled(doc)
         if isinstance(c, AssurError):
@@ -285,12 +287,46 @@ class Session:
                 if math.hypot(pos[k][0] - old[0], pos[k][1] - old[1]) > noise:
                     new["points"][name] = [float(c) / fL for c in pos[k]]
         hint = new.get("branches", {}).get(st.key_point)
-        if isinstance(hint, dict) and hint.get("side") in ("left", "right"):
+        if st.kind == "RPR":
+            self._flip_slide_hint(new, st, plan.lines[st.line][1])
+        elif isinstance(hint, dict) and hint.get("side") in ("left", "right"):
             hint["side"] = "left" if hint["side"] == "right" else "right"
         sig = self._signature(new)
+        if st.kind == "RPR" and sig.get((st.key_point, st.kind), (None,))[0] != -st.branch:
+            # the sketch cannot show this group's branch (its bodies carry no point but their hinges): the file
+            # records it as a slide hint (in a new document: the session's caches key documents by identity)
+            new = copy.deepcopy(new)
+            self._flip_slide_hint(new, st, plan.lines[st.line][1], add=True)
+            sig = self._signature(new)
+        elif st.kind == "RPR" and "slide" in new.get("branches", {}).get(st.key_point, {}):
+            # back on the branch the sketch shows: the hint goes (a flip and its flip back leave the file as it was)
+            bare = copy.deepcopy(new)
+            table = bare["branches"][st.key_point]
+            del table["slide"], table["on"]
+            if not table:
+                del bare["branches"][st.key_point]
+            if not bare["branches"]:
+                del bare["branches"]
+            if self._signature(bare).get((st.key_point, st.kind), (None,))[0] == -st.branch:
+                new, sig = bare, self._signature(bare)
         if sig.get((st.key_point, st.kind), (None,))[0] != -st.branch:
             raise D.EditRefused(f"the group of {st.key_point} could not be drawn on its other branch", st.key_point)
         return new, (st.key_point, st.kind)
+
+    @staticmethod
+    def _flip_slide_hint(doc: dict, st, on: str, add: bool = False) -> None:
+        """Turn the ``slide`` hint of RPR step ``st`` (sliding on ``on``) to the step's other branch in ``doc``; with
+        ``add``, write one when there is none (refused when the point's hint holds another slide's)."""
+        want = "behind" if st.branch == 1 else "ahead"
+        table = doc.get("branches", {}).get(st.key_point)
+        if isinstance(table, dict) and "slide" in table:
+            if table.get("on") != on:
+                raise D.EditRefused(f"the file's [branches] hint of {st.key_point} holds the slide "
+                                    f"{table.get('on')!r}: it cannot record the branch of the group on {on!r} too",
+                                    f"branches.{st.key_point}")
+            table["slide"] = want
+        elif add:
+            doc.setdefault("branches", {}).setdefault(st.key_point, {}).update({"slide": want, "on": on})
 
     # -- answers -----------------------------------------------------------------------------------------------
     def result(self, seq, doc: dict | None = None, committed: bool = True, exact: bool = True) -> Reply:

@@ -222,13 +222,17 @@ export class CanvasPart {
         x: sx - 11, y: sy - 7, width: 22, height: 14, transform: `rotate(${degrees.toFixed(2)} ${sx.toFixed(2)} ${sy.toFixed(2)})`,
       }));
     }
+    // a passive cylinder on its other branch (its RPR group's rod hinge behind the cylinder's hinge) points away
+    const behind = new Set(entriesOf(snapshot.model.groups).filter((g) => g.kind === "RPR" && g.branch === -1).map((g) => g.slide));
     for (const actuator of entriesOf(snapshot.model.actuators)) {
       const [a, b] = (actuator.between || []).map(at);
       if (!a || !b) continue;
       const [ax, ay] = this.toScreen(a); const [bx, by] = this.toScreen(b);
-      const mx = (ax + bx) / 2; const my = (ay + by) / 2;
-      children.push(svg("line", { class: "asd-cylinder", testid: `actuator-${actuator.name}`, x1: ax, y1: ay, x2: mx + (bx - ax) * 0.1, y2: my + (by - ay) * 0.1 }));
-      children.push(svg("line", { class: "asd-rod", x1: mx - (bx - ax) * 0.1, y1: my - (by - ay) * 0.1, x2: bx, y2: by }));
+      const s = behind.has(actuator.name) ? -1 : 1;
+      const cx = ax + s * (bx - ax) * 0.6; const cy = ay + s * (by - ay) * 0.6;
+      const rx = ax + s * (bx - ax) * 0.4; const ry = ay + s * (by - ay) * 0.4;
+      children.push(svg("line", { class: "asd-cylinder", testid: `actuator-${actuator.name}`, "data-behind": s < 0, x1: ax, y1: ay, x2: cx, y2: cy }));
+      children.push(svg("line", { class: "asd-rod", testid: `rod-${actuator.name}`, x1: rx, y1: ry, x2: bx, y2: by }));
     }
     this.ui.canvas.guides.replaceChildren(...children);
   }
