@@ -75,7 +75,7 @@ def _model_of_doc(doc: dict) -> dict:
         "foot": gait.get("foot"),
         "motor": copy.deepcopy(doc["motor"]) if isinstance(doc.get("motor"), dict) else None,
         "motor_hint": motor_hint(doc),
-        "groups": [], "mobility": None, "formula": None, "params": [],
+        "groups": [], "mobility": None, "formula": None, "params": [], "newton_groups": 0, "chooser": False,
     }
 
 
@@ -296,6 +296,10 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         m = meta["model"]
         m["mobility"], m["formula"] = int(structure.mobility), structure.structural_formula
         m["groups"] = group_records(plan, structure)
+        m["newton_groups"] = sum(st.kind == "newton" for st in plan.steps) if plan.dimension == 2 else 0
+        if m["newton_groups"]:
+            from .choosing import available
+            m["chooser"] = available()
         m["point_order"] = list(plan.point_names)
         m["body_names"] = list(plan.body_names)
         m["gears"] = gear_records(mech)

@@ -212,11 +212,15 @@ class Session:
                 if kind == "flip":
                     doc, point = self.flipped(doc, e.get("group"))
                     flipped.add(point)
+                elif kind == "assembly":
+                    from .choosing import assembled
+                    doc, keys = assembled(self, doc, e)
+                    flipped |= keys
                 elif isinstance(kind, str) and kind in D.EDITS:
                     doc = D.EDITS[kind](doc, e)
                 else:
                     raise D.EditRefused(f"unknown edit {kind!r}; the edits are "
-                                        f"{', '.join(sorted([*D.EDITS, 'flip']))}", f"edits[{i}].kind")
+                                        f"{', '.join(sorted([*D.EDITS, 'assembly', 'flip']))}", f"edits[{i}].kind")
             except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError) as exc:
                 if isinstance(exc, AssurError):
                     raise
@@ -495,6 +499,16 @@ class Session:
         doc = doc_of_toml(self.best_toml, "the synthesised design")
         self._push(doc)
         return [self.result(seq)]
+
+    # -- the chooser of assemblies --------------------------------------------------------------------------------
+    def op_assemblies(self, seq, req):
+        """Every assembly of the committed mechanism at input ``index`` (default 0) = ``input`` (SI; default the
+        sketch's), the others at the sketch's (:mod:`.choosing`)."""
+        from .choosing import assemblies_message
+        c = self.compiled(self.doc)
+        if isinstance(c, AssurError):
+            raise D.EditRefused(f"no assemblies: the document is not a mechanism yet ({c})", "assemblies")
+        return [Reply({**assemblies_message(c[2], c[1], req.get("input"), req.get("index", 0)), "seq": seq})]
 
     # -- the run on the motor --------------------------------------------------------------------------------------
     def op_motor_start(self, seq, req):

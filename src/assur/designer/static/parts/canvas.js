@@ -17,7 +17,7 @@ export class CanvasPart {
     const canvas = { root, ids: { vel: id("vel"), acc: id("acc"), hatch: id("hatch") } };
     canvas.background = svg("rect", { class: "asd-background", x: 0, y: 0, width: "100%", height: "100%" });
     root.append(canvas.background);
-    for (const name of ["paths", "guides", "links", "ground", "vectors", "ics", "points", "targets", "pending"]) canvas[name] = layer(name);
+    for (const name of ["paths", "guides", "links", "ghost", "ground", "vectors", "ics", "points", "targets", "pending"]) canvas[name] = layer(name);
     return canvas;
   }
 
