@@ -47,12 +47,13 @@ def input_vector(plan, value, index: int = 0) -> np.ndarray:
     """(n_inputs,) the sketch's inputs with input ``index`` at ``value`` (SI; None: the sketch's); refused unless a
     finite number."""
     q = np.array(plan.sketch_inputs, dtype=float)
-    if value is None:
-        return q
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise D.EditRefused(f"the input must be a finite number (rad or m): {value!r}", "input")
     if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < plan.n_inputs:
         raise D.EditRefused(f"no input {index!r} (the mechanism has {plan.n_inputs})", "input")
+    if value is None:
+        return q
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or abs(value) >= 1e9:
+        raise D.EditRefused(f"the input must be a finite number (rad or m) below 1e9: {value!r}", "input")
     q[index] = float(value)
     return q
 

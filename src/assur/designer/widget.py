@@ -79,6 +79,7 @@ class Designer(anywidget.AnyWidget):
         self.session = _session_of(source)
         self._lock = threading.RLock()
         self._poller: threading.Thread | None = None
+        self._polling = False
         self._need_plotly()
         self.on_msg(self._on_custom_msg)
 
@@ -136,8 +137,9 @@ class Designer(anywidget.AnyWidget):
     # -- the jobs' messages (a synthesis's progress, a run on the motor's end) ------------------------------------
     def _start_poller(self) -> None:
         with self._lock:
-            if self._poller is not None and self._poller.is_alive():
+            if self._polling:
                 return
+            self._polling = True
             self._poller = threading.Thread(target=self._poll_jobs, name="assur-designer-jobs", daemon=True)
             self._poller.start()
 
@@ -150,9 +152,9 @@ class Designer(anywidget.AnyWidget):
             if replies:
                 self._send_replies(replies)
             if not running:
-                with self._lock:        # a job started meanwhile finds no poller and starts one
+                with self._lock:        # a job started after this finds no poller and starts one
                     if not self.session.jobs_running:
-                        self._poller = None
+                        self._polling = False
                         return
 
     def close(self) -> None:
