@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import assur
-from designer_browser import browser, designer, needs_designer_browser, settle  # noqa: F401
+from designer_browser import browser, designer, needs_designer_browser  # noqa: F401
 
 pytestmark = [pytest.mark.slow, needs_designer_browser]
 needs_assemblies = pytest.mark.skipif(not hasattr(assur, "assemblies"),

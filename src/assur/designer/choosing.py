@@ -140,9 +140,8 @@ def assembled(session, doc: dict, edit: dict) -> tuple[dict, set]:
             if math.hypot(chosen.pos[k][0] - old[0], chosen.pos[k][1] - old[1]) > ROUND_OFF * scale:
                 new["points"][name] = [float(v) / fL for v in chosen.pos[k]]
     # the dyads' hints turned to the chosen branches (a hint overrides the sketch)
-    signs = [b for b in chosen.branches]
-    dyads = [st for st in plan.steps if st.kind in BRANCHED or st.kind == "newton"]
-    for st, sign in zip(dyads, signs):
+    branched = [st for st in plan.steps if st.kind in BRANCHED or st.kind == "newton"]
+    for st, sign in zip(branched, chosen.branches):
         if st.kind == "newton" or int(sign) == st.branch:
             continue
         hint = new.get("branches", {}).get(st.key_point)
@@ -150,7 +149,7 @@ def assembled(session, doc: dict, edit: dict) -> tuple[dict, set]:
             session._flip_slide_hint(new, st, plan.lines[st.line][1])
         elif isinstance(hint, dict) and hint.get("side") in ("left", "right"):
             hint["side"] = "left" if hint["side"] == "right" else "right"
-    for st, sign in zip(dyads, signs):
+    for st, sign in zip(branched, chosen.branches):
         if st.kind == "RPR" and int(sign) != st.branch and \
                 session._signature(new).get((st.key_point, st.kind), (None,))[0] != int(sign):
             new = copy.deepcopy(new)

@@ -20,7 +20,6 @@ torque constant is known). Cancel stops the worker at once: a run has no partial
 from __future__ import annotations
 
 import copy
-import math
 import queue as queue_module
 import secrets
 import time
@@ -85,15 +84,16 @@ def located_hint(hint: dict, path: str | None, text: str | None) -> dict:
             "message": f"{hint['message']}: in {Path(path).name}, after line {line}"}
 
 
-def check_runnable(doc: dict, compiled) -> None:
+def check_runnable(doc: dict, compiled, path: str | None = None, text: str | None = None) -> None:
     """Refuse (:class:`EditRefused`, located) a run of ``doc`` on its motor that cannot start: ``compiled`` is the
-    document's :class:`~.compiled.Compiled`."""
+    document's :class:`~.compiled.Compiled`; a document without a motor is told where to add one in the file
+    ``path`` of text ``text`` (:func:`located_hint`)."""
     stop = compiled.invalid or compiled.error
     if stop is not None:
         raise EditRefused(f"no run on the motor: the document is not a mechanism yet ({stop})", "motor")
     hint = motor_hint(doc)
     if hint is not None:
-        raise EditRefused(hint["message"], hint["where"])
+        raise EditRefused(located_hint(hint, path, text)["message"], hint["where"])
     plan = compiled.plan
     if compiled.mechanism.motor is None:
         raise EditRefused("no run on the motor: the document has no [motor] table and no driver to put one on "
@@ -111,8 +111,8 @@ def _run_message(run) -> str:
 
 
 def run_document(doc: dict, steps: int):
-    """``(summary, stop, arrays)`` of ``doc`` run on its motor (the module docstring); raises AssurError where the
-    run cannot be made."""
+    """``(summary, stop, arrays, message)`` of ``doc`` run on its motor (the module docstring); raises AssurError
+    where the run cannot be made."""
     import warnings
 
     import numpy as np
@@ -134,17 +134,7 @@ def run_document(doc: dict, steps: int):
                                           "speed": float(sim.stop.speed), "message": sim.stop.message}
     arrays = {name: np.asarray(getattr(sim, name), dtype=float) for name in RUN_ARRAYS
               if getattr(sim, name) is not None}
-    return _json_safe(run.summary()), stop, arrays, _run_message(run)
-
-
-def _json_safe(x):
-    if isinstance(x, float):
-        return x if math.isfinite(x) else None
-    if isinstance(x, dict):
-        return {k: _json_safe(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_json_safe(v) for v in x]
-    return x
+    return run.summary(), stop, arrays, _run_message(run)
 
 
 def _worker(job_id, doc, steps, out):   # pragma: no cover - runs in a child process

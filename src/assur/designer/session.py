@@ -517,14 +517,7 @@ class Session:
         from .motor_job import MotorJob, check_runnable
         if self.motor_job is not None and self.motor_job.running:
             raise D.EditRefused("a run on the motor is going; cancel it first", "motor")
-        try:
-            check_runnable(self.doc, self.entry(self.doc))
-        except D.EditRefused as exc:
-            from .motor_job import located_hint, motor_hint
-            hint = motor_hint(self.doc)
-            if hint is None:
-                raise
-            raise D.EditRefused(located_hint(hint, self.path, self.file_text)["message"], exc.where) from None
+        check_runnable(self.doc, self.entry(self.doc), self.path, self.file_text)
         self.motor_job = MotorJob(self.doc, DESIGNER_STEPS)
         return [Reply({"type": "motor_started", "seq": seq, "job": self.motor_job.id})]
 
