@@ -78,23 +78,28 @@ def test_the_panel_shows_assur_simulates_numbers_and_says_when_the_design_change
     assert d.state("motor.stale") is True and d.testid("motor-stale").is_visible()
 
 
-def test_a_motor_that_cannot_start_says_where_and_a_run_is_cancelled(designer, tmp_path):
-    weak = tmp_path / "weak_pump.toml"
-    weak.write_text((ROOT / "examples" / "slider_crank_motor.toml").read_text()
-                    .replace('stall_torque = "1 N*m"', 'stall_torque = "0.002 N*m"'))
-    d = designer(str(weak))
-    d.set_sample(200)
+def test_a_crank_that_cannot_turn_runs_for_a_time_stops_where_it_must_and_a_run_is_cancelled(designer, tmp_path):
+    from test_designer_motor import NON_GRASHOF
+    path = tmp_path / "non_grashof.toml"
+    path.write_text(NON_GRASHOF)
+    d = designer(str(path))
+    # no steady state to run to: the page offers a time and says why
+    assert d.testid("motor-time").input_value() == "5" and d.testid("motor-time-note").is_visible()
+    d.set_sample(300)
     d.testid("motor-run").click()
     run = wait_run(d)
-    reference = cli_simulate(weak)
-    assert run["stop"]["kind"] == reference["stop"] == "cannot start" and run["summary"]["starts"] is False
-    assert run["stop"]["message"] == reference["message"]
+    out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--time", "5", "--json"],
+                         capture_output=True, text=True, check=True, cwd=ROOT)
+    reference = json.loads(out.stdout)
+    assert run["stop"]["kind"] == reference["stop"] == "limit" and run["stop"]["message"] == reference["message"]
+    assert run["summary"]["time"] == pytest.approx(reference["time"], rel=1e-12)
     stop = d.text("motor-stop")
-    # where: the sketch's crank angle, 60° (the file's angle), at once
-    assert "cannot start" in stop and "60" in stop.split("input")[1]
-    assert d.testid("motor-stop-line").count() == 1
+    q = run["stop"]["q"]
+    assert stop.startswith("stopped (limit) at t = ") and f"{math.degrees(q):.4g}"[:4] in stop
+    assert float(d.testid("motor-stop-line").get_attribute("data-value")) == pytest.approx(run["stop"]["t"], rel=1e-12)
+    # Show where: the mechanism at the sample nearest the input where it stopped (one sample per degree)
     d.testid("motor-show-stop").click()
-    assert d.state("sample") == 60          # 360 samples of the turn, one per degree
+    assert d.state("sample") == round(math.degrees(q)) % 360
     # a second run, cancelled at once
     d.testid("motor-run").click()
     d.page.wait_for_function("() => window.__assur.motor.running === true")

@@ -71,6 +71,42 @@ def weak_motor(tmp_path) -> Path:
     return path
 
 
+#: a non-Grashof four-bar (ground 100, crank 40, coupler 50, rocker 80 mm: s + l = 140 > p + q = 130, so the crank
+#: cannot turn fully) with masses, on a constant torque: it has no steady state and its run stops where the crank
+#: can go no further. B is the coupler–rocker joint above the ground line, drawn at the crank's 60°.
+NON_GRASHOF = """format = "assur/1"
+name = "A four-bar whose crank cannot turn"
+[units]
+length = "mm"
+angle = "deg"
+[points]
+O2 = [0, 0]
+O4 = [100, 0]
+A = [20.000000000000004, 34.64101615137754]
+B = [57.46346662911449, 67.7542864237204]
+[links]
+frame = ["O2", "O4"]
+crank = { points = ["O2", "A"], mass = "0.2 kg", com = "mid", inertia = "1 kg*cm^2" }
+coupler = { points = ["A", "B"], mass = "0.3 kg", com = "mid", inertia = "2 kg*cm^2" }
+rocker = { points = ["O4", "B"], mass = "0.3 kg", com = "mid", inertia = "2 kg*cm^2" }
+[[drivers]]
+name = "crank"
+link = "crank"
+pivot = "O2"
+arm = "A"
+speed = "60 rpm"
+[motor]
+kind = "torque"
+torque = "0.5 N*m"
+"""
+
+
+def non_grashof(tmp_path) -> Path:
+    path = tmp_path / "non_grashof.toml"
+    path.write_text(NON_GRASHOF)
+    return path
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # a file without a motor
 
@@ -159,6 +195,28 @@ def test_a_motor_that_cannot_start_says_where(tmp_path):
     # it stalls where it starts: the sketch's crank angle (60°), at once
     assert stop["q"] == pytest.approx(math.radians(60), abs=1e-6) and stop["t"] < 1e-3
     assert f"q = {stop['q']:.6g}" in stop["message"] and message.startswith("The motor cannot start")
+
+
+@pytest.mark.slow
+def test_a_crank_that_cannot_turn_runs_for_a_time_and_stops_where_it_can_go_no_further(tmp_path):
+    path = non_grashof(tmp_path)
+    doc = Session.of_file(str(path)).doc
+    with pytest.raises(assur.SpecError, match="does not turn fully"):
+        run_document(doc, 360)
+    summary, stop, arrays, message = run_document(doc, 360, 5.0)
+    out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--time", "5", "--json"],
+                         capture_output=True, text=True, check=True, cwd=ROOT)
+    reference = json.loads(out.stdout)
+    reference.pop("file")
+    same_numbers(summary, reference)
+    assert stop["kind"] == "limit" and "t = " in stop["message"] and f"q = {stop['q']:.6g}" in stop["message"]
+    # where: the end of the crank's range, where the coupler and the rocker stretch out (B on the line O4–A):
+    # |A − O4| = 50 + 80 at the crank angle of the law of cosines, 40² + 100² − 2·40·100·cos q = 130²
+    limit = math.acos((40 ** 2 + 100 ** 2 - 130 ** 2) / (2 * 40 * 100))
+    assert stop["q"] == pytest.approx(limit, abs=1e-3) and 0 < stop["t"] < 5
+    assert arrays["t"][-1] == pytest.approx(stop["t"], rel=1e-12)
+    r = reply(Session.of_file(str(path)), op="motor_start", time=-1)
+    assert r["type"] == "refused" and r["where"] == "time"
 
 
 @pytest.mark.slow

@@ -6,8 +6,10 @@ the located hint of :func:`motor_hint` instead of an error), then runs in a work
 what ``assur simulate FILE`` runs on that document: the file reader, ``compile``, the document's
 :class:`~assur.analysis.study.Study` and :func:`~assur.dynamics.cycle.cycle_simulation` on it (the Study's
 ``motor_run``, which reuses the Study's solved turn): the mechanism from rest on its motor to its periodic steady
-state, the kinetostatic estimate of δ beside it and the joints' reactions over the run. The numbers are those of
-``assur simulate`` to round-off (``tests/test_designer_motor.py``).
+state, the kinetostatic estimate of δ beside it and the joints' reactions over the run. A request may give a
+``time`` instead (``assur simulate --time``): the run for that long, which a mechanism that does not turn fully needs
+(it has no steady state; its run stops where it can go no further: a dead centre, the limit of assembly, the end of
+a stroke). The numbers are those of ``assur simulate`` to round-off (``tests/test_designer_motor.py``).
 
 **Messages** (:meth:`MotorJob.poll`): one ``motor_done`` per run, with ``status`` "finished" (the run ended: at its
 steady state, or stopped by an event), "failed" (the run could not be made: the reason) or "cancelled"; ``summary``
@@ -110,9 +112,24 @@ def _run_message(run) -> str:
     return text[:1].upper() + text[1:]
 
 
-def run_document(doc: dict, steps: int):
-    """``(summary, stop, arrays, message)`` of ``doc`` run on its motor (the module docstring); raises AssurError
-    where the run cannot be made."""
+#: the longest run the page may ask for (s)
+MAX_TIME = 3600.0
+
+
+def run_time(value) -> float | None:
+    """A request's ``time`` (s): None (to the steady state) or a positive number up to :data:`MAX_TIME`."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= MAX_TIME:
+        raise EditRefused(f"the run's time must be a number of seconds in (0, {MAX_TIME:g}], or none (to the "
+                          f"steady state): {value!r}", "time")
+    return float(value)
+
+
+def run_document(doc: dict, steps: int, time: float | None = None):
+    """``(summary, stop, arrays, message)`` of ``doc`` run on its motor (the module docstring) to its steady state, or
+    for ``time`` s (a mechanism that does not turn fully has no steady state: it needs a time, and its run stops
+    where it can go no further); raises AssurError where the run cannot be made."""
     import warnings
 
     import numpy as np
@@ -126,7 +143,10 @@ def run_document(doc: dict, steps: int):
         mech = from_dict(doc, source="the designer's document")
         plan = compile_plan(mech)
         study = Study(plan, plan.defaults, steps)
-        run = study.motor_run if study.turn else cycle_simulation(study)
+        if study.turn and bool(np.all(study.state.valid)):      # a whole turn: the run reuses the Study's
+            run = study.motor_run if time is None else cycle_simulation(study, time=time)
+        else:
+            run = cycle_simulation(plan, time=time)
     if run is None:
         raise EditRefused("the document has no [motor]", "motor")
     sim = run.simulation
@@ -137,13 +157,13 @@ def run_document(doc: dict, steps: int):
     return run.summary(), stop, arrays, _run_message(run)
 
 
-def _worker(job_id, doc, steps, out):   # pragma: no cover - runs in a child process
+def _worker(job_id, doc, steps, time_, out):   # pragma: no cover - runs in a child process
     """The worker process: one run, one ``motor_done`` on ``out``."""
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)       # Ctrl-C in the terminal is the server's to handle
     from ..errors import AssurError
     try:
-        summary, stop, arrays, message = run_document(doc, steps)
+        summary, stop, arrays, message = run_document(doc, steps, time_)
         out.put(({"type": "motor_done", "job": job_id, "status": "finished", "summary": summary, "stop": stop,
                   "message": message}, arrays))
     except AssurError as exc:
@@ -160,7 +180,7 @@ class MotorJob:
     """One run of the page's document on its motor (module docstring): started at once in a worker process;
     :meth:`poll` returns its ``motor_done`` (message, arrays) when it comes, :meth:`cancel` stops it."""
 
-    def __init__(self, doc: dict, steps: int):
+    def __init__(self, doc: dict, steps: int, time: float | None = None):
         import multiprocessing as mp
         self.id = secrets.token_hex(6)
         self.doc = copy.deepcopy(doc)
@@ -170,7 +190,7 @@ class MotorJob:
         ctx = mp.get_context("spawn")
         self._queue = ctx.Queue()
         self._process = ctx.Process(target=_worker, name=f"assur-motor-{self.id}", daemon=True,
-                                    args=(self.id, self.doc, int(steps), self._queue))
+                                    args=(self.id, self.doc, int(steps), time, self._queue))
         self._process.start()
 
     @property
@@ -224,4 +244,5 @@ class MotorJob:
                 proc.join(0.5)
 
 
-__all__ = ["MotorJob", "check_runnable", "drivers_end_line", "located_hint", "motor_hint", "run_document"]
+__all__ = ["MAX_TIME", "MotorJob", "check_runnable", "drivers_end_line", "located_hint", "motor_hint", "run_document",
+           "run_time"]

@@ -512,13 +512,14 @@ class Session:
 
     # -- the run on the motor --------------------------------------------------------------------------------------
     def op_motor_start(self, seq, req):
-        """Run the committed document on its motor in a worker process (:mod:`.motor_job`): ``motor_started`` now,
-        ``motor_done`` when it ends (:meth:`poll_jobs`)."""
-        from .motor_job import MotorJob, check_runnable
+        """Run the committed document on its motor in a worker process (:mod:`.motor_job`), to its steady state or
+        for ``time`` s: ``motor_started`` now, ``motor_done`` when it ends (:meth:`poll_jobs`)."""
+        from .motor_job import MotorJob, check_runnable, run_time
         if self.motor_job is not None and self.motor_job.running:
             raise D.EditRefused("a run on the motor is going; cancel it first", "motor")
+        time_ = run_time(req.get("time"))
         check_runnable(self.doc, self.entry(self.doc), self.path, self.file_text)
-        self.motor_job = MotorJob(self.doc, DESIGNER_STEPS)
+        self.motor_job = MotorJob(self.doc, DESIGNER_STEPS, time_)
         return [Reply({"type": "motor_started", "seq": seq, "job": self.motor_job.id})]
 
     def op_motor_cancel(self, seq, req):

@@ -10,6 +10,8 @@ import { decodeArrays } from "./channel.js";
 export const STARTUP_SHARE = 0.95;
 // at most this many (t, value) pairs of a series are drawn: longer runs are drawn by their min and max per bucket
 export const PLOT_BUCKETS = 600;
+// the run's time (s) a mechanism that does not turn fully gets unless the user types another (it has no steady state)
+export const MOTOR_DEFAULT_TIME = 5;
 // the SI unit of a [motor] key given as a bare number
 export const MOTOR_SI_UNITS = {
   torque: "N·m", force: "N", stall_torque: "N·m", stall_current: "A", torque_constant: "N·m/A", resistance: "Ω",
@@ -23,6 +25,10 @@ export class MotorPart {
     ui.motorHint = html("div", { class: "asd-motor-hint", testid: "motor-hint", hidden: true });
     ui.motorRun = html("button", { type: "button", testid: "motor-run", text: "Run from rest" });
     ui.motorCancel = html("button", { type: "button", testid: "motor-cancel", text: "Cancel", disabled: true });
+    ui.motorTime = html("input", { type: "number", testid: "motor-time", min: 0, step: "any", placeholder: "to steady state", class: "asd-motor-time" });
+    ui.motorTimeNote = html("div", { class: "asd-muted", testid: "motor-time-note", hidden: true,
+      text: "the mechanism does not turn fully: it has no steady state, so it runs for the time given and stops where it can go no further" });
+    ui.motorTime.addEventListener("input", () => { this.motor.timeTyped = ui.motorTime.value.trim() !== ""; });
     ui.motorStatus = html("div", { class: "asd-muted", testid: "motor-status" });
     ui.motorStale = html("div", { class: "asd-motor-stale", testid: "motor-stale", hidden: true,
       text: "the design changed since this run: run it again" });
@@ -36,7 +42,8 @@ export class MotorPart {
     ui.motorCancel.addEventListener("click", () => this.request("motor_cancel"));
     ui.motorShowStop.addEventListener("click", () => this.showMotorStop());
     ui.motorPanel = this.section("Run on the motor", "motor-panel", ui.motorDescription, ui.motorHint,
-      html("div", { class: "asd-row" }, ui.motorRun, ui.motorCancel), ui.motorStatus, ui.motorStale,
+      html("div", { class: "asd-row" }, ui.motorRun, ui.motorCancel, html("label", {}, " for ", ui.motorTime, " s")),
+      ui.motorTimeNote, ui.motorStatus, ui.motorStale,
       html("div", { class: "asd-row" }, ui.motorStop, ui.motorShowStop), ui.motorNumbers, ui.motorSpeedPlot,
       ui.motorTorquePlot);
     this.motor = { running: false, status: null, message: "", summary: null, stop: null, arrays: {}, toml: null, stale: false };
@@ -47,7 +54,8 @@ export class MotorPart {
     this.motor = { ...this.motor, running: true, status: "starting", message: "starting the run…",
       toml: this.committed ? this.committed.message.toml : null };
     this.drawMotor();
-    this.request("motor_start");
+    const time = Number(this.ui.motorTime.value);
+    this.request("motor_start", this.ui.motorTime.value.trim() !== "" && time > 0 ? { time } : {});
   }
 
   onMotorMessage(message, buffers, request) {
@@ -99,6 +107,10 @@ export class MotorPart {
     setText(this.ui.motorDescription, table ? this.motorDescription(table) : "");
     const m = this.motor;
     this.global.motor = this.motorState();
+    const cycle = snapshot.cycle;
+    const full = Boolean(cycle && cycle.turn && cycle.assembled === cycle.n);
+    if (!m.timeTyped) this.ui.motorTime.value = full || !cycle ? "" : String(MOTOR_DEFAULT_TIME);
+    this.ui.motorTimeNote.hidden = full || !table || !cycle;
     this.ui.motorRun.disabled = m.running || !table || !snapshot.cycle;
     this.ui.motorCancel.disabled = !m.running;
     const took = m.status === "finished" && Number.isFinite(m.elapsed) ? ` (${formatNumber(m.elapsed)} s)` : "";
