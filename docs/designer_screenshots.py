@@ -80,6 +80,14 @@ def main() -> int:
         page.screenshot(path=OUT / "rssr.png")
         page.close()
         srv.stop()
+        # 5. the slider-crank pump run from rest on its DC motor: the panel "Run on the motor"
+        srv = _served(Path(shutil.copy(ROOT / "examples" / "slider_crank_motor.toml", tmp)))
+        page = _open(browser, srv.url, size=(1400, 1000))
+        page.locator('[data-testid="motor-run"]').click()
+        page.wait_for_function("window.__assur.motor && window.__assur.motor.status === 'finished'", timeout=120_000)
+        page.locator('[data-testid="motor-panel"]').screenshot(path=OUT / "motor.png")
+        page.close()
+        srv.stop()
         browser.close()
     for f in sorted(OUT.glob("*.png")):
         print(f.relative_to(ROOT))

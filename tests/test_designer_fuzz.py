@@ -16,7 +16,7 @@ from assur.designer.session import Session, parse_request
 from assur.io.mechanism_file import from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ["walker_fourbar.toml", "slider_crank.toml", "jansen.toml", "rssr.toml"]
+EXAMPLES = ["walker_fourbar.toml", "slider_crank.toml", "jansen.toml", "rssr.toml", "lever_manipulator.toml"]
 #: messages per file in the quick loop, and in the slow run
 MESSAGES_PER_FILE = 40
 MESSAGES_SLOW = 400
@@ -26,11 +26,11 @@ WILD = [None, True, False, 0, -1, 1e400, -1e308, float("nan"), 2e8, 0.05, "", "x
         "30 deg", "-5 mm", "1e400 rpm", "frame", [], [0.1], [0.1, 0.2], [0.1, 0.2, 0.3], ["x", "y"], [[0.1, 0.2]],
         {}, {"a": 1}, {"P9": [0.1, 0.2]}, [[[[1]]]]]
 OPS = ["hello", "preview", "commit", "cancel", "undo", "redo", "load", "save", "set_params", "synth_cancel",
-       "synth_insert", "nope", None, 3]
+       "synth_insert", "motor_cancel", "assemblies", "nope", None, 3]
 KINDS = ["move_point", "add_point", "delete_point", "add_link", "delete_link", "add_slider", "delete_slider",
-         "add_driver", "delete_driver", "set_speed", "lock_point", "lock_link", "flip", "bend", None]
+         "add_driver", "delete_driver", "set_speed", "lock_point", "lock_link", "flip", "assembly", "bend", None]
 FIELDS = ["point", "to", "at", "link", "name", "points", "new_points", "guide", "through", "angle", "offset", "pivot",
-          "arm", "speed", "driver", "locked", "group"]
+          "arm", "speed", "driver", "locked", "group", "input", "index", "branches"]
 
 
 def a_value(rng, names):
@@ -64,6 +64,8 @@ def a_message(rng, s: Session):
             else rng.choice(WILD)
     elif op == "load":
         msg["toml"] = rng.choice([s.text(doc), "format = 'assur/1'", "= =", "", 3, None])
+    elif op == "assemblies":
+        msg.update({k: a_value(rng, names) for k in rng.sample(["input", "index"], rng.randrange(0, 3))})
     elif op == "set_params":
         msg["params"] = {rng.choice(["crank.length", "O.x", "nope", "crank.zero"]): rng.choice(WILD + [0.1, -0.1])}
     return msg
@@ -84,7 +86,7 @@ def test_random_messages_are_answered_and_the_history_stays_loadable(example, co
         for r in replies:
             kind = r.message["type"]
             json.dumps(r.message, allow_nan=False)                      # strict JSON on the wire
-            assert kind in answered or kind.startswith("synth_"), (request, r.message)
+            assert kind in answered or kind.startswith(("synth_", "motor_")) or kind == "assemblies", (request, r.message)
             answered[kind] = answered.get(kind, 0) + 1
             if kind == "refused":
                 assert r.message["message"] and "could not carry out" not in r.message["message"], (request, r.message)

@@ -279,6 +279,30 @@ def test_synthesis_progress_streams_from_a_background_thread(monkeypatch):
     assert content["type"] == "result" and content["history"]["undo"] == 1
 
 
+@pytest.mark.slow
+def test_a_run_on_the_motor_streams_its_end_with_its_samples():
+    """The real run (a worker process) on the pump's DC motor: motor_started answers the request, motor_done comes from
+    the poller with the run's samples in its buffer; the summary is the session's own run_document's."""
+    from assur.designer.motor_job import run_document
+    from assur.designer.payload import unpack
+    w = Designer(EX / "slider_crank_motor.toml")
+    wire = Wire(w)
+    from_front_end(w, {"seq": 1, "op": "motor_start"})
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not any(c["type"] == "motor_done" for c, _ in wire.custom()):
+        time.sleep(0.05)
+    sent = wire.custom()
+    assert [c["type"] for c, _ in sent] == ["motor_started", "motor_done"]
+    done, buffers = sent[-1]
+    assert done["status"] == "finished" and done["stop"]["kind"] == "steady"
+    arrays = unpack(done["arrays"], buffers[0])
+    summary, stop, reference, _ = run_document(w.document, 360)
+    assert done["summary"] == summary and done["stop"] == stop
+    np.testing.assert_array_equal(arrays["speed"], reference["speed"])
+    w._poller.join(timeout=5)
+    assert not w._poller.is_alive()
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # the example notebook, headless
 

@@ -1,9 +1,10 @@
 """The designer's page module, assembled from its parts at import time (no build tool, no Node).
 
 The front end lives in ``static/parts/`` as plain ES modules, one per concern: ``util.js`` (units, DOM and geometry
-helpers), ``channel.js`` (the request channel, a result's arrays, share links), ``canvas.js`` (the 2D canvas, the
-gestures and tools, the 3D view), ``panels.js`` (the side panels and plots), ``synthesis.js`` (the synthesis
-panel) and ``designer.js`` (the Designer itself and ``render``, the entry). Each part imports what it uses from the
+helpers), ``channel.js`` (the request channel, a result's arrays, share links), ``canvas.js`` (the 2D canvas and the
+3D view), ``gestures.js`` (the pointer gestures and the tools' clicks), ``panels.js`` (the side panels and plots),
+``synthesis.js`` (the synthesis panel), ``motor.js`` (the run on the motor), ``chooser.js``
+(the chooser of assemblies) and ``designer.js`` (the Designer itself and ``render``, the entry). Each part imports what it uses from the
 others with one-line ``import { … } from "./part.js";`` statements, so the parts also load natively as a module
 graph. :func:`module_text` joins them, in :data:`PARTS` order, into the one ES module that the page
 (``/static/designer.js``) and the notebook widget (``_esm``) load: the local imports are dropped (every name they
@@ -16,7 +17,8 @@ import re
 from pathlib import Path
 
 #: the parts, each after the parts it imports from; the last is the entry (its exports are the module's)
-PARTS = ("util.js", "channel.js", "canvas.js", "panels.js", "synthesis.js", "designer.js")
+PARTS = ("util.js", "channel.js", "canvas.js", "gestures.js", "panels.js", "synthesis.js", "motor.js",
+         "chooser.js", "designer.js")
 
 _IMPORT = re.compile(r'^import\s*\{([^}]*)\}\s*from\s*"\./([\w-]+\.js)";\s*$')
 _DECLARATION = re.compile(r"^(export\s+)?(?:const|let|function|class|async\s+function)\s+([A-Za-z_$][\w$]*)")

@@ -125,7 +125,8 @@ def compile_doc(doc: dict, structures: StructureCache) -> Compiled:
 
 def branch_signs(plan) -> dict:
     """The branch of every branched group as the plan's sketch draws it (``[branches]`` hints set aside; where the
-    sketch does not tell, and in a file without hints, the plan's own: compilation chose it nearest the sketch),
+    sketch does not tell, and in a file without hints, the plan's own: compilation chose it nearest the sketch; an RPR
+    group's ``slide`` hint stands, as the sketch may not show its branch at all),
     keyed by (point, kind), with the points it is solved from; a Newton-solved group by (its bodies, "newton"), with
     the sign of its Jacobian at the sketch."""
     if plan.dimension != 2:
@@ -133,10 +134,12 @@ def branch_signs(plan) -> dict:
     from ..engine.planar.compile import newton_branch_signs, sketch_branch_signs
     # without a [branches] hint the plan's own branches are the sketch's (compilation chose them so): nothing to solve
     drawn = sketch_branch_signs(plan) if plan.mechanism.branches else {}
+    # an RPR group with a slide hint is on the hint's branch, whatever the sketch shows (it may show none)
+    slid = {(h.point, h.on) for h in plan.mechanism.branches if h.slide is not None}
     sig = {}
     for i, st in enumerate(plan.steps):
         if st.key_point is not None:
-            sign = drawn.get(i)
+            sign = None if st.kind == "RPR" and (st.key_point, plan.lines[st.line][1]) in slid else drawn.get(i)
             sig[(st.key_point, st.kind)] = (int(st.branch if sign is None else sign), st.points_in())
     if any(st.kind == "newton" for st in plan.steps):
         for i, sign in newton_branch_signs(plan).items():

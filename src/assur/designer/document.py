@@ -268,7 +268,19 @@ def _drop_link_refs(new: dict, ln: str) -> None:
 
 
 def _tidy(new: dict) -> dict:
-    """Drop empty optional tables and points no element uses any more."""
+    """Drop empty optional tables, a ``[motor]`` whose driver is gone, the ``slide`` hints of slides that are gone
+    and points no element uses any more."""
+    motor = new.get("motor")
+    if isinstance(motor, dict):
+        names = [d.get("name") for d in new.get("drivers", [])]
+        if not names or motor.get("driver", names[0]) not in names:
+            del new["motor"]
+    slides = {s.get("name") for s in new.get("prismatic", [])} | set(new.get("actuators", {}))
+    for point, hint in list(new.get("branches", {}).items()):      # a slide hint on a slide that is gone
+        if isinstance(hint, dict) and "on" in hint and hint["on"] not in slides:
+            hint.pop("slide", None), hint.pop("on")
+            if not hint:
+                del new["branches"][point]
     for key in ("prismatic", "drivers", "branches", "actuators"):
         if key in new and not new[key]:
             del new[key]

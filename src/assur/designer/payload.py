@@ -8,6 +8,7 @@ feet on the ground of a module and, when the file has masses, the driving torque
 """
 from __future__ import annotations
 
+import copy
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -42,6 +43,7 @@ def _model_of_doc(doc: dict) -> dict:
     from ..io.units import parse_speed
     from ..model.mechanism import Units
     from .document import angle_factor, link_points, locks
+    from .motor_job import motor_hint
     links = doc.get("links", {})
     lp, ll = locks(doc)
     try:
@@ -71,7 +73,9 @@ def _model_of_doc(doc: dict) -> dict:
         "drivers": drivers,
         "locks": {"points": lp, "links": ll},
         "foot": gait.get("foot"),
-        "groups": [], "mobility": None, "formula": None, "params": [],
+        "motor": copy.deepcopy(doc["motor"]) if isinstance(doc.get("motor"), dict) else None,
+        "motor_hint": motor_hint(doc),
+        "groups": [], "mobility": None, "formula": None, "params": [], "newton_groups": 0, "chooser": False,
     }
 
 
@@ -81,7 +85,8 @@ def branched_steps(plan) -> list:
 
 
 def group_records(plan, structure) -> list[dict]:
-    """One record per branched step: its label, kind, point, branch sign and whether the page may flip it."""
+    """One record per branched step: its label, kind, point, branch sign and whether the page may flip it (an RPR
+    group also names its ``slide``: the prismatic pair or actuator it slides on)."""
     labels = {}
     if structure is not None:
         from ..structure.assur import roman
@@ -95,7 +100,8 @@ def group_records(plan, structure) -> list[dict]:
         label = next((labels[b] for b in st.bodies if b in labels), f"{st.kind}({st.key_point})")
         out.append({"index": k, "step": i, "label": label, "kind": st.kind, "point": st.key_point,
                     "points_in": list(st.points_in()), "branch": int(st.branch),
-                    "flippable": plan.dimension == 2})
+                    "flippable": plan.dimension == 2}
+                   | ({"slide": plan.lines[st.line][1]} if st.kind == "RPR" else {}))
     return out
 
 
@@ -290,6 +296,10 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         m = meta["model"]
         m["mobility"], m["formula"] = int(structure.mobility), structure.structural_formula
         m["groups"] = group_records(plan, structure)
+        m["newton_groups"] = sum(st.kind == "newton" for st in plan.steps) if plan.dimension == 2 else 0
+        if m["newton_groups"]:
+            from .choosing import available
+            m["chooser"] = available()
         m["point_order"] = list(plan.point_names)
         m["body_names"] = list(plan.body_names)
         m["gears"] = gear_records(mech)

@@ -22,7 +22,7 @@ from .session import Session, parse_request
 
 COOKIE = "assur_token"
 ALLOWED_HOSTS = ["127.0.0.1", "localhost"]
-#: how often a running synthesis is polled for progress (s)
+#: how often the running jobs (a synthesis, a run on the motor) are polled for their messages (s)
 SYNTH_POLL = 0.1
 
 
@@ -88,7 +88,7 @@ def create_app(session: Session, token: str):
 
     def poll():
         with lock:
-            return session.poll_synthesis()
+            return session.poll_jobs()
 
     async def send(ws, replies):
         for r in replies:
@@ -110,16 +110,16 @@ def create_app(session: Session, token: str):
         with lock:
             session.clients += 1
 
-        async def stream_synthesis():
+        async def stream_jobs():
             while True:
                 await asyncio.sleep(SYNTH_POLL)
-                if session.job is not None:
+                if session.job is not None or session.motor_job is not None:
                     replies = await asyncio.to_thread(poll)
                     if replies:
                         async with sending:
                             await send(ws, replies)
 
-        streamer = asyncio.create_task(stream_synthesis())
+        streamer = asyncio.create_task(stream_jobs())
         try:
             while True:
                 message = await ws.receive()
@@ -137,11 +137,14 @@ def create_app(session: Session, token: str):
             await asyncio.to_thread(leave)
 
     def leave():
-        """A page closed: when it was the last, its running synthesis stops (nobody would see or insert it)."""
+        """A page closed: when it was the last, its running synthesis and run on the motor stop (nobody would see
+        them)."""
         with lock:
             session.clients -= 1
-            if session.clients <= 0 and session.job is not None and session.job.running:
-                session.job.cancel()
+            if session.clients <= 0:
+                for job in (session.job, session.motor_job):
+                    if job is not None and job.running:
+                        job.cancel()
 
     routes = [Route("/", page), Route("/static/{name}", static_file), WebSocketRoute("/ws", socket_endpoint)]
     return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=ALLOWED_HOSTS)])

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from ..errors import AssurError
 from . import document as D
 from .compiled import Compiled, StructureCache, compile_doc
-from .payload import Description, branched_steps, describe, pack
+from .payload import DESIGNER_STEPS, Description, branched_steps, describe, pack
 
 #: the largest history a session keeps (older entries are dropped)
 HISTORY_LIMIT = 500
@@ -140,6 +140,7 @@ class Session:
         self.path = path
         self.overrides: dict = {}
         self.job = None
+        self.motor_job = None
         self.best_toml: str | None = None
         self.clients = 0
         self._texts: dict = {}        # id(doc) → (doc, its TOML text): history documents are never changed
@@ -211,11 +212,15 @@ class Session:
                 if kind == "flip":
                     doc, point = self.flipped(doc, e.get("group"))
                     flipped.add(point)
+                elif kind == "assembly":
+                    from .choosing import assembled
+                    doc, keys = assembled(self, doc, e)
+                    flipped |= keys
                 elif isinstance(kind, str) and kind in D.EDITS:
                     doc = D.EDITS[kind](doc, e)
                 else:
                     raise D.EditRefused(f"unknown edit {kind!r}; the edits are "
-                                        f"{', '.join(sorted([*D.EDITS, 'flip']))}", f"edits[{i}].kind")
+                                        f"{', '.join(sorted([*D.EDITS, 'assembly', 'flip']))}", f"edits[{i}].kind")
             except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError) as exc:
                 if isinstance(exc, AssurError):
                     raise
@@ -257,7 +262,9 @@ class Session:
     def flipped(self, doc: dict, index) -> tuple[dict, str]:
         """(``doc`` with group ``index`` assembled on its other branch: the sketch of the group and of everything it
         carries is re-solved at the sketch inputs on the new branch, and a ``[branches]`` hint of its point flips; the
-        group's point). Points the flip does not move (beyond round-off) keep their sketch exactly."""
+        group's point). Points the flip does not move (beyond round-off) keep their sketch exactly. An RPR group's
+        ``slide`` hint flips with it; where the sketch cannot show an RPR group's branch (its bodies carry no point but
+        their hinges: both branches put every point at the same place), the flip writes one."""
         from ..engine import solve
         c = self.compiled(doc)
         if isinstance(c, AssurError):
@@ -284,17 +291,55 @@ class Session:
                 if math.hypot(pos[k][0] - old[0], pos[k][1] - old[1]) > noise:
                     new["points"][name] = [float(c) / fL for c in pos[k]]
         hint = new.get("branches", {}).get(st.key_point)
-        if isinstance(hint, dict) and hint.get("side") in ("left", "right"):
+        if st.kind == "RPR":
+            self._flip_slide_hint(new, st, plan.lines[st.line][1])
+        elif isinstance(hint, dict) and hint.get("side") in ("left", "right"):
             hint["side"] = "left" if hint["side"] == "right" else "right"
         sig = self._signature(new)
+        if st.kind == "RPR" and sig.get((st.key_point, st.kind), (None,))[0] != -st.branch:
+            # the sketch cannot show this group's branch (its bodies carry no point but their hinges): the file
+            # records it as a slide hint (in a new document: the session's caches key documents by identity)
+            new = copy.deepcopy(new)
+            self._flip_slide_hint(new, st, plan.lines[st.line][1], add=True)
+            sig = self._signature(new)
+        elif st.kind == "RPR" and "slide" in new.get("branches", {}).get(st.key_point, {}):
+            # back on the branch the sketch shows: the hint goes (a flip and its flip back leave the file as it was)
+            bare = copy.deepcopy(new)
+            table = bare["branches"][st.key_point]
+            del table["slide"], table["on"]
+            if not table:
+                del bare["branches"][st.key_point]
+            if not bare["branches"]:
+                del bare["branches"]
+            if self._signature(bare).get((st.key_point, st.kind), (None,))[0] == -st.branch:
+                new, sig = bare, self._signature(bare)
         if sig.get((st.key_point, st.kind), (None,))[0] != -st.branch:
             raise D.EditRefused(f"the group of {st.key_point} could not be drawn on its other branch", st.key_point)
         return new, (st.key_point, st.kind)
+
+    @staticmethod
+    def _flip_slide_hint(doc: dict, st, on: str, add: bool = False) -> None:
+        """Turn the ``slide`` hint of RPR step ``st`` (sliding on ``on``) to the step's other branch in ``doc``; with
+        ``add``, write one when there is none (refused when the point's hint holds another slide's)."""
+        want = "behind" if st.branch == 1 else "ahead"
+        table = doc.get("branches", {}).get(st.key_point)
+        if isinstance(table, dict) and "slide" in table:
+            if table.get("on") != on:
+                raise D.EditRefused(f"the file's [branches] hint of {st.key_point} holds the slide "
+                                    f"{table.get('on')!r}: it cannot record the branch of the group on {on!r} too",
+                                    f"branches.{st.key_point}")
+            table["slide"] = want
+        elif add:
+            doc.setdefault("branches", {}).setdefault(st.key_point, {}).update({"slide": want, "on": on})
 
     # -- answers -----------------------------------------------------------------------------------------------
     def result(self, seq, doc: dict | None = None, committed: bool = True, exact: bool = True) -> Reply:
         doc = self.doc if doc is None else doc
         desc: Description = describe(doc, self.overrides, exact=exact, compiled=self.compiled(doc))
+        if desc.meta["model"].get("motor_hint"):
+            from .motor_job import located_hint
+            desc.meta["model"]["motor_hint"] = located_hint(desc.meta["model"]["motor_hint"], self.path,
+                                                            self.file_text)
         index, blob = pack(desc.arrays)
         msg = {"type": "result", "seq": seq, "committed": committed, "doc": doc, "toml": self.text(doc),
                "history": {"undo": self.position, "redo": len(self.history) - 1 - self.position,
@@ -455,6 +500,54 @@ class Session:
         self._push(doc)
         return [self.result(seq)]
 
+    # -- the chooser of assemblies --------------------------------------------------------------------------------
+    def op_assemblies(self, seq, req):
+        """Every assembly of the committed mechanism at input ``index`` (default 0) = ``input`` (SI; default the
+        sketch's), the others at the sketch's (:mod:`.choosing`)."""
+        from .choosing import assemblies_message
+        c = self.compiled(self.doc)
+        if isinstance(c, AssurError):
+            raise D.EditRefused(f"no assemblies: the document is not a mechanism yet ({c})", "assemblies")
+        return [Reply({**assemblies_message(c[2], c[1], req.get("input"), req.get("index", 0)), "seq": seq})]
+
+    # -- the run on the motor --------------------------------------------------------------------------------------
+    def op_motor_start(self, seq, req):
+        """Run the committed document on its motor in a worker process (:mod:`.motor_job`), to its steady state or
+        for ``time`` s: ``motor_started`` now, ``motor_done`` when it ends (:meth:`poll_jobs`)."""
+        from .motor_job import MotorJob, check_runnable, run_time
+        if self.motor_job is not None and self.motor_job.running:
+            raise D.EditRefused("a run on the motor is going; cancel it first", "motor")
+        time_ = run_time(req.get("time"))
+        check_runnable(self.doc, self.entry(self.doc), self.path, self.file_text)
+        self.motor_job = MotorJob(self.doc, DESIGNER_STEPS, time_)
+        return [Reply({"type": "motor_started", "seq": seq, "job": self.motor_job.id})]
+
+    def op_motor_cancel(self, seq, req):
+        if self.motor_job is None or not self.motor_job.running:
+            raise D.EditRefused("no run on the motor is going", "motor")
+        self.motor_job.cancel()
+        return self.poll_motor()
+
+    def poll_motor(self) -> list[Reply]:
+        """The run on the motor's ``motor_done`` once it has ended (its arrays packed as a result's)."""
+        if self.motor_job is None:
+            return []
+        out = []
+        for message, arrays in self.motor_job.poll():
+            index, blob = pack(arrays)
+            out.append(Reply(_json_safe({**message, "binary": True, "arrays": index}), blob))
+        return out
+
+    def poll_jobs(self) -> list[Reply]:
+        """The messages of the page's jobs that arrived: a synthesis's progress and end, a run on the motor's
+        end."""
+        return self.poll_synthesis() + self.poll_motor()
+
+    @property
+    def jobs_running(self) -> bool:
+        """A synthesis or a run on the motor has not ended (or its last message has not been polled)."""
+        return any(j is not None and j.running for j in (self.job, self.motor_job))
+
     def poll_synthesis(self, wait: float = 0.0) -> list[Reply]:
         """The synthesis messages that arrived (``synth_progress``, ``synth_done``); waits up to ``wait`` s for
         the end of a cancelled run."""
@@ -471,8 +564,9 @@ class Session:
             time.sleep(0.02)
 
     def close(self) -> None:
-        if self.job is not None:
-            self.job.cancel()
+        for job in (self.job, self.motor_job):
+            if job is not None:
+                job.cancel()
 
 
 def _json_safe(x):

@@ -5,7 +5,8 @@ The page's ES module (joined from ``static/parts`` by :mod:`.assembly`) and styl
 and ``_css``. The front
 end sends each request with ``model.send(request)``; the widget answers with ``self.send(message,
 buffers=[blob])`` (a message with ``"binary": true`` carries its float64 arrays in its first buffer). While a
-synthesis runs, a daemon thread polls :meth:`Session.poll_synthesis` and sends its progress as it comes.
+synthesis or a run on the motor goes, a daemon thread polls :meth:`Session.poll_jobs` and sends their messages as
+they come.
 
 The 3D view of a spatial file needs plotly.js; nothing is loaded from the network: for a spatial document the
 widget's ``_plotly_js`` trait carries ``plotly.min.js`` from the plotly Python package, which the page evaluates
@@ -27,7 +28,7 @@ from .session import Reply, Session, doc_of_toml, document_of
 anywidget = require("anywidget", "assur.designer.Designer", "pip install 'assur[widget]'")
 import traitlets  # noqa: E402  (anywidget's dependency)
 
-#: how often a running synthesis is polled for progress (s)
+#: how often the running jobs (a synthesis, a run on the motor) are polled for their messages (s)
 SYNTH_POLL = 0.1
 
 _STATIC = Path(__file__).resolve().parent / "static"
@@ -78,6 +79,7 @@ class Designer(anywidget.AnyWidget):
         self.session = _session_of(source)
         self._lock = threading.RLock()
         self._poller: threading.Thread | None = None
+        self._polling = False
         self._need_plotly()
         self.on_msg(self._on_custom_msg)
 
@@ -117,7 +119,7 @@ class Designer(anywidget.AnyWidget):
             # a spatial document needs plotly.js on the page before its result arrives
             self._need_plotly()
         self._send_replies(replies)
-        if any(r.message.get("type") == "synth_started" for r in replies):
+        if any(r.message.get("type") in ("synth_started", "motor_started") for r in replies):
             self._start_poller()
         return replies
 
@@ -132,29 +134,28 @@ class Designer(anywidget.AnyWidget):
         if not self._plotly_js and int(self.session.doc.get("dimension", 2)) == 3:
             self._plotly_js = plotly_source()
 
-    # -- synthesis progress ----------------------------------------------------------------------------------
+    # -- the jobs' messages (a synthesis's progress, a run on the motor's end) ------------------------------------
     def _start_poller(self) -> None:
-        if self._poller is not None and self._poller.is_alive():
-            return
-        self._poller = threading.Thread(target=self._poll_synthesis, name="assur-designer-synthesis", daemon=True)
-        self._poller.start()
+        with self._lock:
+            if self._polling:
+                return
+            self._polling = True
+            self._poller = threading.Thread(target=self._poll_jobs, name="assur-designer-jobs", daemon=True)
+            self._poller.start()
 
-    def _poll_synthesis(self) -> None:
+    def _poll_jobs(self) -> None:
         stop = threading.Event()
         while not stop.wait(SYNTH_POLL):
             with self._lock:
-                job = self.session.job
-                replies = self.session.poll_synthesis()
-                running = job is not None and job.running
+                replies = self.session.poll_jobs()
+                running = self.session.jobs_running
             if replies:
                 self._send_replies(replies)
             if not running:
-                # the last messages of a finished run
-                with self._lock:
-                    replies = self.session.poll_synthesis() if self.session.job is job else []
-                if replies:
-                    self._send_replies(replies)
-                return
+                with self._lock:        # a job started after this finds no poller and starts one
+                    if not self.session.jobs_running:
+                        self._polling = False
+                        return
 
     def close(self) -> None:
         """Cancel a running synthesis and close the widget."""

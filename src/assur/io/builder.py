@@ -143,9 +143,15 @@ class Builder:
                                            roller_radius=roller_radius, face_angle=face_angle, phase=phase,
                                            rotation=rotation, pressure_limit=pressure_limit, law=law))
 
-    def branch(self, point: str, side: str, of: tuple[str, str]) -> "Builder":
-        """Assemble ``point`` on ``side`` ('left' | 'right') of the directed line of[0] → of[1] (``[branches]``)."""
-        return self._put("branches", point, {"side": side, "of": _plain(of)})
+    def branch(self, point: str, side: str | None = None, of: tuple[str, str] | None = None, *,
+               slide: str | None = None, on: str | None = None) -> "Builder":
+        """Assemble ``point`` on ``side`` ('left' | 'right') of the directed line of[0] → of[1], and/or, for the RPR
+        group whose slider is hinged at ``point``, ``slide`` ('ahead' | 'behind') of its guide's hinge along the slide
+        ``on`` (``[branches]``)."""
+        spec = {} if side is None and of is None else {"side": side, "of": _plain(of)}
+        if slide is not None or on is not None:
+            spec |= {"slide": slide, "on": on}
+        return self._put("branches", point, spec)
 
     def joint(self, point: str, kind: str, axis=None) -> "Builder":
         """The joint at ``point`` of a spatial mechanism (``[joints]``); ``axis`` a vector or

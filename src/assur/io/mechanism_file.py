@@ -46,6 +46,42 @@ def _num(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and abs(x) < MAX_MAGNITUDE
 
 
+def _branch_hint(P, path, pn, spec, point_names, slides) -> BranchHint | None:
+    """One ``[branches]`` entry: ``{side, of}`` (the side of a directed line), ``{slide, on}`` (an RPR group's
+    slider hinge ahead of or behind its guide's hinge along the slide ``on``), or both; None after a problem."""
+    if pn not in point_names:
+        P.add(path, f"unknown point {pn!r} {_known(point_names)}")
+        return None
+    sided = isinstance(spec, dict) and ("side" in spec or "of" in spec)
+    slid = isinstance(spec, dict) and ("slide" in spec or "on" in spec)
+    extra = sorted(set(spec) - {"side", "of", "slide", "on"}) if isinstance(spec, dict) else []
+    if not (sided or slid) or extra:
+        P.add(path, "must be {side = 'left'|'right', of = [P, Q]} (the side of the directed line P → Q) or "
+                    "{slide = 'ahead'|'behind', on = SLIDE} (an RPR group's slider hinge along its slide)")
+        return None
+    side = of = slide = on = None
+    if sided:
+        if spec.get("side") not in ("left", "right") or not isinstance(spec.get("of"), list) or len(spec["of"]) != 2:
+            P.add(path, "must be {side = 'left'|'right', of = [P, Q]} (the side of the directed line P → Q)")
+            return None
+        bad = [q for q in spec["of"] if q not in point_names]
+        if bad:
+            P.add(f"{path}.of", f"unknown point {bad[0]!r} {_known(point_names)}")
+            return None
+        side, of = spec["side"], tuple(spec["of"])
+    if slid:
+        if spec.get("slide") not in ("ahead", "behind"):
+            P.add(f"{path}.slide", f"must be 'ahead' or 'behind' (the point along the slide's direction from the "
+                                   f"guide's hinge): {spec.get('slide')!r}")
+            return None
+        if spec.get("on") not in slides:
+            P.add(f"{path}.on", f"must name the prismatic pair or actuator the point slides on: {spec.get('on')!r} "
+                                f"{_known(sorted(slides))}")
+            return None
+        slide, on = spec["slide"], spec["on"]
+    return BranchHint(pn, side, of, slide, on)
+
+
 def _known(names) -> str:
     names = list(names)
     shown = ", ".join(sorted(names)[:12]) + (", …" if len(names) > 12 else "")
@@ -297,21 +333,12 @@ def from_dict(data: dict, source: str | None = None) -> Mechanism:
 
     # branches
     branches = []
-    bdata = P.section(data, "branches", "must be a table of point = {side, of}")
+    bdata = P.section(data, "branches", "must be a table of point = {side, of} (or {slide, on})")
+    slides = {pr.name for pr in prismatic} | {a.name for a in actuators}
     for pn, spec in bdata.items():
-        path = f"branches.{pn}"
-        if pn not in point_names:
-            P.add(path, f"unknown point {pn!r} {_known(point_names)}")
-            continue
-        if not isinstance(spec, dict) or spec.get("side") not in ("left", "right") \
-                or not isinstance(spec.get("of"), list) or len(spec["of"]) != 2:
-            P.add(path, "must be {side = 'left'|'right', of = [P, Q]} (the side of the directed line P → Q)")
-            continue
-        bad = [q for q in spec["of"] if q not in point_names]
-        if bad:
-            P.add(f"{path}.of", f"unknown point {bad[0]!r} {_known(point_names)}")
-            continue
-        branches.append(BranchHint(pn, spec["side"], tuple(spec["of"])))
+        hint = _branch_hint(P, f"branches.{pn}", pn, spec, point_names, slides)
+        if hint is not None:
+            branches.append(hint)
 
     # joints (spatial descriptions)
     joints = []

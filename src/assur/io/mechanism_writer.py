@@ -130,7 +130,8 @@ def as_dict(m: Mechanism, clean: bool = False) -> dict:
     if m.cams:
         d["cams"] = [_cam_table(cp, ln, an) for cp in m.cams]
     if m.branches:
-        d["branches"] = {b.point: {"side": b.side, "of": list(b.of)} for b in m.branches}
+        d["branches"] = {b.point: ({"side": b.side, "of": list(b.of)} if b.side is not None else {})
+                         | ({"slide": b.slide, "on": b.on} if b.slide is not None else {}) for b in m.branches}
     if m.joints:
         with_axes = any(j.axis is not None for j in m.joints)   # then all as tables: the writer keeps their order
         d["joints"] = {j.point: ({"kind": j.kind} | ({} if j.axis is None else {"axis": [unit(c) for c in j.axis]})

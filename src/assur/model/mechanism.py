@@ -133,10 +133,19 @@ class TimeTable:
 @dataclass(frozen=True, slots=True)
 class BranchHint:
     """The solved ``point`` lies on ``side`` ('left' | 'right') of the directed line of[0] → of[1]
-    in the sketch position; it overrides the branch the sketch would give."""
+    in the sketch position; it overrides the branch the sketch would give.
+
+    ``slide`` ('ahead' | 'behind') with ``on`` (a prismatic pair's or an actuator's name): the branch of the RPR
+    group whose slider is hinged at ``point`` and slides on ``on``: ``point`` lies ahead of (or behind) the guide's
+    hinge along the slide's direction (an actuator's: from its cylinder's hinge towards its rod's, as drawn). It is
+    the one hint of an RPR group whose bodies carry no point but their hinges, where the sketch cannot show the
+    branch. A hint gives ``side`` and ``of``, ``slide`` and ``on``, or both pairs (one point may be solved by a dyad
+    and be the slider hinge of an RPR group)."""
     point: str
-    side: str
-    of: tuple[str, str]
+    side: str | None = None
+    of: tuple[str, str] | None = None
+    slide: str | None = None
+    on: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

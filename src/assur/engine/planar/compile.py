@@ -392,18 +392,21 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
     """Choose each branched step's sign once, at compile time, at the sketch input.
 
     With a ``[branches]`` hint: the assembly that puts the point on the stated side (decided a little
-    off the sketch input when the sketch itself lies on the line). Otherwise: the assembly nearest the
+    off the sketch input when the sketch itself lies on the line); an RPR group's ``slide`` hint: the sign that
+    puts its slider's hinge ahead of (+1) or behind (−1) its guide's hinge along the slide line
+    (``kernels.planar.rotation_from_slide``). Otherwise: the assembly nearest the
     sketch — the group's points and its bodies' orientations (a cylinder's direction, say).
     ``sketch_e`` (n_bodies,) complex: each body's orientation in the sketch.
     """
     m = plan.mechanism
-    hints = {h.point: h for h in m.branches}
+    hints = {h.point: h for h in m.branches if h.side is not None}
+    slide_hints = {(h.point, h.on): h for h in m.branches if h.slide is not None}
     steps = list(plan.steps)
     params = plan.defaults
     q0 = plan.sketch_inputs
     scale = plan.length_scale
     nudge = np.array([tol.branch_nudge if k == "rotary" else tol.branch_nudge * scale for k in plan.input_kinds])
-    used_hints = set()
+    used_hints, used_slides = set(), set()
 
     def candidates(i, st, inputs):
         out = []
@@ -422,6 +425,14 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
                               f"the group solving '{st.key_point}' cannot be assembled in the sketch position "
                               f"(check the dimensions and the sketch)")])
         allowed = [c for c in cands if c[3]]
+        slid = slide_hints.get((st.key_point, plan.lines[st.line][1])) if st.kind == "RPR" else None
+        if slid is not None:
+            used_slides.add((slid.point, slid.on))
+            allowed = [c for c in allowed if c[0] == (1 if slid.slide == "ahead" else -1)]
+            if not allowed:
+                raise SpecError([(f"branches.{st.key_point}.slide",
+                                  f"the RPR group on '{slid.on}' cannot be assembled with {st.key_point} {slid.slide} "
+                                  f"of {st.guide_point} in the sketch position")])
         hint = hints.get(st.key_point)
         if hint is not None:
             used_hints.add(hint.point)
@@ -445,7 +456,7 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
                 raise SpecError([(f"branches.{st.key_point}",
                                   f"no assembly puts {st.key_point} on the {hint.side} of {hint.of[0]} → {hint.of[1]}")])
             allowed = matches
-        if len(allowed) == 1:
+        if len(allowed) == 1 or slid is not None:
             chosen = allowed[0][0]
         else:
             _check_key_point_drawn_apart(plan, st, tol)
@@ -456,6 +467,12 @@ def _fix_branches(plan: PlanarPlan, tol, sketch_e) -> PlanarPlan:
                                   f"coincide); move it off the line or set [branches.{st.key_point}]")])
             chosen = allowed[int(np.argmin(dev))][0]
         steps[i] = st.with_branch(chosen)
+    unused_slides = sorted(set(slide_hints) - used_slides)
+    if unused_slides:
+        p, on = unused_slides[0]
+        rpr = [f"{s.key_point} on {plan.lines[s.line][1]}" for s in steps if s.kind == "RPR"]
+        raise SpecError([(f"branches.{p}.on", f"no RPR group slides on '{on}' with its slider hinged at '{p}' (RPR "
+                                              f"groups: {', '.join(rpr) or 'none'})")])
     unused = set(hints) - used_hints
     if unused:
         p = sorted(unused)[0]

@@ -1,7 +1,7 @@
-// The 2D canvas of the designer: view, drawing, pointer gestures and the tools' clicks, and the 3D view of a
-// spatial file. Methods of the Designer (mixed in by designer.js; one part of designer.js: see assembly.py).
+// The 2D canvas of the designer: view and drawing, and the 3D view of a spatial file (the pointer gestures and
+// the tools' clicks are in gestures.js). Methods of the Designer (mixed in by designer.js; see assembly.py).
 
-import { DRAG_THRESHOLD_PX, svg, setText, entriesOf, bounds, brokenPath, preferReadbackCanvases } from "./util.js";
+import { svg, setText, entriesOf, bounds, brokenPath, preferReadbackCanvases } from "./util.js";
 
 export class CanvasPart {
   buildCanvas() {
@@ -17,7 +17,7 @@ export class CanvasPart {
     const canvas = { root, ids: { vel: id("vel"), acc: id("acc"), hatch: id("hatch") } };
     canvas.background = svg("rect", { class: "asd-background", x: 0, y: 0, width: "100%", height: "100%" });
     root.append(canvas.background);
-    for (const name of ["paths", "guides", "links", "ground", "vectors", "ics", "points", "targets", "pending"]) canvas[name] = layer(name);
+    for (const name of ["paths", "guides", "links", "ghost", "ground", "vectors", "ics", "points", "targets", "pending"]) canvas[name] = layer(name);
     return canvas;
   }
 
@@ -222,13 +222,17 @@ export class CanvasPart {
         x: sx - 11, y: sy - 7, width: 22, height: 14, transform: `rotate(${degrees.toFixed(2)} ${sx.toFixed(2)} ${sy.toFixed(2)})`,
       }));
     }
+    // a passive cylinder on its other branch (its RPR group's rod hinge behind the cylinder's hinge) points away
+    const behind = new Set(entriesOf(snapshot.model.groups).filter((g) => g.kind === "RPR" && g.branch === -1).map((g) => g.slide));
     for (const actuator of entriesOf(snapshot.model.actuators)) {
       const [a, b] = (actuator.between || []).map(at);
       if (!a || !b) continue;
       const [ax, ay] = this.toScreen(a); const [bx, by] = this.toScreen(b);
-      const mx = (ax + bx) / 2; const my = (ay + by) / 2;
-      children.push(svg("line", { class: "asd-cylinder", testid: `actuator-${actuator.name}`, x1: ax, y1: ay, x2: mx + (bx - ax) * 0.1, y2: my + (by - ay) * 0.1 }));
-      children.push(svg("line", { class: "asd-rod", x1: mx - (bx - ax) * 0.1, y1: my - (by - ay) * 0.1, x2: bx, y2: by }));
+      const s = behind.has(actuator.name) ? -1 : 1;
+      const cx = ax + s * (bx - ax) * 0.6; const cy = ay + s * (by - ay) * 0.6;
+      const rx = ax + s * (bx - ax) * 0.4; const ry = ay + s * (by - ay) * 0.4;
+      children.push(svg("line", { class: "asd-cylinder", testid: `actuator-${actuator.name}`, "data-behind": s < 0, x1: ax, y1: ay, x2: cx, y2: cy }));
+      children.push(svg("line", { class: "asd-rod", testid: `rod-${actuator.name}`, x1: rx, y1: ry, x2: bx, y2: by }));
     }
     this.ui.canvas.guides.replaceChildren(...children);
   }
@@ -384,177 +388,6 @@ export class CanvasPart {
       if (xy) { const [x, y] = this.toScreen(xy); children.push(svg("circle", { class: "asd-pending", cx: x, cy: y, r: 9 })); }
     }
     this.ui.canvas.pending.replaceChildren(...children);
-  }
-
-  // ---- the 2D canvas: pointer gestures ------------------------------------------------------------------
-  onPointerDown(event) {
-    if (!this.snapshot || !this.view || this.snapshot.dimension === 3 || event.button !== 0) return;
-    const target = event.target;
-    const point = target.getAttribute && target.getAttribute("data-point");
-    const link = target.getAttribute && target.getAttribute("data-link");
-    const slider = target.getAttribute && target.getAttribute("data-slider");
-    this.gesture = { pointerId: event.pointerId, startX: event.clientX, startY: event.clientY, moved: false, point, link, slider, startView: { ...this.view } };
-    this.ui.canvas.root.setPointerCapture(event.pointerId);
-    event.preventDefault();
-  }
-
-  onPointerMove(event) {
-    const gesture = this.gesture;
-    if (!gesture || gesture.pointerId !== event.pointerId) return;
-    const distance = Math.hypot(event.clientX - gesture.startX, event.clientY - gesture.startY);
-    if (!gesture.moved && distance < DRAG_THRESHOLD_PX) return;
-    if (!gesture.moved) {
-      gesture.moved = true;
-      gesture.kind = gesture.point && this.tool === "select" && !this.ui.synthAddTargets.checked ? "drag" : "pan";
-      if (gesture.kind === "drag") this.startDrag(gesture.point);
-    }
-    if (gesture.kind === "drag") this.previewDrag(event);
-    else this.pan(event, gesture);
-  }
-
-  onPointerUp(event) {
-    const gesture = this.gesture;
-    if (!gesture || gesture.pointerId !== event.pointerId) return;
-    this.gesture = null;
-    if (this.ui.canvas.root.hasPointerCapture(event.pointerId)) this.ui.canvas.root.releasePointerCapture(event.pointerId);
-    if (gesture.kind === "drag") this.endDrag();
-    else if (!gesture.moved) this.onClick(event, gesture);
-  }
-
-  pan(event, gesture) {
-    this.view.cx = gesture.startView.cx - (event.clientX - gesture.startX) / this.view.scale;
-    this.view.cy = gesture.startView.cy + (event.clientY - gesture.startY) / this.view.scale;
-    this.drawScene();
-  }
-
-  startDrag(point) {
-    this.selectedPoint = point;
-    this.selectedLink = null;
-    this.dragging = { point, to: null };
-    if (this.ui.plotPoint.value !== point) this.ui.plotPoint.value = point;
-    this.drawPose();
-    this.drawReadouts();
-  }
-
-  previewDrag(event) {
-    const to = this.toWorld(event);
-    this.dragging.to = to;
-    this.request("preview", { edits: this.dragEdits() }, performance.now());
-  }
-
-  dragEdits() {
-    return [{ kind: "move_point", point: this.dragging.point, to: this.dragging.to }];
-  }
-
-  endDrag() {
-    const drag = this.dragging;
-    if (!drag) return;
-    if (drag.to) this.commit(this.dragEdits());
-    else this.dragging = null;
-    // the display stays on the sketch until the commit's answer arrives
-  }
-
-  // Esc during a gesture: the committed document comes back
-  cancelGesture(sendCancel = false) {
-    const wasDragging = Boolean(this.dragging);
-    if (this.gesture) {
-      const { pointerId } = this.gesture;
-      if (this.ui.canvas.root.hasPointerCapture(pointerId)) this.ui.canvas.root.releasePointerCapture(pointerId);
-    }
-    this.gesture = null;
-    this.dragging = null;
-    if (wasDragging) {
-      if (sendCancel) this.request("cancel");
-      if (this.committed) this.showSnapshot(this.committed, this.snapshot);
-    }
-  }
-
-  onClick(event, gesture) {
-    const at = this.toWorld(event);
-    if (this.ui.synthAddTargets.checked) {
-      this.synth.targets.push(at);
-      this.drawTargets();
-      return;
-    }
-    const handlers = {
-      select: () => this.clickSelect(gesture),
-      "add-point": () => this.clickAddPoint(gesture, at),
-      "add-link": () => this.clickAddLink(gesture, at),
-      "add-slider": () => this.clickAddSlider(gesture),
-      "add-driver": () => this.clickAddDriver(gesture),
-      delete: () => this.clickDelete(gesture),
-    };
-    handlers[this.tool]();
-  }
-
-  clickSelect(gesture) {
-    if (gesture.point) this.selectPoint(gesture.point);
-    else if (gesture.link) this.selectLink(gesture.link);
-  }
-
-  clickAddPoint(gesture, at) {
-    this.commit([{ kind: "add_point", at, link: gesture.link || "frame" }]);
-  }
-
-  newPointName(taken) {
-    let index = 1;
-    while (taken.has(`P${index}`)) index += 1;
-    taken.add(`P${index}`);
-    return `P${index}`;
-  }
-
-  clickAddLink(gesture, at) {
-    const taken = new Set([...this.snapshot.pointNames, ...this.pendingLinkPoints.map((item) => item.name)]);
-    const item = gesture.point ? { name: gesture.point } : { name: this.newPointName(taken), at, new: true };
-    this.pendingLinkPoints.push(item);
-    if (this.pendingLinkPoints.length >= 2) {
-      const items = this.pendingLinkPoints;
-      this.pendingLinkPoints = [];
-      const newPoints = Object.fromEntries(items.filter((i) => i.new).map((i) => [i.name, i.at]));
-      const edit = { kind: "add_link", points: items.map((i) => i.name) };
-      if (Object.keys(newPoints).length) edit.new_points = newPoints;
-      this.commit([edit]);
-    }
-    this.drawPending();
-  }
-
-  clickAddSlider(gesture) {
-    if (!gesture.point) return;
-    const snapshot = this.snapshot;
-    const pin = snapshot.sketchOf(snapshot.pointIndex.get(gesture.point));
-    // a horizontal line through the clicked point, given by the nearest frame point and an offset to its left
-    let through = null; let best = Infinity;
-    for (const name of snapshot.framePoints) {
-      const xy = snapshot.sketchOf(snapshot.pointIndex.get(name));
-      const distance = Math.hypot(xy[0] - pin[0], xy[1] - pin[1]);
-      if (name !== gesture.point && distance < best) { best = distance; through = name; }
-    }
-    if (!through) { this.setRefusal("a slider needs a frame point for its guide line"); return; }
-    const origin = snapshot.sketchOf(snapshot.pointIndex.get(through));
-    this.commit([{ kind: "add_slider", point: gesture.point, guide: "frame", through, angle: 0, offset: pin[1] - origin[1] }]);
-  }
-
-  clickAddDriver(gesture) {
-    if (!gesture.point) return;
-    if (!this.pendingDriverPivot) {
-      this.pendingDriverPivot = gesture.point;
-      this.drawPending();
-      return;
-    }
-    const pivot = this.pendingDriverPivot;
-    const arm = gesture.point;
-    this.pendingDriverPivot = null;
-    this.drawPending();
-    const moving = this.snapshot.links.filter((link) => link.name !== "frame");
-    const link = moving.find((l) => l.points.includes(pivot) && l.points.includes(arm)) || moving.find((l) => l.points.includes(arm));
-    if (!link) { this.setRefusal(`no link carries ${arm}`); return; }
-    this.commit([{ kind: "add_driver", link: link.name, pivot, arm, speed: 2 * Math.PI }]);
-  }
-
-  clickDelete(gesture) {
-    if (gesture.point) this.commit([{ kind: "delete_point", point: gesture.point }]);
-    else if (gesture.link) this.commit([{ kind: "delete_link", link: gesture.link }]);
-    else if (gesture.slider) this.commit([{ kind: "delete_slider", name: gesture.slider }]);
   }
 
   // ---- the 3D view (spatial files) ----------------------------------------------------------------------

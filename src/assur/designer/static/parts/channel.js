@@ -86,11 +86,16 @@ export class Snapshot {
 // The request channel: one request in flight, the newest pending request of a kind wins
 
 export const REPLACEABLE_OPS = new Set(["preview", "set_params"]);
-export const SUPERSEDED_BY = { commit: ["preview"], cancel: ["preview"], preview: ["preview"], set_params: ["set_params"] };
+export const SUPERSEDED_BY = {
+  commit: ["preview"], cancel: ["preview"], preview: ["preview"], set_params: ["set_params"], assemblies: ["assemblies"],
+};
 export const ANSWER_TYPES = {
   save: ["saved", "refused", "error"],
   synth_start: ["synth_started", "synth_done", "refused", "error"],
   synth_cancel: ["synth_done", "refused", "error"],
+  motor_start: ["motor_started", "motor_done", "refused", "error"],
+  motor_cancel: ["motor_done", "refused", "error"],
+  assemblies: ["assemblies", "refused", "error"],
 };
 export const DEFAULT_ANSWER_TYPES = ["result", "refused", "error"];
 

@@ -5,14 +5,18 @@
 // `model.on("msg:custom", (msg, buffers) => ...)` receives its answers (docs/designer.md, "Protocol").
 // The model stays in SI (m, rad, s); the unit selects change the display only.
 //
-// This is the entry part; util.js, channel.js, canvas.js, panels.js and synthesis.js hold the rest by concern.
+// This is the entry part; util.js, channel.js, canvas.js, gestures.js, panels.js, synthesis.js, motor.js and
+// chooser.js hold the rest by concern.
 // assembly.py joins them into the one module the page and the widget load (no build tool).
 
 import { formatNumber, UnitConverter, html, setText, sampleOfInput, preferReadbackCanvases } from "./util.js";
 import { messageType, decodeArrays, Snapshot, RequestChannel, shareCodec } from "./channel.js";
 import { CanvasPart } from "./canvas.js";
+import { GesturesPart } from "./gestures.js";
 import { PanelsPart } from "./panels.js";
 import { SynthesisPart } from "./synthesis.js";
+import { MotorPart } from "./motor.js";
+import { ChooserPart } from "./chooser.js";
 
 // ---------------------------------------------------------------------------------------------------------
 // The designer
@@ -218,6 +222,8 @@ class Designer {
     else if (type === "synth_started") this.onSynth({ running: true, status: "running", evaluations: 0, best: null, toml: null });
     else if (type === "synth_progress") this.onSynth({ evaluations: message.evaluations, best: message.best, elapsed: message.elapsed });
     else if (type === "synth_done") this.onSynth({ running: false, status: message.status, best: message.best ?? this.synth.best, toml: message.toml || null, evaluations: message.evaluations ?? this.synth.evaluations });
+    else if (type === "motor_started" || type === "motor_done") this.onMotorMessage(message, buffers, request);
+    else if (type === "assemblies") this.onAssemblies(message, request);
     else if (type === "error") this.reportError(message.message || "server error");
     else if (type === "connection") setText(this.ui.status, `connection ${message.state}`);
   }
@@ -231,8 +237,8 @@ class Designer {
     if (message.committed === false && !this.dragging && request && request.message.op === "preview") return;
     if (message.committed !== false) this.dragging = null;
     const op0 = request ? request.message.op : null;
-    // a flip, an undo or redo, a loaded or inserted design: the whole drawing comes back into view if it left it
-    const flip = op0 === "commit" && (request.message.edits || []).some((edit) => edit.kind === "flip");
+    // a flip or a chosen assembly, an undo or redo, a loaded or inserted design: the whole drawing comes back into view if it left it
+    const flip = op0 === "commit" && (request.message.edits || []).some((edit) => edit.kind === "flip" || edit.kind === "assembly");
     this.showSnapshot(snapshot, previous, flip || ["undo", "redo", "load", "synth_insert"].includes(op0));
     if (op0 === "hello" && !this.greeted) this.greet(message.history || {});
     const op = request ? request.message.op : null;
@@ -248,7 +254,9 @@ class Designer {
     this.setRefusal(message.message || "refused");
     const op = request ? request.message.op : null;
     if (op === "synth_start") this.onSynth({ running: false, status: "refused" });
-    if (op && op.startsWith("synth")) return;
+    if (op === "motor_start") this.onMotorMessage(message, null, request);
+    if (op === "assemblies") { this.onAssemblies(message, request); return; }
+    if (op && (op.startsWith("synth") || op.startsWith("motor"))) return;
     // a refused preview goes back to the last good pose, anything else to the committed document
     if (op !== "preview") this.dragging = null;
     if (op !== "preview" || !this.dragging) {
@@ -342,6 +350,8 @@ class Designer {
     this.drawTorque();
     this.drawPointSelects();
     this.drawSynth();
+    this.drawMotor();
+    this.refreshChooser();
     this.drawDiagnostics();
     if (spatial) this.draw3d(true);
     else this.drawScene();
@@ -357,6 +367,7 @@ class Designer {
     else this.drawPose();
     this.drawReadouts();
     this.drawPlotCursors();
+    this.refreshChooser();
   }
 
   setSample(k) {
@@ -485,7 +496,7 @@ class Designer {
 }
 
 // the methods of the other parts, by concern
-for (const part of [CanvasPart, PanelsPart, SynthesisPart]) {
+for (const part of [CanvasPart, GesturesPart, PanelsPart, SynthesisPart, MotorPart, ChooserPart]) {
   for (const name of Object.getOwnPropertyNames(part.prototype)) {
     if (name !== "constructor") Object.defineProperty(Designer.prototype, name, Object.getOwnPropertyDescriptor(part.prototype, name));
   }

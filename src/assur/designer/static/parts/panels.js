@@ -13,6 +13,7 @@ export class PanelsPart {
     ui.groups = html("div", { class: "asd-groups", testid: "groups" });
     const mechanism = this.section("Mechanism", "mechanism-panel",
       ui.formula, html("div", {}, "assembled samples: ", ui.assembled), ui.groups);
+    const chooser = this.buildChooserPanel(ui);
 
     ui.selectionName = html("div", { class: "asd-selection-name", testid: "selection", text: "nothing selected" });
     ui.lockPoint = html("input", { type: "checkbox", testid: "lock-point" });
@@ -66,11 +67,12 @@ export class PanelsPart {
     const pointPlot = this.section("Point", "point-plot", html("label", {}, "point ", ui.plotPoint), ui.plotVel, ui.plotAcc);
 
     const synth = this.buildSynthPanel(ui);
+    const motor = this.buildMotorPanel(ui);
     ui.diagnostics = html("ul", { class: "asd-diagnostics", testid: "diagnostics" });
     const diagnostics = this.section("Diagnostics", "diagnostics-panel", ui.diagnostics);
 
-    return html("aside", { class: "asd-side" }, ui.refusal, ui.resumed, ui.status, mechanism, selection, display, drivers,
-      ui.paramsPanel, ui.gaitPanel, ui.torquePanel, pointPlot, synth, diagnostics);
+    return html("aside", { class: "asd-side" }, ui.refusal, ui.resumed, ui.status, mechanism, chooser, selection, display, drivers,
+      ui.paramsPanel, ui.gaitPanel, ui.torquePanel, motor, pointPlot, synth, diagnostics);
   }
 
   section(title, testid, ...children) {
