@@ -100,11 +100,20 @@ def _simulate_linkage(lk, steps=STEPS):
     return th0 + w * dt * np.arange(1, steps + 1), {c.name: pos[:, k] for k, c in enumerate(lk.components)}
 
 
+def _probe(peer) -> str:
+    """The joint shown at one step: the moving joint that reaches farthest from the fixed ones (ties by name); the
+    peer's joint order is not the same from run to run."""
+    moving = {j: p for j, p in peer.items() if np.nansum(np.ptp(p, axis=0)) > 0}
+    fixed = [p[0] for j, p in peer.items() if j not in moving] or [np.zeros(2)]
+    centre = np.mean(fixed, axis=0)
+    return max(sorted(moving), key=lambda j: float(np.nanmax(np.hypot(*(moving[j] - centre).T))))
+
+
 def _compare(name, source, m, th, peer, rename, note="", probe=None) -> list[Row]:
     _, ours = _assur_at(m, th)
     size = m.length_scale / LENGTH[m.units.length]
     worst = max(float(np.nanmax(np.abs(ours[rename[k]] - v))) for k, v in peer.items())
-    probe = probe or list(peer)[-1]
+    probe = probe or _probe(peer)
     k = len(th) // 4
     a, b = peer[probe][k], ours[rename[probe]][k]
     return [Row(name, source, f"{rename[probe]} at step {k + 1} of {len(th)}", _xy(a), _xy(b),

@@ -180,7 +180,7 @@ class MotorJob:
     """One run of the page's document on its motor (module docstring): started at once in a worker process;
     :meth:`poll` returns its ``motor_done`` (message, arrays) when it comes, :meth:`cancel` stops it."""
 
-    def __init__(self, doc: dict, steps: int, time: float | None = None):
+    def __init__(self, doc: dict, steps: int, duration: float | None = None):
         import multiprocessing as mp
         self.id = secrets.token_hex(6)
         self.doc = copy.deepcopy(doc)
@@ -190,7 +190,7 @@ class MotorJob:
         ctx = mp.get_context("spawn")
         self._queue = ctx.Queue()
         self._process = ctx.Process(target=_worker, name=f"assur-motor-{self.id}", daemon=True,
-                                    args=(self.id, self.doc, int(steps), time, self._queue))
+                                    args=(self.id, self.doc, int(steps), duration, self._queue))
         self._process.start()
 
     @property
