@@ -25,7 +25,7 @@ def run_browser(tmp_path, *args, webgl: bool = False, timeout: int = 120):
     """Run Chromium once with its own profile in ``tmp_path``; returns the CompletedProcess."""
     flags = FLAGS + (WEBGL_FLAGS if webgl else [])
     return subprocess.run([BROWSER, *flags, f"--user-data-dir={tmp_path / 'profile'}", *args],
-                          capture_output=True, text=True, timeout=timeout, cwd=tmp_path)
+                          capture_output=True, encoding="utf-8", timeout=timeout, cwd=tmp_path)
 
 
 def screenshot_is_a_real_page(tmp_path, url, size="1280,3000"):

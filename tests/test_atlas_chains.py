@@ -141,7 +141,7 @@ needs_geng = pytest.mark.skipif(GENG is None, reason="nauty's geng is not instal
 
 
 def geng_graphs(n: int, j: int) -> list:
-    out = subprocess.run([GENG, "-cq", "-d2", str(n), f"{j}:{j}"], capture_output=True, text=True, check=True)
+    out = subprocess.run([GENG, "-cq", "-d2", str(n), f"{j}:{j}"], capture_output=True, encoding="utf-8", check=True)
     return [nx.from_graph6_bytes(line.encode()) for line in out.stdout.split()]
 
 

@@ -187,7 +187,7 @@ def test_trusses_equal_exhaustive_enumeration(n, count):
     """nauty's geng lists every connected simple graph with n vertices, 3(n − 1)/2 edges and minimum degree 2
     once (27 678 for 11 links); the definition is checked here on all proper subsets with numpy."""
     out = subprocess.run([GENG, "-cq", "-d2", str(n), f"{3 * (n - 1) // 2}:{3 * (n - 1) // 2}"],
-                         capture_output=True, text=True, check=True).stdout.split()
+                         capture_output=True, encoding="utf-8", check=True).stdout.split()
     graphs = [nx.from_graph6_bytes(line.encode()) for line in out]
     subsets = np.arange(1 << n)
     bits = ((subsets[:, None] >> np.arange(n)) & 1).astype(np.uint8)

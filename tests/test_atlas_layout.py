@@ -163,7 +163,7 @@ def test_cli_output_is_reproducible(tmp_path):
     for k in (1, 2):
         d = tmp_path / f"out{k}"
         r = subprocess.run([sys.executable, "-m", "assur", "atlas", "--links", "6", "--dof", "1", "-o", str(d)],
-                           capture_output=True, text=True, timeout=600)
+                           capture_output=True, encoding="utf-8", timeout=600)
         assert r.returncode == 0, r.stderr
         outs.append({p.name: p.read_bytes() for p in sorted(d.iterdir())})
     assert outs[0] == outs[1]

@@ -44,5 +44,5 @@ def test_a_small_batch_does_not_import_numba():
     code = ("import sys, numpy as np, assur; p = assur.compile(assur.load(sys.argv[1])); "
             "assur.solve(p, inputs=np.linspace(0, 6.28, 720)); print('numba' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code, str(ROOT / "examples" / "crank_rocker.toml")],
-                         capture_output=True, text=True, check=True)
+                         capture_output=True, encoding="utf-8", check=True)
     assert out.stdout.strip() == "False"

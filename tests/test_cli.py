@@ -271,12 +271,12 @@ def test_usage_errors_exit_2(argv, capsys):
 @pytest.mark.slow
 def test_python_m_assur(fourbar, tmp_path):
     env = {**os.environ, "PYTHONIOENCODING": "utf-8"}
-    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(fourbar)], capture_output=True, text=True,
+    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(fourbar)], capture_output=True, encoding="utf-8",
                        env=env, timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == f"{fourbar}: ok (W = 1, {FORMULA})"
     bad = write(tmp_path, "bad.toml", BAD.format(sense="ccw"))
-    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(bad)], capture_output=True, text=True,
+    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(bad)], capture_output=True, encoding="utf-8",
                        env=env, timeout=120)
     assert r.returncode == 1
     assert r.stderr.startswith("error: ") and "Traceback" not in r.stderr
@@ -285,7 +285,7 @@ def test_python_m_assur(fourbar, tmp_path):
 def test_import_stays_light():
     code = ("import sys, assur, assur.cli.main, assur.plot, assur.report; "
             "print('matplotlib' in sys.modules)")
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, encoding="utf-8", timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "False"
 

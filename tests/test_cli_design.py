@@ -21,7 +21,7 @@ pytest.importorskip("starlette")
 
 def _start(*args):
     p = subprocess.Popen([sys.executable, "-m", "assur", "design", *args], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, preexec_fn=as_from_a_shell)
+                         stderr=subprocess.PIPE, encoding="utf-8", preexec_fn=as_from_a_shell)
     line = p.stdout.readline()
     return p, line
 

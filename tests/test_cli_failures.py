@@ -46,7 +46,7 @@ SIGINT_AT_FIRST_HEAVY_IMPORT = textwrap.dedent("""
 def _run_with_early_sigint(cmd, tmp_path):
     (tmp_path / "sitecustomize.py").write_text(SIGINT_AT_FIRST_HEAVY_IMPORT, encoding="utf-8")
     env = {**os.environ, "PYTHONPATH": str(tmp_path)}
-    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120, cwd=ROOT,
+    return subprocess.run(cmd, capture_output=True, encoding="utf-8", env=env, timeout=120, cwd=ROOT,
                           preexec_fn=as_from_a_shell)
 
 
@@ -71,7 +71,7 @@ def test_the_start_up_guard_does_not_change_a_normal_run(tmp_path):
     # the same environment without the signal: the command runs (the hook itself is harmless)
     (tmp_path / "sitecustomize.py").write_text("", encoding="utf-8")
     env = {**os.environ, "PYTHONPATH": str(tmp_path)}
-    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(FOURBAR)], capture_output=True, text=True,
+    r = subprocess.run([sys.executable, "-m", "assur", "validate", str(FOURBAR)], capture_output=True, encoding="utf-8",
                        env=env, timeout=120, cwd=ROOT)
     assert r.returncode == 0, r.stderr
 
@@ -80,7 +80,7 @@ def test_import_assur_is_light():
     """Ctrl-C can only be caught once the entry function runs: ``import assur`` and the CLI module must not import
     numpy (the public names load on first use)."""
     code = "import sys, assur, assur.cli.main; print('numpy' in sys.modules)"
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, encoding="utf-8", timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "False"
     assert assur.compile is assur.engine.compile and assur.SpecError is SpecError

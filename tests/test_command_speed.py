@@ -103,10 +103,10 @@ def test_compile_is_announced_once(tmp_path):
     cmd = [sys.executable, "-m", "assur", "synth", str(problem), "--backend", "numba", "--budget", "400", "--seed", "1",
            "--polish", "none", "--quiet"]
     line = f"compiling a kernel for this mechanism (once, cached in {tmp_path / 'kernels'})"
-    first = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+    first = subprocess.run(cmd, env=env, capture_output=True, encoding="utf-8", check=True)
     assert first.stderr.count(line) >= 1, first.stderr
     assert first.stderr.count("compiled it in ") == first.stderr.count(line)
-    second = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+    second = subprocess.run(cmd, env=env, capture_output=True, encoding="utf-8", check=True)
     assert "compil" not in second.stderr
     strip = [ln for ln in first.stdout.splitlines() if "wall time" not in ln]
     assert strip == [ln for ln in second.stdout.splitlines() if "wall time" not in ln]   # the same numbers

@@ -23,7 +23,7 @@ RPM = 60 / (2 * math.pi)
 
 def cli_simulate(path) -> dict:
     out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--json"], capture_output=True,
-                         text=True, check=True, cwd=ROOT)
+                         encoding="utf-8", check=True, cwd=ROOT)
     return json.loads(out.stdout)
 
 
@@ -89,7 +89,7 @@ def test_a_crank_that_cannot_turn_runs_for_a_time_stops_where_it_must_and_a_run_
     d.testid("motor-run").click()
     run = wait_run(d)
     out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--time", "5", "--json"],
-                         capture_output=True, text=True, check=True, cwd=ROOT)
+                         capture_output=True, encoding="utf-8", check=True, cwd=ROOT)
     reference = json.loads(out.stdout)
     assert run["stop"]["kind"] == reference["stop"] == "limit" and run["stop"]["message"] == reference["message"]
     assert run["summary"]["time"] == pytest.approx(reference["time"], rel=1e-12)

@@ -42,7 +42,7 @@ def wait_done(s: Session, timeout: float = 120.0):
 def cli_simulate(path) -> dict:
     """`assur simulate FILE --json`, run by the command line in its own process."""
     out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--json"], capture_output=True,
-                         text=True, check=True, cwd=ROOT)
+                         encoding="utf-8", check=True, cwd=ROOT)
     return json.loads(out.stdout)
 
 
@@ -205,7 +205,7 @@ def test_a_crank_that_cannot_turn_runs_for_a_time_and_stops_where_it_can_go_no_f
         run_document(doc, 360)
     summary, stop, arrays, message = run_document(doc, 360, 5.0)
     out = subprocess.run([sys.executable, "-m", "assur", "simulate", str(path), "--time", "5", "--json"],
-                         capture_output=True, text=True, check=True, cwd=ROOT)
+                         capture_output=True, encoding="utf-8", check=True, cwd=ROOT)
     reference = json.loads(out.stdout)
     reference.pop("file")
     same_numbers(summary, reference)

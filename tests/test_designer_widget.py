@@ -84,7 +84,7 @@ def engine_state(doc, q):
 def test_import_assur_does_not_import_anywidget():
     import subprocess
     code = "import sys, assur, assur.designer; assert 'Designer' not in assur.__all__; print('anywidget' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, encoding="utf-8", check=True).stdout
     assert out.strip() == "False"
     assert assur.designer.Designer is Designer
 

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def _assur(tmp_path, *args):
     env = {**os.environ, "ASSUR_CACHE_DIR": str(tmp_path / "cache")}
-    r = subprocess.run([sys.executable, "-m", "assur", *map(str, args)], env=env, capture_output=True, text=True,
+    r = subprocess.run([sys.executable, "-m", "assur", *map(str, args)], env=env, capture_output=True, encoding="utf-8",
                        timeout=900, cwd=ROOT)
     assert r.returncode == 0, r.stderr[-3000:]
     return r

@@ -230,7 +230,7 @@ def test_wheelstep_reuses_the_gear_results_of_another_process(cache_dir, tmp_pat
             f"assert main(['wheelstep', 'examples/wheelstep_001.toml', '-o', {str(tmp_path / 'w')!r}, "
             "'--frames', '0']) == 0\nprint(cache.STATS['hits'], cache.STATS['misses'], file=sys.stderr)\n")
     run = subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, check=True, timeout=600,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, encoding="utf-8")
     assert run.stderr.split()[-2:] == [str(n), "0"]
     assert len(entries(cache_dir)) == n
     for f in ("envelope_driving_outline.csv", "envelope_driven_outline.csv", "envelope_mesh.json",

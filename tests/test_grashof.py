@@ -79,7 +79,7 @@ def test_a_non_grashof_file_says_so_and_marks_the_peak_acceleration_at_a_toggle(
     assert not study.buildable.full_rotation
     assert any(m.alpha_at_toggle for m in study.links.values())
     run = lambda *a: subprocess.run([sys.executable, "-m", "assur", *a, str(path)], capture_output=True,  # noqa: E731
-                                    text=True, cwd=ROOT)
+                                    encoding="utf-8", cwd=ROOT)
     info, analyze = run("info"), run("analyze")
     assert info.returncode == analyze.returncode == 0, info.stderr + analyze.stderr
     for out in (info.stdout, analyze.stdout):

@@ -113,7 +113,7 @@ def _check_design_server(args, shown) -> None:
     import urllib.request
     if "--no-browser" not in args:       # the test machine has no screen to open a browser on
         args = [*args, "--no-browser"]
-    p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, encoding="utf-8")
     try:
         line = p.stdout.readline()
         url = re.search(r"http://127\.0\.0\.1:\d+/\?token=\S+", line)
@@ -131,11 +131,11 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
     env_dir = tmp_path / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
     py = env_dir / "bin" / "python"
-    install = subprocess.run([str(py), "-m", "pip", "install", "--quiet", str(ROOT)], capture_output=True, text=True)
+    install = subprocess.run([str(py), "-m", "pip", "install", "--quiet", str(ROOT)], capture_output=True, encoding="utf-8")
     assert install.returncode == 0, install.stderr[-4000:]
     # nothing but the core dependencies: no extra was asked for
     extras = subprocess.run([str(py), "-c", "import importlib.util as u; print([m for m in ('numba', 'cma', 'dask') "
-                             "if u.find_spec(m)])"], capture_output=True, text=True)
+                             "if u.find_spec(m)])"], capture_output=True, encoding="utf-8")
     assert extras.stdout.strip() == "[]"
     out = tmp_path / "out"
     out.mkdir()
@@ -147,7 +147,7 @@ def test_plain_install_runs_the_cli_tour(tmp_path):
         if command[1] == "design":      # a server: it must print its URL and serve the page, then stop on Ctrl-C
             _check_design_server(args, shown)
             continue
-        run = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=900)
+        run = subprocess.run(args, cwd=ROOT, capture_output=True, encoding="utf-8", timeout=900)
         assert run.returncode == 0, f"{shown}\n{run.stdout[-2000:]}\n{run.stderr[-4000:]}"
         if target is not None:
             assert target.exists(), f"{shown}: no {target}"

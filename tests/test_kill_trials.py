@@ -32,7 +32,7 @@ def _temporaries(out: Path) -> list[Path]:
 
 
 def _run(cmd, cwd):
-    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=1800)
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, encoding="utf-8", timeout=1800)
     assert r.returncode == 0, r.stderr[-3000:]
 
 

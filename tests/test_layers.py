@@ -34,7 +34,7 @@ def test_no_module_over_600_lines():
 def test_core_import_is_light():
     """`import assur` must not import matplotlib or scipy.optimize (heavy deps load lazily)."""
     code = "import sys, assur; print(','.join(m for m in ('matplotlib', 'scipy.optimize') if m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, encoding="utf-8", check=True).stdout.strip()
     assert out == ""
 
 

@@ -23,7 +23,7 @@ CRANK_ROCKER = ROOT / "examples" / "crank_rocker.toml"
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "assur", *map(str, args)], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "assur", *map(str, args)], capture_output=True, encoding="utf-8",
                           cwd=ROOT)
 
 

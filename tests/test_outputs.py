@@ -51,7 +51,7 @@ def test_the_cli_csv_to_dev_null_keeps_dev_null_a_device(tmp_path):
     example = Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml"
     before = os.stat("/dev/null")
     r = subprocess.run([sys.executable, "-m", "assur", "solve", str(example), "--steps", "8", "--csv", "/dev/null"],
-                       capture_output=True, text=True)
+                       capture_output=True, encoding="utf-8")
     assert r.returncode == 0, r.stderr
     after = os.stat("/dev/null")
     assert stat.S_ISCHR(after.st_mode) and (after.st_ino, after.st_rdev) == (before.st_ino, before.st_rdev)
@@ -116,7 +116,7 @@ def test_an_empty_existing_directory_is_used(tmp_path):
 
 def test_temporaries_of_a_killed_run_are_removed_on_the_next_run(tmp_path):
     """A process that no longer runs: a child that has exited (its pid is free again)."""
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, encoding="utf-8")
     pid = int(dead.stdout)
     stale = tmp_path / f".out.{pid}.abc123.tmp"
     stale.mkdir()
@@ -144,7 +144,7 @@ def test_the_cli_refuses_an_empty_output_path(args, tmp_path):
     """``-o ""`` once meant the current directory."""
     example = str(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml")
     r = subprocess.run([sys.executable, "-m", "assur", *[a.format(f=example) for a in args]], capture_output=True,
-                       text=True, cwd=tmp_path)
+                       encoding="utf-8", cwd=tmp_path)
     assert r.returncode == 2 and "the path is empty" in r.stderr and "Traceback" not in r.stderr
     assert list(tmp_path.iterdir()) == []
 
@@ -160,7 +160,7 @@ def test_csv_to_standard_output_in_a_pipe_is_the_csv_alone(csv, command):
     """``--csv /dev/stdout`` into a pipe once failed (the link resolves to ``pipe:[…]``, which cannot be opened);
     with the CSV on standard output, the report lines go to standard error so the pipe carries the table alone."""
     r = subprocess.run([sys.executable, "-m", "assur", *command, "--csv", csv], stdout=subprocess.PIPE,
-                       stderr=subprocess.PIPE, text=True, timeout=300)
+                       stderr=subprocess.PIPE, encoding="utf-8", timeout=300)
     assert r.returncode == 0, r.stderr
     rows = r.stdout.splitlines()
     assert len(rows) == 1 + 50 and all(len(row.split(",")) == len(rows[0].split(",")) for row in rows)

@@ -275,13 +275,13 @@ def test_missing_cad_packages_exit_1_with_the_install_command_before_any_work(tm
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(fake), str(ROOT / "src")]))
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "assur", "make", str(EXAMPLES / "slider_crank.toml"), "-o", str(out)]
-    res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+    res = subprocess.run(cmd, capture_output=True, encoding="utf-8", env=env, timeout=300)
     assert res.returncode == 1
     assert res.stderr.strip().splitlines() == [res.stderr.strip()]        # one line
     assert "pip install 'assur[make]'" in res.stderr and res.stderr.startswith("error: ")
     assert not out.exists()
     # the stack alone needs none of them
-    res = subprocess.run(cmd + ["--layers-only"], capture_output=True, text=True, env=env, timeout=300)
+    res = subprocess.run(cmd + ["--layers-only"], capture_output=True, encoding="utf-8", env=env, timeout=300)
     assert res.returncode == 0, res.stderr
     assert (out / "parts.json").is_file() and (out / "parts.html").is_file()
 

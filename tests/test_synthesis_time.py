@@ -64,7 +64,7 @@ def test_cli_time_limit_holds_for_starts_on_workers():
     cmd = [sys.executable, "-m", "assur", "synth", str(C3), "--starts", "4", "--workers", "2", "--time", str(limit),
            "--seed", "1", "--json"]
     t0 = time.perf_counter()
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=ROOT)
+    r = subprocess.run(cmd, capture_output=True, encoding="utf-8", timeout=600, cwd=ROOT)
     outside = time.perf_counter() - t0
     assert r.returncode == 0, r.stderr[-3000:]
     d = json.loads(r.stdout)

@@ -85,9 +85,20 @@ def _run(argv) -> int:
         return 1
 
 
+def _utf8_streams() -> None:
+    """Standard output and error in UTF-8 where the locale says ASCII (``LC_ALL=C`` in a container or a CI job): the
+    commands print degrees, ⌀ and →, which ASCII cannot encode (the terminals that run such jobs show UTF-8)."""
+    import codecs
+    for stream in (sys.stdout, sys.stderr):
+        encoding = getattr(stream, "encoding", None)
+        if encoding and codecs.lookup(encoding).name == "ascii" and hasattr(stream, "reconfigure"):
+            stream.reconfigure(encoding="utf-8")
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 ok, 1 bad input, 2 usage error, 3 no feasible
     synthesis, 130 interrupted). Ctrl-C is answered with one line from the first import on."""
+    _utf8_streams()
     try:
         return _run(argv)
     except KeyboardInterrupt:

@@ -8,7 +8,8 @@ holds at qpos = 0). The plane of the mechanism is MuJoCo's x–z plane: a point 
 the gait's stride direction and u its up (the file's x and y without a gait), every hinge turns about −y (so a
 hinge angle is counter-clockwise positive, as in the file) and gravity is the file's. What MuJoCo cannot hold is
 refused with an error naming the element: a spatial mechanism, a prismatic pair that would close a loop (MuJoCo has
-no equality that keeps a slide), a non-circular gear pair (its law is not a polynomial of the joint angles).
+no equality that keeps a slide), a non-circular gear pair or a cam pair (their laws are not polynomials of the
+joint angles).
 
 MuJoCo is needed only to load the model (:func:`mjcf_model`); writing the text needs nothing beyond the standard
 library.
@@ -49,7 +50,8 @@ class _Body:
 
 def _tree(plan):
     """(parent pair of each body, loop pairs): a spanning tree of the bodies with the drivers' pairs and the
-    prismatic pairs in it first; SpecError for a prismatic pair or a non-circular gear pair it cannot hold."""
+    prismatic pairs in it first; SpecError for a prismatic pair, a non-circular gear pair or a cam pair it cannot
+    hold."""
     g = plan.structure.graph
     m = plan.mechanism
     parent = list(range(len(g.bodies)))
@@ -84,6 +86,10 @@ def _tree(plan):
         if gp.law.kind != "ratio":
             raise SpecError([(f"gears.{gp.name}", "a non-circular gear pair's law is not a polynomial of the joint "
                                                   "angles, which is all a MuJoCo joint equality holds: not exported")])
+    for cp in m.cams:
+        raise SpecError([(f"cams.{cp.name}", "a cam pair's follower law is a table of the cam's profile, not a "
+                                             "polynomial of the joint angles, which is all a MuJoCo joint equality "
+                                             "holds: not exported")])
     return tree, loops
 
 

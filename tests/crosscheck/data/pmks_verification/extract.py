@@ -19,7 +19,7 @@ CASES = ("teaching_four_bar", "teaching_slider_crank", "slider_crank_tracer", "s
 
 
 def show(repo, path):
-    return subprocess.run(["git", "-C", repo, "show", f"{COMMIT}:{path}"], capture_output=True, text=True,
+    return subprocess.run(["git", "-C", repo, "show", f"{COMMIT}:{path}"], capture_output=True, encoding="utf-8",
                           check=True).stdout
 
 
