@@ -139,6 +139,8 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
     a plan or batch layout it does not cover)."""
     if not (required or numba_backend.available()):
         return None
+    if numba_backend.newton_covers(plan):
+        return _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol)
     n = plan.n_inputs
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
@@ -156,6 +158,35 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
     def complete():
         """The numpy backend's full state (body orientations), solved on first use."""
         return solve(plan, params, inputs, speeds=qdot, accels=qddot, order=order, backend="numpy", tolerances=tol)
+
+    return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
+                  complete=complete, xyz=xyz, xyz_time=time_mode)
+
+
+def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol):
+    """A plan with Newton-solved groups by its compiled sweep (:func:`numba_backend.solve_newton`): the points'
+    values, velocities and accelerations (at one scalar nonzero speed; else the analogues) as the State's float
+    views; the bodies' orientations from the same buffer on first use."""
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(plan.n_inputs) if accels is None else np.asarray(accels, dtype=float)
+    time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
+    w, a = (float(qdot[0]), float(qddot[0])) if time_mode else (1.0, 0.0)
+    buffer, (pos, first, second), valid = numba_backend.solve_newton(plan, params, inputs, tol, shape,
+                                                                     (w, w * w, a))
+    if not valid.all():
+        buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
+    n = len(plan.point_names)
+    xyz = (pos[..., :n, :], first[..., :n, :] if order >= 1 else None, second[..., :n, :] if order >= 2 else None)
+
+    def complete():
+        """The full state (points and body orientations, complex, with their analogues) from the kernel's buffer:
+        nothing solved again."""
+        z, dz, d2z = (v[..., 0] + 1j * v[..., 1] for v in (pos, first, second))
+        if time_mode:
+            dz = dz / w
+            d2z = (d2z - dz * a) / (w * w)
+        return finish(plan, params, inputs, shape, z, dz[..., None] if order >= 1 else None,
+                      d2z[..., None, None] if order >= 2 else None, valid, speeds, accels, "nan")
 
     return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
                   complete=complete, xyz=xyz, xyz_time=time_mode)

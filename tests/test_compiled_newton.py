@@ -1,0 +1,222 @@
+"""Compiled Newton groups (assur.engine.planar.newton_kernels): the numba kernels of plans with a class-III triad or
+a larger group give the numpy backend's numbers — positions, analogues, body angles and the valid (unbuildable)
+samples — following each design's assembly through the inputs as the numpy backend's sweep does
+(``solve(..., sweep=True)``, the reference here). The traced pieces (residual, Newton step, branch certificate)
+are checked against newton_group's own functions at random poses."""
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import assur
+
+pytest.importorskip("numba")
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+TRIAD = EXAMPLES / "triad_sixbar.toml"
+FIELDS = ("pos", "vel", "acc", "dpos_dq", "d2pos_dq2", "body_angle", "body_omega", "body_alpha")
+
+#: the triad six-bar with its binary link P1-C replaced by a pin in a frame slot through P1 (pointing at C in the
+#: sketch): a class-III group with a prismatic pair, buildable over part of the turn only
+SLOTTED = """
+format = "assur/1"
+[units]
+length = "mm"
+angle = "deg"
+[points]
+O = [0, 0]
+P1 = [300, 0]
+P2 = [50, 250]
+A = [15, 0]
+B = [140, 40]
+C = [200, 90]
+D = [120, 130]
+[links]
+frame = ["O", "P1", "P2"]
+crank = ["O", "A"]
+ab = ["A", "B"]
+tern = ["B", "C", "D"]
+r2 = ["P2", "D"]
+[[prismatic]]
+name = "slot"
+point = "C"
+guide = "frame"
+through = "P1"
+angle = 138.0127875041833
+[[drivers]]
+name = "crank"
+kind = "rotary"
+link = "crank"
+pivot = "O"
+arm = "A"
+"""
+
+
+@pytest.fixture(scope="module")
+def triad():
+    return assur.compile(assur.load(TRIAD))
+
+
+def both(plan, params=None, q=None, order=2):
+    """(numpy sweep, numba) solves of the plan."""
+    q = np.linspace(0.0, 2 * np.pi, 90, endpoint=False) if q is None else q
+    a = assur.solve(plan, params, q, order=order, backend="numpy", sweep=True)
+    b = assur.solve(plan, params, q, order=order, backend="numba")
+    assert b._xyz is not None          # the compiled backend solved it
+    return a, b
+
+
+def same(a, b, fields=FIELDS, rel=1e-11):
+    """Equal valid samples; every field NaN at the same samples and equal to ``rel`` relative (1 below unit size)."""
+    assert np.array_equal(a.valid, b.valid) and a.n_unbuildable == b.n_unbuildable
+    for f in fields:
+        x, y = np.asarray(getattr(a, f)), np.asarray(getattr(b, f))
+        assert np.array_equal(np.isnan(x), np.isnan(y)), f
+        ok = np.isfinite(x)
+        assert np.all(np.abs(x[ok] - y[ok]) <= rel * np.maximum(1.0, np.abs(x[ok]))), f
+
+
+def test_the_traced_group_computes_what_numpy_computes(triad):
+    """At random designs, inputs and poses around the sketch's: the traced residual, Newton step and branch
+    certificate (the lines the kernel runs, executed here as plain Python) equal newton_group's
+    _residual_and_jacobian, numpy.linalg.solve and certificate_det."""
+    from assur.engine.planar import traced
+    from assur.engine.planar.newton_group import _residual_and_jacobian, certificate_det
+    from assur.engine.planar.newton_kernels import seeds
+    from assur.engine.planar.continuation import context_at
+    from assur.kernels import trace as T
+    plan = triad
+    t = traced.trace_plan(plan, 0, row="p[{}]")
+    g = t.groups[0]
+    outs = g.F + g.update + [g.certificate]
+    names = ["p", "c", "s", "tol", "ls"] + [x.name for x in g.x]
+    body = "".join(f"    {ln}\n" for ln in t.tracer.needed(outs))
+    ns = {"math": SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, isfinite=math.isfinite, nan=math.nan),
+          "max": max}
+    exec(f"def f({', '.join(names)}):\n{body}    return [{', '.join(T.source(o) for o in outs)}]\n", ns)
+    st = next(s for s in plan.steps if s.kind == "newton")
+    i = plan.steps.index(st)
+    rng = np.random.default_rng(4)
+    n = len(g.x)
+    for _ in range(20):
+        p = plan.defaults * (1 + 0.03 * rng.standard_normal(plan.n_params))
+        q = rng.uniform(0, 2 * np.pi)
+        x = seeds(plan) + 0.02 * rng.standard_normal(n)
+        got = ns["f"](p, math.cos(q), math.sin(q), 1e-12, plan.length_scale, *x)
+        c = context_at(plan, plan.steps[:i], p, [q])
+        F, J = _residual_and_jacobian(c, st, x, ())
+        np.testing.assert_allclose(got[:n], F, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(got[n:2 * n], x - np.linalg.solve(J, F), rtol=1e-12, atol=1e-14)
+        assert math.isclose(got[-1], float(certificate_det(c, st, J)), rel_tol=1e-11)
+
+
+def test_a_cycle_of_the_triad_six_bar(triad):
+    a, b = both(triad, q=np.linspace(0.0, 2 * np.pi, 72, endpoint=False))
+    assert a.valid.all()
+    same(a, b)
+
+
+def test_a_perturbed_population_of_triad_six_bars(triad):
+    """Designs that turn fully, partly (their sweeps end at toggles: the backward sweep takes over) and not at all:
+    the same valid samples, the same numbers."""
+    rng = np.random.default_rng(1)
+    P = triad.defaults * (1 + 0.05 * rng.standard_normal((16, triad.n_params)))
+    a, b = both(triad, P[:, None, :], np.linspace(0.0, 2 * np.pi, 40, endpoint=False)[:, None])
+    full, some = a.valid.all(axis=1), a.valid.any(axis=1)
+    assert full.sum() >= 3 and (some & ~full).sum() >= 2 and (~some).sum() >= 1
+    same(a, b, ("pos", "dpos_dq", "d2pos_dq2", "body_angle"))
+
+
+def test_a_group_with_a_slot():
+    """A class-III group with a prismatic pair (its residual's alignment and slide rows), buildable over part of the
+    turn."""
+    plan = assur.compile(assur.loads(SLOTTED))
+    assert [st.kind for st in plan.steps] == ["frame", "crank", "newton"] and plan.lines
+    a, b = both(plan)
+    assert 0 < a.n_unbuildable < 90
+    same(a, b)
+
+
+def test_batch_layouts(triad):
+    """Inputs per design (each design its own sweep), a design per sample (each sample a sweep of its own) and a
+    single sample: the numpy backend's numbers."""
+    rng = np.random.default_rng(2)
+    P = triad.defaults * (1 + 0.02 * rng.standard_normal((5, triad.n_params)))
+    q = np.sort(rng.uniform(0, 2 * np.pi, (5, 7)), axis=1)
+    same(*both(triad, P[:, None, :], q[..., None]), ("pos", "dpos_dq", "d2pos_dq2"))
+    same(*both(triad, P, q[:, 0]), ("pos", "dpos_dq", "d2pos_dq2"))
+    a = assur.solve(triad, inputs=0.7, backend="numpy")
+    b = assur.solve(triad, inputs=0.7, backend="numba")
+    assert b.pos.shape == a.pos.shape == (triad.n_points, 2)
+    same(a, b)
+
+
+def test_the_kernel_source_depends_on_the_structure_only(triad):
+    """Another design and another sketch of the same structure (the triad six-bar scaled and redrawn) give the same
+    kernel source: the file's numbers, the seeds and the tolerances are the kernel's arguments, so a plan dragged in
+    the designer reuses its compiled kernel (and its source, kept by structure)."""
+    from assur.engine.planar.newton_kernels import _solve_source, structure_key
+    text = TRIAD.read_text().replace("B = [140, 40]", "B = [141, 41]").replace('length = "mm"', 'length = "cm"')
+    other = assur.compile(assur.loads(text))
+    assert not np.allclose(other.defaults, triad.defaults)
+    assert _solve_source(other, 2) == _solve_source(triad, 2)          # traced afresh, each
+    # so a structure is traced once: its key is the same, another structure's is not
+    assert structure_key(other) == structure_key(triad)
+    assert structure_key(assur.compile(assur.loads(SLOTTED))) != structure_key(triad)
+
+
+def test_auto_compiles_a_cycle_and_reuses_a_compiled_kernel(triad, monkeypatch):
+    from assur.engine import api
+    from assur.engine.options import AUTO_NEWTON_MIN_SAMPLES
+    from assur.engine.planar import numba_backend
+    cycle = assur.solve(triad, inputs=np.linspace(0, 2 * np.pi, AUTO_NEWTON_MIN_SAMPLES, endpoint=False))
+    assert cycle._xyz is not None and numba_backend.newton_cached(triad)
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan: False)
+    assert assur.solve(triad, inputs=[0.1, 0.2])._xyz is None               # few samples, no kernel: numpy
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan: True)
+    assert assur.solve(triad, inputs=[0.1, 0.2])._xyz is not None           # a compiled kernel: always
+    assert api._auto_compiled(triad, 10) and not api._auto_compiled(assur.compile(assur.load(EXAMPLES / "jansen.toml")),
+                                                                       10)
+
+
+#: a Stephenson II walking leg whose driven chain is a class-III group: the first 6-link candidate with a Newton-solved
+#: group of the atlas (assur.synthesis.legs.leg_candidates(6), key K6-0f8373df6ffa/f0/c1/foot2), as it writes it
+LEG = {
+    "format": "assur/1", "units": {"length": "mm", "angle": "deg"},
+    "points": {"J0": [122.34, 50.0], "J1": [547.27, 50.0], "J2": [50.0, 201.67], "J3": [667.78, 624.32],
+               "J4": [317.73, 886.68], "J5": [779.29, 461.14], "J6": [515.19, 705.59], "F": [492.75, 655.5]},
+    "links": {"frame": ["J1", "J0"], "L1": ["J0", "J2"], "L2": ["J3", "J4", "F"], "L3": ["J5", "J6"],
+              "L4": ["J1", "J5", "J3"], "L5": ["J2", "J6", "J4"]},
+    "drivers": [{"name": "crank", "kind": "rotary", "link": "L1", "pivot": "J0", "arm": "J2", "speed": "60 rpm"}],
+    "gait": {"foot": "F", "ground": [1, 0], "up": [0, 1]},
+}
+
+
+def test_the_synthesis_cycle_route_runs_compiled():
+    """The synthesis evaluator's whole-cycle quantities of a triad leg (buildability, the sampled gait) come from the
+    compiled cycle reduction, equal to the numpy route's (the cycle swept by solve(..., sweep=True)) on a perturbed
+    population, infeasible designs included."""
+    from assur.io.mechanism_file import from_dict
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.problem import problem_from_dict
+    plan = assur.compile(from_dict(LEG, "leg"))
+    names = ["L2.length", "L3.length", "L4.length", "L5.length", "L2.F.distance"]
+    values = [plan.defaults[plan.param_index(n)] * 1000 for n in names]
+    data = {"format": "assur-synth/1", "variables": {n: [0.7 * v, 1.3 * v] for n, v in zip(names, values)},
+            "objective": {"deviation": "none", "terms": [{"quantity": "gait.sag", "weight": 10.0},
+                                                         {"quantity": "gait.vx_spread", "weight": 1.0}]},
+            "constraints": {"use": ["buildable"], "limits": [{"quantity": "gait.step", "min": 0.05}]},
+            "options": {"cycle_samples": 60}}
+    prob = problem_from_dict(data, mechanism=plan)
+    numpy_route, compiled = Evaluator(prob, backend="numpy"), Evaluator(prob, backend="numba")
+    assert compiled._cycle_fast and not numpy_route._cycle_fast
+    rng = np.random.default_rng(6)
+    X = np.array(values) / 1000 * (1 + 0.06 * rng.standard_normal((40, len(names))))
+    a, b = numpy_route(X), compiled(X)
+    assert 0 < a.feasible.sum() < len(X) and np.array_equal(a.feasible, b.feasible)
+    np.testing.assert_allclose(b.violation, a.violation, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(b.penalised, a.penalised, rtol=1e-9, atol=1e-12)
+    for k, v in a.quantities.items():
+        np.testing.assert_allclose(b.quantities[k], v, rtol=1e-9, atol=1e-12, err_msg=k)
