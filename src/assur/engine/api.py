@@ -10,8 +10,8 @@ import numpy as np
 from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options,
-                      prepare_batch)
+from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES,
+                      AUTO_NEWTON_COMPILE_MIN_SAMPLES, check_options, prepare_batch)
 from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -81,9 +81,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order))):
+    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order, sweep))):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
-                                required=backend == "numba")
+                                required=backend == "numba", sweep=sweep)
         if state is not None:
             return state
     return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
@@ -122,25 +122,25 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
     return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
 
 
-def _compiled_pays(plan, size: int, order: int) -> bool:
+def _compiled_pays(plan, size: int, order: int, sweep: bool = False) -> bool:
     """backend="auto": the compiled kernel for a batch of ``size`` samples when it costs nothing to start and the
     batch is large enough to gain from it (compiled already, in this process or the disk cache: from
     ``AUTO_COMPILED_MIN_SAMPLES`` samples, or from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported, so a small
     batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py)."""
-    if size >= AUTO_COMPILE_MIN_SAMPLES:
-        return True
+    if size >= (AUTO_NEWTON_COMPILE_MIN_SAMPLES if numba_backend.newton_covers(plan) else AUTO_COMPILE_MIN_SAMPLES):
+        return numba_backend.available()
     if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and "numba" not in sys.modules):
         return False
-    return numba_backend.kernel_ready(plan, False, order)
+    return numba_backend.kernel_ready(plan, False, order, sweep)
 
 
-def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):
+def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required, sweep=False):
     """The compiled backend, or None where it does not apply (numba missing and not required,
     a plan or batch layout it does not cover)."""
     if not (required or numba_backend.available()):
         return None
     if numba_backend.newton_covers(plan):
-        return _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol)
+        return _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, sweep)
     n = plan.n_inputs
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
@@ -163,7 +163,7 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
                   complete=complete, xyz=xyz, xyz_time=time_mode)
 
 
-def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol):
+def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, sweep=False):
     """A plan with Newton-solved groups by its compiled sweep (:func:`numba_backend.solve_newton`): the points'
     values, velocities and accelerations (at one scalar nonzero speed; else the analogues) as the State's float
     views; the bodies' orientations from the same buffer on first use."""
@@ -172,7 +172,7 @@ def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuild
     time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
     w, a = (float(qdot[0]), float(qddot[0])) if time_mode else (1.0, 0.0)
     buffer, (pos, first, second), valid = numba_backend.solve_newton(plan, params, inputs, tol, shape,
-                                                                     (w, w * w, a))
+                                                                     (w, w * w, a), sweep)
     if not valid.all():
         buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
     n = len(plan.point_names)

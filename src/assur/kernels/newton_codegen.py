@@ -202,8 +202,106 @@ def _walk(thetas: list[int], sample: list[str], final: list[str], missed: list[s
     ], I8)
 
 
+def _walk_each(thetas: list[int], sample: list[str], final: list[str], missed: list[str], design: list[str],
+               preds: list[str]) -> list[str]:
+    """The per-design event loop of the default continuation (:func:`assur.engine.planar.continuation.execute`), at 8
+    spaces: after the solve at the sketch, every input ``u`` walked on its own from there — the file's design at the
+    sketch's angle — to the design at the input, parameters and input together along the straight line, the short way
+    round (``ahead[r, u]``: the input's angle from the sketch's in [−π, π)); where that walk fails, the long way (a
+    turn the other way). An input at the sketch's angle of the file's design is solved from the sketch directly (with
+    the full iteration cap). Arguments as :func:`_walk`."""
+    two_pi = repr(2.0 * math.pi)
+    return _block([
+        "for u in range(N):", f"{I4}reached[u] = False",
+        "for i in range(NT):", f"{I4}X[i] = seeds[i]", f"{I4}PRED[i] = seeds[i]",
+        "moved = False",
+        "for j in range(p.shape[0]):", f"{I4}if P[d, j] != P0[j]:", f"{I8}moved = True",
+        "phase = -1", "salive = False", "walking = False", "direct = False", "newp = True", "leg = 0", "m = 0",
+        "u = 0", "t = 0.0", "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0",
+        "dq = 0.0",
+        "while True:",
+        f"{I4}final = False",
+        f"{I4}probe = False",
+        f"{I4}maxit = citers",
+        f"{I4}direct = False",
+        f"{I4}if phase == -1:",
+        f"{I8}probe = True",
+        f"{I8}maxit = iters",
+        f"{I8}newp = True",
+        f"{I8}for j in range(p.shape[0]):", f"{I12}p[j] = P0[j]",
+        f"{I8}c = cs0", f"{I8}s = sn0",
+        f"{I4}else:",
+        f"{I8}if not walking:",
+        f"{I12}if m >= N or not salive:",
+        f"{I16}break",
+        f"{I12}u = m",
+        f"{I12}dq = ahead[r, u] if leg == 0 else ahead[r, u] - math.copysign({two_pi}, ahead[r, u])",
+        f"{I12}for i in range(NT):", f"{I16}X[i] = S[i]", f"{I16}L[i] = S[i]",
+        f"{I12}if dq == 0.0 and not moved:",
+        # at the sketch: no walk, the sample's solve from the sketch's poses
+        f"{I16}direct = True",
+        f"{I12}else:",
+        f"{I16}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
+        f"{I16}if moved:", f"{I16}    hmax = min(hmax, 1.0 / stages)",
+        f"{I16}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
+        f"{I16}walking = True", f"{I16}t = 0.0", f"{I16}tl = math.nan", f"{I16}h = hmax", f"{I16}tries = 0",
+        f"{I8}if direct:",
+        f"{I12}tn = 1.0", f"{I12}ratio = 0.0", f"{I12}maxit = iters",
+        f"{I8}else:",
+        f"{I12}tn = min(t + h, 1.0)",
+        f"{I12}ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
+        f"{I8}for i in range(NT):", f"{I12}PRED[i] = X[i] + ratio * (X[i] - L[i])",
+        f"{I8}final = tn >= 1.0",
+        f"{I8}if moved:",
+        f"{I12}newp = True",
+        f"{I12}for j in range(p.shape[0]):",
+        f"{I16}p[j] = P[d, j] if final else P0[j] + tn * (P[d, j] - P0[j])",
+        f"{I8}if final:",
+        f"{I12}c = cq[r, u]", f"{I12}s = sq[r, u]",
+        f"{I8}else:",
+        f"{I12}qq = qs + tn * dq", f"{I12}c = math.cos(qq)", f"{I12}s = math.sin(qq)",
+        f"{I4}if newp:", *_block(design, I8), f"{I8}newp = False",
+        *_block(preds, I4),
+        f"{I4}good = True",
+        *_block(sample, I4),
+        f"{I4}if phase == -1:",
+        f"{I8}salive = good",
+        f"{I8}for i in range(NT):", f"{I12}S[i] = W[i]",
+        f"{I8}phase = 1",
+        f"{I8}continue",
+        f"{I4}if direct:",
+        f"{I8}reached[u] = True",
+        *_block(final, I8),
+        f"{I8}m += 1",
+        f"{I8}continue",
+        # a walk step: the angles continued (within half a turn of the prediction), the certificate, the step length
+        *[f"{I4}W[{i}] = PRED[{i}] + (W[{i}] - PRED[{i}] + math.pi) % {two_pi} - math.pi" for i in thetas],
+        f"{I4}ok = stepok",
+        f"{I4}for i in range(NT):", f"{I8}ok = ok and math.isfinite(W[i])",
+        f"{I4}if ok:",
+        f"{I8}for i in range(NT):", f"{I12}L[i] = X[i]", f"{I12}X[i] = W[i]",
+        f"{I8}tl = t", f"{I8}t = tn", f"{I8}h = min(h * {GROW!r}, hmax)",
+        f"{I4}else:", f"{I8}h *= {SHRINK!r}",
+        f"{I4}tries += 1",
+        f"{I4}if (not ok and h < hmin) or tries > {MAX_STEPS}:",
+        f"{I8}walking = False",
+        f"{I8}if leg == 0 and dq != 0.0:",
+        f"{I12}leg = 1",
+        f"{I8}else:",
+        f"{I12}leg = 0",
+        f"{I12}m += 1",
+        f"{I4}elif t >= 1.0:",
+        f"{I8}walking = False",
+        f"{I8}reached[u] = True",
+        *_block(final, I8),
+        f"{I8}leg = 0",
+        f"{I8}m += 1",
+        "for u in range(N):", f"{I4}if not reached[u]:", *_block(missed, I8), f"{I8}pass",
+    ], I8)
+
+
 def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator: str, signature: str, head=(),
-                  tail=(), before=(), imports=(), fastmath=("contract",)) -> str:
+                  tail=(), before=(), imports=(), fastmath=("contract",), each: bool = False) -> str:
     """Python source of a numba kernel that solves a plan with Newton-solved groups at designs × inputs, following
     each design's assembly from the sketch's (module docstring), and runs ``epilogue`` at every sample it reaches.
 
@@ -265,7 +363,7 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
         *[f"{I8}sg{g} = math.nan" for g in range(len(groups))],
         *[f"{I8}RT{g}[6] = 0.0" for g, grp in enumerate(groups) if grp.triad is not None],
         *_block(head, I8),
-        *_walk(thetas, sample, final, missed, design, preds),
+        *(_walk_each if each else _walk)(thetas, sample, final, missed, design, preds),
         *_block(tail, I8),
     ]
     return module(generator, NEWTON_ARGS + ", " + signature, body, fastmath=fastmath,

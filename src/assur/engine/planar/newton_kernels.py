@@ -30,8 +30,13 @@ TWO_PI = 2.0 * math.pi
 
 
 def covers(plan) -> bool:
-    """True when the plan has a Newton-solved group and the Newton kernels trace it (one rotary input, no gears)."""
-    return any(st.kind == "newton" for st in plan.steps) and traced.covers(plan, newton=True)
+    """True when the plan has a Newton-solved group and the Newton kernels trace it (one rotary input, no gears) and
+    check it as the numpy backend does: every such group a triad, or a group without an enumeration of its assemblies
+    (:func:`.group_assemblies.group_method`). A group checked against its other assemblies by the certified
+    one-parameter reduction (a class-IV group, say) is left to the numpy backend."""
+    from .group_assemblies import group_method
+    return any(st.kind == "newton" for st in plan.steps) and traced.covers(plan, newton=True) and all(
+        group_method(plan, st) != "reduction" for st in plan.steps if st.kind == "newton")
 
 
 def structure_key(plan) -> tuple:
@@ -60,15 +65,17 @@ def _memo(plan, kind: str, make):
     return src
 
 
-def solve_source(plan, order: int) -> str:
+def solve_source(plan, order: int, each: bool = True) -> str:
     """The source of the plan's Newton solve kernel: per point and then per body six rows (x, y of the value, of
     w1·d/dq and of w2·d²/dq² + w3·d/dq; the first 2·(order + 1) written) at every sample reached, and ``valid``
-    (every group assembled and certified, every written value finite); a sample not reached is not valid. Traced
-    once per structure (:func:`structure_key`)."""
-    return _memo(plan, f"solve_{order}", lambda: _solve_source(plan, order))
+    (every group assembled and certified, every written value finite); a sample not reached is not valid. ``each``:
+    every sample continued from the sketch on its own (the default continuation,
+    :func:`assur.engine.planar.continuation.execute`), else the designs swept through their inputs
+    (:func:`assur.engine.planar.sweep.execute_cycle`). Traced once per structure (:func:`structure_key`)."""
+    return _memo(plan, f"solve_{order}_{'each' if each else 'sweep'}", lambda: _solve_source(plan, order, each))
 
 
-def _solve_source(plan, order: int) -> str:
+def _solve_source(plan, order: int, each: bool = True) -> str:
     t = traced.trace_plan(plan, order, row="p[{}]", select="select")
     w1, w2, w3 = (t.tracer.free(n) for n in ("w1", "w2", "w3"))
     jets = [t.pos[p] for p in plan.point_names] + t.orient
@@ -87,7 +94,7 @@ def _solve_source(plan, order: int) -> str:
     return newton_codegen.newton_source(t.tracer, t.groups, [v for _, v in rows] + [ok], epilogue,
                                         ["valid[d, u] = False"], valid=t.valid,
                                         generator="assur.engine.planar.newton_kernels.solve_source",
-                                        signature="w1, w2, w3, out, valid")
+                                        signature="w1, w2, w3, out, valid", each=each)
 
 
 def seeds(plan) -> np.ndarray:
@@ -115,15 +122,19 @@ def layout(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple):
     return designs, q.reshape(-1, 1), False
 
 
-def arguments(plan, designs: np.ndarray, q: np.ndarray, tol) -> tuple:
+def arguments(plan, designs: np.ndarray, q: np.ndarray, tol, each: bool = False) -> tuple:
     """The kernel's first arguments (:data:`assur.kernels.newton_codegen.NEWTON_ARGS`) for designs (D, n_params)
     walked through the inputs q (Dq, N): the orders in which :func:`assur.engine.planar.sweep.execute_cycle` visits
     them, and the tolerances of the numpy backend's continuation (:mod:`assur.engine.planar.continuation`: its
     corrector's iteration cap, its shortest step and largest correction) and of
-    :func:`assur.engine.planar.newton_group.solve_group`."""
+    :func:`assur.engine.planar.newton_group.solve_group`. With ``each`` (a kernel of :func:`solve_source` with
+    ``each``) ``ahead`` is each input's angle from the sketch's the short way, in [−π, π), as
+    :func:`assur.engine.planar.continuation.execute` computes it."""
     from .continuation import CORRECTOR_ITERATIONS
     q_s = float(plan.sketch_inputs[0])
     ahead = np.mod(q - q_s, TWO_PI)
+    if each:
+        ahead = (q_s + np.remainder(q - q_s + np.pi, TWO_PI) - np.pi) - q_s
     fwd = np.argsort(ahead, axis=-1, kind="stable")
     bwd = np.argsort(-(ahead - TWO_PI), axis=-1, kind="stable")
     scale = plan.length_scale
@@ -135,17 +146,26 @@ def arguments(plan, designs: np.ndarray, q: np.ndarray, tol) -> tuple:
             float(tol.continuation_min_step), float(tol.continuation_correction), float(tol.assembly_separation))
 
 
-def solve(plan, params: np.ndarray, inputs: np.ndarray, tol, order: int, shape: tuple, kernel, rates=(1.0, 1.0, 0.0)):
-    """Run the plan's Newton solve kernel ``kernel`` (:func:`solve_source`, loaded by the caller) on a batch:
-    ``(buffer (6·m, D, N), (pos, first, second), valid)`` as :func:`.numba_backend.solve_compiled` gives them, here
-    for the m = n_points + n_bodies points and bodies (pos, first, second: shape + (m, 2) float views: the value,
+def sweeps(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple) -> bool:
+    """Whether ``solve(..., sweep=True)`` sweeps this batch (:func:`assur.engine.planar.sweep.execute_cycle`): the
+    same two or more inputs along the last axis for every design, the designs constant along it; else it continues
+    every sample on its own as the default does."""
+    designs, q, split = layout(plan, params, inputs, shape)
+    return split and q.shape[0] == 1 and q.shape[-1] >= 2
+
+
+def solve(plan, params: np.ndarray, inputs: np.ndarray, tol, order: int, shape: tuple, kernel, rates=(1.0, 1.0, 0.0),
+          each: bool = True):
+    """Run the plan's Newton solve kernel ``kernel`` (:func:`solve_source` with ``each``, loaded by the caller) on a
+    batch: ``(buffer (6·m, D, N), (pos, first, second), valid)`` as :func:`.numba_backend.solve_compiled` gives them,
+    here for the m = n_points + n_bodies points and bodies (pos, first, second: shape + (m, 2) float views: the value,
     w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
     designs, q, split = layout(plan, params, inputs, shape)
     D, N = designs.shape[0], q.shape[-1]
     m = len(plan.point_names) + len(plan.body_names)
     out = np.empty((6 * m, D, N))
     valid = np.empty((D, N), dtype=np.bool_)
-    kernel(*arguments(plan, designs, q, tol), *(float(w) for w in rates), out, valid)
+    kernel(*arguments(plan, designs, q, tol, each), *(float(w) for w in rates), out, valid)
     rows = out.reshape((m, 6) + shape)
     n = len(shape)
     axes = tuple(range(2, 2 + n)) + (0, 1)

@@ -51,32 +51,42 @@ def newton_covers(plan) -> bool:
     return c
 
 
-def newton_cached(plan) -> bool:
-    """True when the plan's Newton solve kernel is compiled in this process or in numba's disk cache (a solve then
-    costs no compile)."""
-    k = _KERNELS.get(plan, {}).get("newton_2")
+def _newton_key(each: bool) -> str:
+    return f"newton_2_{'each' if each else 'sweep'}"
+
+
+def newton_cached(plan, each: bool = True) -> bool:
+    """True when the plan's Newton solve kernel (``each``: :func:`.newton_kernels.solve_source`) is compiled in this
+    process or in numba's disk cache (a solve then costs no compile)."""
+    k = _KERNELS.get(plan, {}).get(_newton_key(each))
     if k is not None:
-        return codegen.compiled(k)
-    return codegen.cached(newton_kernels.solve_source(plan, 2))
+        return codegen.ready(k)
+    try:
+        return codegen.cached(newton_kernels.solve_source(plan, 2, each))
+    except OSError:
+        return False
 
 
-def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates=(1.0, 1.0, 0.0)):
-    """Solve a plan with Newton-solved groups by its compiled sweep (:func:`.newton_kernels.solve`, order 2: one
-    kernel per plan whatever the order asked); None if not covered. ``tol``: the Tolerances. Returns ``(buffer,
-    (pos, first, second), valid)`` for the points and then the bodies (views shape + (n_points + n_bodies, 2): the
-    value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
+def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates=(1.0, 1.0, 0.0), sweep=False):
+    """Solve a plan with Newton-solved groups by its compiled continuation (:func:`.newton_kernels.solve`, order 2:
+    one kernel per plan whatever the order asked); None if not covered. ``tol``: the Tolerances; ``sweep``: as
+    ``solve(..., sweep=True)``, the designs swept through their inputs where the batch is one turn of inputs shared
+    by every design (:func:`.newton_kernels.sweeps`), else every sample continued from the sketch on its own.
+    Returns ``(buffer, (pos, first, second), valid)`` for the points and then the bodies (views shape + (n_points +
+    n_bodies, 2): the value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
     if not newton_covers(plan):
         return None
-    k = _load(plan, "newton_2", lambda: newton_kernels.solve_source(plan, 2))
-    return newton_kernels.solve(plan, params, inputs, tol, 2, shape, k, rates)
+    each = not (sweep and newton_kernels.sweeps(plan, params, inputs, shape))
+    k = _load(plan, _newton_key(each), lambda: newton_kernels.solve_source(plan, 2, each), "a Newton kernel")
+    return newton_kernels.solve(plan, params, inputs, tol, 2, shape, k, rates, each)
 
 
-def _load(plan, key: str, make_source):
+def _load(plan, key: str, make_source, what: str = "a kernel"):
     """A generated kernel of the plan under ``key``, generated, written and compiled once (:func:`codegen.load`)."""
     kernels = _KERNELS.setdefault(plan, {})
     k = kernels.get(key)
     if k is None:
-        k = kernels[key] = codegen.load(make_source())
+        k = kernels[key] = codegen.load(make_source(), what)
     return k
 
 
@@ -107,9 +117,12 @@ def solve_source(plan, with_bodies: bool, order: int) -> str:
     return codegen.solve_source(t.tracer, rows, ok)
 
 
-def kernel_ready(plan, with_bodies: bool = False, order: int = 2) -> bool:
-    """True when the plan's kernel (:func:`kernel`) runs without a compile: compiled in this process or found in
-    the disk cache. False without numba or for a plan the backend does not cover."""
+def kernel_ready(plan, with_bodies: bool = False, order: int = 2, sweep: bool = False) -> bool:
+    """True when the plan's kernel (:func:`kernel`, or for a plan with Newton-solved groups its Newton kernel:
+    :func:`newton_cached`, ``sweep`` as in :func:`solve_newton`) runs without a compile: compiled in this process or
+    found in the disk cache. False without numba or for a plan the backend does not cover."""
+    if newton_covers(plan):
+        return available() and newton_cached(plan, not sweep)
     if not (covers(plan) and available()):
         return False
     try:
