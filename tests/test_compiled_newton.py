@@ -1,8 +1,10 @@
 """Compiled Newton groups (assur.engine.planar.newton_kernels): the numba kernels of plans with a class-III triad or
 a larger group give the numpy backend's numbers — positions, analogues, body angles and the valid (unbuildable)
-samples — following each design's assembly through the inputs as the numpy backend's sweep does
-(``solve(..., sweep=True)``, the reference here). The traced pieces (residual, Newton step, branch certificate)
-are checked against newton_group's own functions at random poses."""
+samples — under its default continuation (every sample continued from the sketch on its own,
+:func:`assur.engine.planar.continuation.execute`) and under its sweep (``solve(..., sweep=True)``): the reference is
+always the numpy backend with the same options, on the triad six-bar, perturbed populations and copies scaled by 10⁻³
+and 10³. A plan the kernels do not check as numpy does (a class-IV group) falls back to numpy. The traced pieces
+(residual, Newton step, branch certificate) are checked against newton_group's own functions at random poses."""
 import math
 from pathlib import Path
 from types import SimpleNamespace
@@ -59,23 +61,37 @@ def triad():
     return assur.compile(assur.load(TRIAD))
 
 
-def both(plan, params=None, q=None, order=2):
-    """(numpy sweep, numba) solves of the plan."""
+def both(plan, params=None, q=None, order=2, sweep=False):
+    """(numpy, numba) solves of the plan with the same options."""
     q = np.linspace(0.0, 2 * np.pi, 90, endpoint=False) if q is None else q
-    a = assur.solve(plan, params, q, order=order, backend="numpy", sweep=True)
-    b = assur.solve(plan, params, q, order=order, backend="numba")
+    a = assur.solve(plan, params, q, order=order, backend="numpy", sweep=sweep)
+    b = assur.solve(plan, params, q, order=order, backend="numba", sweep=sweep)
     assert b._xyz is not None          # the compiled backend solved it
     return a, b
 
 
-def same(a, b, fields=FIELDS, rel=1e-11):
-    """Equal valid samples; every field NaN at the same samples and equal to ``rel`` relative (1 below unit size)."""
+def same(a, b, fields=FIELDS, rel=1e-11, scale=1.0):
+    """Equal valid samples; every field NaN at the same samples and equal to ``rel`` relative (of ``scale`` below
+    it: the mechanism's size for lengths)."""
     assert np.array_equal(a.valid, b.valid) and a.n_unbuildable == b.n_unbuildable
     for f in fields:
         x, y = np.asarray(getattr(a, f)), np.asarray(getattr(b, f))
         assert np.array_equal(np.isnan(x), np.isnan(y)), f
         ok = np.isfinite(x)
-        assert np.all(np.abs(x[ok] - y[ok]) <= rel * np.maximum(1.0, np.abs(x[ok]))), f
+        floor = scale if f in ("pos", "vel", "acc", "dpos_dq", "d2pos_dq2") else 1.0
+        assert np.all(np.abs(x[ok] - y[ok]) <= rel * np.maximum(floor, np.abs(x[ok]))), f
+
+
+def scaled_triad(s: float):
+    """The triad six-bar with every length multiplied by ``s`` (tests/test_scale.py's ``scaled``)."""
+    from test_scale import scaled
+    return assur.compile(scaled(assur.load(TRIAD), s))
+
+
+def population(plan, n=16, seed=1, spread=0.05):
+    """``n`` designs around the plan's, each parameter × (1 + spread·N(0, 1))."""
+    rng = np.random.default_rng(seed)
+    return plan.defaults * (1 + spread * rng.standard_normal((n, plan.n_params)))
 
 
 def test_the_traced_group_computes_what_numpy_computes(triad):
@@ -112,45 +128,123 @@ def test_the_traced_group_computes_what_numpy_computes(triad):
         assert math.isclose(got[-1], float(certificate_det(c, st, J)), rel_tol=1e-11)
 
 
+@pytest.mark.slow            # compiles the kernel (10–30 s with an empty cache)
 def test_a_cycle_of_the_triad_six_bar(triad):
+    """The default continuation: every sample continued from the sketch on its own."""
     a, b = both(triad, q=np.linspace(0.0, 2 * np.pi, 72, endpoint=False))
     assert a.valid.all()
-    same(a, b)
+    same(a, b, scale=triad.length_scale)
 
 
-def test_a_perturbed_population_of_triad_six_bars(triad):
-    """Designs that turn fully, partly (their sweeps end at toggles: the backward sweep takes over) and not at all:
+@pytest.mark.slow            # compiles the sweep kernel
+def test_a_swept_cycle_of_the_triad_six_bar(triad):
+    a, b = both(triad, q=np.linspace(0.0, 2 * np.pi, 72, endpoint=False), sweep=True)
+    assert a.valid.all()
+    same(a, b, scale=triad.length_scale)
+
+
+@pytest.mark.slow            # the numpy reference continues 640 samples from the sketch one by one (5 s)
+@pytest.mark.parametrize("sweep", [False, True])
+def test_a_perturbed_population_of_triad_six_bars(triad, sweep):
+    """Designs that turn fully, partly (their walks end at toggles: the other way round takes over) and not at all:
     the same valid samples, the same numbers."""
-    rng = np.random.default_rng(1)
-    P = triad.defaults * (1 + 0.05 * rng.standard_normal((16, triad.n_params)))
-    a, b = both(triad, P[:, None, :], np.linspace(0.0, 2 * np.pi, 40, endpoint=False)[:, None])
+    P = population(triad)
+    a, b = both(triad, P[:, None, :], np.linspace(0.0, 2 * np.pi, 40, endpoint=False)[:, None], sweep=sweep)
     full, some = a.valid.all(axis=1), a.valid.any(axis=1)
     assert full.sum() >= 3 and (some & ~full).sum() >= 2 and (~some).sum() >= 1
-    same(a, b, ("pos", "dpos_dq", "d2pos_dq2", "body_angle"))
+    same(a, b, ("pos", "dpos_dq", "d2pos_dq2", "body_angle"), rel=1e-9, scale=triad.length_scale)
 
 
-def test_a_group_with_a_slot():
+@pytest.mark.slow            # the numpy reference on populations (about 10 s)
+@pytest.mark.parametrize("s", [1e-3, 1e3])
+def test_scaled_copies(triad, s):
+    """Scaled by 10⁻³ and 10³: the compiled kernel gives numpy's answer there too (a cycle, a population at ±1 %),
+    and the cycle's positions are the unscaled ones times s (the certificate is free of units)."""
+    plan = scaled_triad(s)
+    q = np.linspace(0.0, 2 * np.pi, 72, endpoint=False)
+    a, b = both(plan, q=q)
+    assert a.valid.all()
+    same(a, b, scale=plan.length_scale)
+    ref = assur.solve(triad, inputs=q, order=0, backend="numba")
+    np.testing.assert_allclose(b.pos / s, ref.pos, rtol=0, atol=1e-12 * triad.length_scale)
+    P = population(plan, 12, seed=3, spread=0.01)
+    a, b = both(plan, P[:, None, :], np.linspace(0.0, 2 * np.pi, 24, endpoint=False)[:, None])
+    assert a.valid.sum() > 0
+    same(a, b, ("pos", "dpos_dq", "d2pos_dq2", "body_angle"), rel=1e-9, scale=plan.length_scale)
+
+
+@pytest.mark.slow            # compiles the class-IV structure's kernel
+def test_a_class_iv_group():
+    """The class-IV six-bar: its group's other assemblies are found by the certified reduction, which numpy runs
+    where the group's dimensionless determinant is small (one design only); the kernel hands those samples to numpy's
+    check (newton_kernels.separate_by_reduction). The same valid samples and numbers, for the file's design and a
+    perturbed population."""
+    plan = assur.compile(assur.load(EXAMPLES / "classiv_sixbar.toml"))
+    assert any(st.kind == "newton" for st in plan.steps)
+    a, b = both(plan, q=np.linspace(0.0, 2 * np.pi, 72, endpoint=False))
+    same(a, b, scale=plan.length_scale)
+    P = population(plan, 8, seed=5, spread=0.03)
+    a, b = both(plan, P[:, None, :], np.linspace(0.0, 2 * np.pi, 24, endpoint=False)[:, None])
+    assert a.valid.any()
+    same(a, b, ("pos", "dpos_dq", "d2pos_dq2", "body_angle"), rel=1e-9, scale=plan.length_scale)
+
+
+def test_a_sample_next_to_another_assembly_gets_numpys_check(triad, monkeypatch):
+    """separate_by_reduction hands exactly the valid samples of a reduction-checked group whose certificate is below
+    the gate to numpy's continuation.separate, and writes back its verdict (here: the check flags every second one)."""
+    from assur.engine.planar import continuation, newton_kernels
+    calls = []
+
+    def fake_separate(plan, steps, c, method, tol, shape, x):
+        calls.append((shape, {k: v.copy() for k, v in x.items()}))
+        c.valid = np.arange(shape[0]) % 2 == 0
+        return c
+    monkeypatch.setattr(continuation, "separate", fake_separate)
+    from assur.engine.planar import group_assemblies
+    monkeypatch.setattr(group_assemblies, "group_method", lambda plan, st: "reduction")
+    st = next(s for s in triad.steps if s.kind == "newton")
+    q = np.linspace(0.0, 2 * np.pi, 8, endpoint=False)
+    n = 3 * len(st.bodies)
+    xs = np.stack([np.full(8, 0.1 * i) for i in range(n)])            # stand-in poses, handed over as they are
+    certs = np.array([[0.5, 1e-3, 0.5, 1e-3, 1e-3, 0.5, 0.5, 1e-3]])
+    valid = np.ones(8, dtype=bool)
+    valid[4] = False                                                    # an invalid sample is never checked
+    from assur.tolerances import DEFAULT
+    newton_kernels.separate_by_reduction(triad, triad.defaults, q[:, None], (8,), DEFAULT,
+                                         np.concatenate([xs, certs]), valid)
+    (shape, x), = calls
+    assert shape == (3,)                                                # samples 1, 3 and 7
+    np.testing.assert_array_equal(x[id(st)], xs[:, [1, 3, 7]].T)
+    np.testing.assert_array_equal(valid, [True, True, True, False, False, True, True, True])
+
+
+@pytest.mark.slow            # compiles two kernels of another structure
+@pytest.mark.parametrize("sweep", [False, True])
+def test_a_group_with_a_slot(sweep):
     """A class-III group with a prismatic pair (its residual's alignment and slide rows), buildable over part of the
     turn."""
     plan = assur.compile(assur.loads(SLOTTED))
     assert [st.kind for st in plan.steps] == ["frame", "crank", "newton"] and plan.lines
-    a, b = both(plan)
+    a, b = both(plan, sweep=sweep)
     assert 0 < a.n_unbuildable < 90
-    same(a, b)
+    same(a, b, scale=plan.length_scale)
 
 
+@pytest.mark.slow            # compiles the sweep kernel
 def test_batch_layouts(triad):
-    """Inputs per design (each design its own sweep), a design per sample (each sample a sweep of its own) and a
-    single sample: the numpy backend's numbers."""
+    """Inputs per design (each design's samples continued one by one: numpy sweeps only inputs shared by every
+    design), a design per sample and a single sample: the numpy backend's numbers with and without ``sweep``."""
     rng = np.random.default_rng(2)
     P = triad.defaults * (1 + 0.02 * rng.standard_normal((5, triad.n_params)))
     q = np.sort(rng.uniform(0, 2 * np.pi, (5, 7)), axis=1)
-    same(*both(triad, P[:, None, :], q[..., None]), ("pos", "dpos_dq", "d2pos_dq2"))
-    same(*both(triad, P, q[:, 0]), ("pos", "dpos_dq", "d2pos_dq2"))
+    for sweep in (False, True):
+        same(*both(triad, P[:, None, :], q[..., None], sweep=sweep), ("pos", "dpos_dq", "d2pos_dq2"),
+             scale=triad.length_scale)
+        same(*both(triad, P, q[:, 0], sweep=sweep), ("pos", "dpos_dq", "d2pos_dq2"), scale=triad.length_scale)
     a = assur.solve(triad, inputs=0.7, backend="numpy")
     b = assur.solve(triad, inputs=0.7, backend="numba")
     assert b.pos.shape == a.pos.shape == (triad.n_points, 2)
-    same(a, b)
+    same(a, b, scale=triad.length_scale)
 
 
 def test_the_kernel_source_depends_on_the_structure_only(triad):
@@ -167,18 +261,46 @@ def test_the_kernel_source_depends_on_the_structure_only(triad):
     assert structure_key(assur.compile(assur.loads(SLOTTED))) != structure_key(triad)
 
 
-def test_auto_compiles_a_cycle_and_reuses_a_compiled_kernel(triad, monkeypatch):
+@pytest.mark.slow            # compiles the kernel
+def test_auto_takes_the_kernel_when_ready_or_paid(triad, monkeypatch):
+    """backend='auto' on a plan with Newton-solved groups (engine.api._compiled_pays): the compiled kernel when it is
+    ready (compiled in this process or cached), or compiled first for a batch that wins the compile back at once
+    (AUTO_NEWTON_COMPILE_MIN_SAMPLES); numpy for an ordinary batch otherwise."""
     from assur.engine import api
-    from assur.engine.options import AUTO_NEWTON_MIN_SAMPLES
+    from assur.engine.options import AUTO_CACHED_MIN_SAMPLES, AUTO_NEWTON_COMPILE_MIN_SAMPLES
     from assur.engine.planar import numba_backend
-    cycle = assur.solve(triad, inputs=np.linspace(0, 2 * np.pi, AUTO_NEWTON_MIN_SAMPLES, endpoint=False))
-    assert cycle._xyz is not None and numba_backend.newton_cached(triad)
-    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan: False)
-    assert assur.solve(triad, inputs=[0.1, 0.2])._xyz is None               # few samples, no kernel: numpy
-    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan: True)
-    assert assur.solve(triad, inputs=[0.1, 0.2])._xyz is not None           # a compiled kernel: always
-    assert api._auto_compiled(triad, 10) and not api._auto_compiled(assur.compile(assur.load(EXAMPLES / "jansen.toml")),
-                                                                       10)
+    q = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    assur.solve(triad, inputs=q, backend="numba")                            # the default continuation's kernel
+    assert numba_backend.newton_cached(triad) and numba_backend.kernel_ready(triad)
+    assert assur.solve(triad, inputs=q)._xyz is not None                      # ready: compiled
+    assert assur.solve(triad, inputs=q[:AUTO_CACHED_MIN_SAMPLES - 1])._xyz is None   # too small to gain
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan, each=True: False)
+    assert assur.solve(triad, inputs=q)._xyz is None                          # not ready, not paid: numpy
+    assert api._compiled_pays(triad, AUTO_NEWTON_COMPILE_MIN_SAMPLES, 2)      # paid: compiled first
+    jansen = assur.compile(assur.load(EXAMPLES / "jansen.toml"))
+    assert not api._compiled_pays(jansen, AUTO_NEWTON_COMPILE_MIN_SAMPLES, 2)  # a dyad plan's numpy is 1000× faster
+
+
+def test_a_triad_synthesis_compiles_when_numpy_would_take_longer():
+    """The first-use rule of synthesis (synthesis.evaluate.run_backend) weighs a Newton-solved group's numpy cost: a
+    triad leg's run of an ordinary budget compiles (its kernels then evaluate it), a tiny one stays on numpy."""
+    from assur.io.mechanism_file import from_dict
+    from assur.synthesis.evaluate import (NUMPY_SECONDS_PER_NEWTON_GROUP, NUMPY_SECONDS_PER_UNIT, PAYBACK_SECONDS,
+                                          numpy_seconds, run_backend)
+    from assur.synthesis.problem import problem_from_dict
+    plan = assur.compile(from_dict(LEG, "leg"))
+    length = plan.defaults[plan.param_index("L3.length")] * 1000                # mm, the file's unit
+    data = {"format": "assur-synth/1", "variables": {"L3.length": [0.7 * length, 1.3 * length]},
+            "objective": {"deviation": "none", "terms": [{"quantity": "gait.sag", "weight": 1.0}]},
+            "options": {"cycle_samples": 60}}
+    prob = problem_from_dict(data, mechanism=plan)
+    newton = sum(st.kind == "newton" for st in plan.steps)
+    assert newton == 1
+    per = (len(plan.steps) - 1) * NUMPY_SECONDS_PER_UNIT + NUMPY_SECONDS_PER_NEWTON_GROUP
+    assert numpy_seconds(prob, 1000) == pytest.approx(1000 * 60 * per)
+    assert run_backend(prob, 2000, None) == "numba"              # 36 s of numpy: the compile pays
+    assert run_backend(prob, 100, None) == "numpy"               # under PAYBACK_SECONDS: nothing compiled
+    assert numpy_seconds(prob, 100) < PAYBACK_SECONDS <= numpy_seconds(prob, 2000)
 
 
 #: a Stephenson II walking leg whose driven chain is a class-III group: the first 6-link candidate with a Newton-solved
@@ -194,6 +316,7 @@ LEG = {
 }
 
 
+@pytest.mark.slow            # compiles the cycle kernel of another structure
 def test_the_synthesis_cycle_route_runs_compiled():
     """The synthesis evaluator's whole-cycle quantities of a triad leg (buildability, the sampled gait) come from the
     compiled cycle reduction, equal to the numpy route's (the cycle swept by solve(..., sweep=True)) on a perturbed

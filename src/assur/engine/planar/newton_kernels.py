@@ -30,13 +30,8 @@ TWO_PI = 2.0 * math.pi
 
 
 def covers(plan) -> bool:
-    """True when the plan has a Newton-solved group and the Newton kernels trace it (one rotary input, no gears) and
-    check it as the numpy backend does: every such group a triad, or a group without an enumeration of its assemblies
-    (:func:`.group_assemblies.group_method`). A group checked against its other assemblies by the certified
-    one-parameter reduction (a class-IV group, say) is left to the numpy backend."""
-    from .group_assemblies import group_method
-    return any(st.kind == "newton" for st in plan.steps) and traced.covers(plan, newton=True) and all(
-        group_method(plan, st) != "reduction" for st in plan.steps if st.kind == "newton")
+    """True when the plan has a Newton-solved group and the Newton kernels trace it (one rotary input, no gears)."""
+    return any(st.kind == "newton" for st in plan.steps) and traced.covers(plan, newton=True)
 
 
 def structure_key(plan) -> tuple:
@@ -90,6 +85,9 @@ def _solve_source(plan, order: int, each: bool = True) -> str:
                 rows.append((6 * m + 4 + xy, part(z.dd) * w2 + part(z.d) * w3))
             values.append(v)
     ok = t.finite(*[v for v in values if getattr(v, "level", 0) & SAMPLE])
+    # then the groups' unknowns and certificates (:func:`solve`'s check of groups without a compiled separation)
+    extra = [v for grp in t.groups for v in grp.solved] + [grp.certificate for grp in t.groups]
+    rows += [(6 * len(jets) + i, v) for i, v in enumerate(extra)]
     epilogue = [f"out[{row}, d, u] = {source(v)}" for row, v in rows] + [f"valid[d, u] = {source(ok)} and sepok"]
     return newton_codegen.newton_source(t.tracer, t.groups, [v for _, v in rows] + [ok], epilogue,
                                         ["valid[d, u] = False"], valid=t.valid,
@@ -157,17 +155,57 @@ def sweeps(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple) -> bool:
 def solve(plan, params: np.ndarray, inputs: np.ndarray, tol, order: int, shape: tuple, kernel, rates=(1.0, 1.0, 0.0),
           each: bool = True):
     """Run the plan's Newton solve kernel ``kernel`` (:func:`solve_source` with ``each``, loaded by the caller) on a
-    batch: ``(buffer (6·m, D, N), (pos, first, second), valid)`` as :func:`.numba_backend.solve_compiled` gives them,
-    here for the m = n_points + n_bodies points and bodies (pos, first, second: shape + (m, 2) float views: the value,
-    w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
+    batch: ``(buffer (6·m + …, D, N), (pos, first, second), valid)`` as :func:`.numba_backend.solve_compiled` gives
+    them, here for the m = n_points + n_bodies points and bodies (pos, first, second: shape + (m, 2) float views: the
+    value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``), then :func:`separate_by_reduction`."""
     designs, q, split = layout(plan, params, inputs, shape)
     D, N = designs.shape[0], q.shape[-1]
     m = len(plan.point_names) + len(plan.body_names)
-    out = np.empty((6 * m, D, N))
+    groups = [st for st in plan.steps if st.kind == "newton"]
+    unknowns = sum(3 * len(st.bodies) for st in groups)
+    out = np.empty((6 * m + unknowns + len(groups), D, N))
     valid = np.empty((D, N), dtype=np.bool_)
     kernel(*arguments(plan, designs, q, tol, each), *(float(w) for w in rates), out, valid)
-    rows = out.reshape((m, 6) + shape)
+    if params.ndim <= 1:
+        separate_by_reduction(plan, params, inputs, shape, tol, out[6 * m:].reshape((-1,) + shape),
+                              valid.reshape(shape))
+    rows = out[:6 * m].reshape((m, 6) + shape)
     n = len(shape)
     axes = tuple(range(2, 2 + n)) + (0, 1)
     views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))
     return out, views, valid.reshape(shape)
+
+
+def separate_by_reduction(plan, params, inputs, shape, tol, extra, valid):
+    """The numpy backend's last check of one design's samples that the kernels leave out
+    (:func:`assur.engine.planar.continuation.separate`): a group whose assemblies the certified one-parameter
+    reduction enumerates (not a triad's polynomial, which the kernels check) is flagged where its sample is closer to
+    another assembly than ``tolerances.assembly_separation``; numpy looks only where the group's dimensionless
+    determinant is below ``continuation.SEPARATION_GATE``, and only for one design (params (n_params,)). Those
+    samples are checked here by numpy's own function, from the kernel's poses; ``valid`` is updated in place.
+    ``extra (n_unknowns + n_groups, *shape)``: the kernel's rows of the groups' unknowns and certificates."""
+    from .continuation import SEPARATION_GATE, Walker, separate
+    from .group_assemblies import group_method
+    from .steps import _run
+    from ...kernels.jet import Jet
+    groups = [st for st in plan.steps if st.kind == "newton"]
+    starts = np.cumsum([0] + [3 * len(st.bodies) for st in groups])
+    certs = extra[starts[-1]:]
+    flagged = np.zeros(shape, dtype=bool)
+    for g, st in enumerate(groups):
+        if group_method(plan, st) == "reduction":
+            flagged |= valid & (np.abs(certs[g]) < SEPARATION_GATE)
+    if not flagged.any():
+        return
+    idx = np.nonzero(flagged)
+    q = np.broadcast_to(inputs[..., 0], shape)[idx]
+    sign = Walker.at_sketch(plan, plan.steps, tol, "closed", 1).sign
+    warm = {}
+    for g, st in enumerate(groups):
+        warm[id(st)] = np.stack([extra[i][idx] for i in range(starts[g], starts[g + 1])], axis=-1)
+        warm[(id(st), "det_sign")] = np.repeat(sign[id(st)], len(q))
+    final = {k: v for k, v in warm.items() if not isinstance(k, tuple)}
+    c = _run(plan, plan.steps, params, [Jet.const(q, 0)], 0, tol, "closed", warm)
+    c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), q.shape).copy()
+    c = separate(plan, plan.steps, c, "closed", tol, q.shape, final)
+    valid[idx] = np.asarray(c.valid, dtype=bool)
