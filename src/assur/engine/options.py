@@ -26,6 +26,9 @@ AUTO_COMPILE_MIN_SAMPLES = 5_000_000
 #: in about half a millisecond, so a batch this size wins back the first compile of its kernel (a few seconds;
 #: benchmarks/newton.py measures both)
 AUTO_NEWTON_COMPILE_MIN_SAMPLES = 10_000
+#: … and, for such a plan, a ready kernel serves a batch this large even before numba is imported: numpy would spend
+#: longer on it than numba's import (about half a second)
+AUTO_NEWTON_IMPORT_MIN_SAMPLES = 256
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.

@@ -81,6 +81,17 @@ def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates
     return newton_kernels.solve(plan, params, inputs, tol, 2, shape, k, rates, each)
 
 
+def prepare_newton(plan) -> bool:
+    """Compile the plan's Newton solve kernel of the default continuation now (a long session, such as the
+    designer's, calls it in a background thread: its previews then take the kernel as soon as it is ready, by the
+    automatic backend's rule). True when it was compiled here; False when there was nothing to do (numba missing, no
+    Newton-solved group, the kernel ready already)."""
+    if not (available() and newton_covers(plan)) or newton_cached(plan):
+        return False
+    solve_newton(plan, plan.defaults, np.array([plan.sketch_inputs]), DEFAULT, (1,))
+    return True
+
+
 def _load(plan, key: str, make_source, what: str = "a kernel"):
     """A generated kernel of the plan under ``key``, generated, written and compiled once (:func:`codegen.load`)."""
     kernels = _KERNELS.setdefault(plan, {})
