@@ -343,3 +343,27 @@ def test_the_synthesis_cycle_route_runs_compiled():
     np.testing.assert_allclose(b.penalised, a.penalised, rtol=1e-9, atol=1e-12)
     for k, v in a.quantities.items():
         np.testing.assert_allclose(b.quantities[k], v, rtol=1e-9, atol=1e-12, err_msg=k)
+
+
+def test_the_designer_compiles_a_triads_kernel_in_the_background(monkeypatch):
+    """A designer session on a mechanism with Newton-solved groups starts the kernel's compile in a background thread
+    (its previews run on numpy until the kernel is ready, then on it); a dyad mechanism starts none."""
+    from assur.designer.server import _prepare_kernels
+    from assur.designer.session import Session, document_of
+    from assur.engine.planar import numba_backend
+    seen = []
+    monkeypatch.setattr(numba_backend, "prepare_newton", lambda plan: seen.append(plan.n_points))
+    doc, _ = document_of(TRIAD)
+    thread = _prepare_kernels(Session(doc, None))
+    assert thread is not None and thread.daemon
+    thread.join(10)
+    assert seen == [assur.compile(assur.load(TRIAD)).n_points]
+    doc, _ = document_of(EXAMPLES / "jansen.toml")
+    assert _prepare_kernels(Session(doc, None)) is None
+
+
+def test_prepare_newton_has_nothing_to_do_for_a_ready_kernel_or_a_dyad_plan(triad, monkeypatch):
+    from assur.engine.planar import numba_backend
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan, each=True: True)
+    assert numba_backend.prepare_newton(triad) is False
+    assert numba_backend.prepare_newton(assur.compile(assur.load(EXAMPLES / "jansen.toml"))) is False
