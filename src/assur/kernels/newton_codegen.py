@@ -2,22 +2,26 @@
 as the numpy backend's certified continuation walks it (:mod:`assur.engine.planar.continuation`,
 :mod:`assur.engine.planar.sweep`), Newton's iterations inside.
 
-One kernel solves designs × inputs. Per design (a row ``r`` of the inputs):
+One kernel solves designs × inputs. Per design (a row ``r`` of the inputs), first the file's design at the sketch's
+crank angle, solved from the seeds (the sketch's poses; the certificate there gives each group's branch sign); then
 
-1. *at the sketch*: the file's design at the sketch's crank angle, solved from the seeds (the sketch's poses; the
-   certificate there gives each group's branch sign);
-2. *the design*: the parameters walked from the file's to the design's at the sketch angle;
-3. *forward*: the inputs visited by their angle past the sketch's, each walked to from the one before; the walk ends
-   at the first input it cannot reach; *backward*: from the design at the sketch, the inputs not reached, by their
-   angle before the sketch's;
-4. *the samples*: each reached input solved once more from its walked poses at its own input (``cq``, ``sq``), with
-   the full iteration cap: the branch certificate, the derivatives and the kernel's ``epilogue``; an input not
-   reached runs ``missed``.
+- *every sample on its own* (:func:`_walk_each`, the default continuation, ``continuation.execute``): walked from
+  there to the design at the sample's input, parameters and input together, the short way round and, where that
+  fails, the long way; the file's design walks in whole steps of crank, which the walks of one direction share (a
+  walk starts at the last cached step it passes);
+- or *swept* (:func:`_walk`, ``solve(..., sweep=True)``, ``sweep.execute_cycle``): the parameters walked from the
+  file's to the design's at the sketch angle, then the inputs visited by their angle past the sketch's, each walked
+  to from the one before, forward and then backward for the inputs the forward walk could not reach.
+
+A walk's last step is at the sample's own input (``cq``, ``sq``): its values, derivatives and certificates are the
+sample's (the kernel's ``epilogue``); a sample no walk reaches runs ``missed``.
 
 A walk is a sequence of certified steps in t ∈ [0, 1] along the straight line of inputs (and parameters): a secant
 predictor (the first step: the last position), a corrector (Newton, at most ``citers`` iterations, then one step to
 polish), and the step's certificate — every group converged and on its branch, every step of the plan assembled,
-the groups' poses finite and no point of a group moved by the correction farther than ``corr`` of the length scale.
+the groups' poses finite, no point of a group moved by the correction farther than ``corr`` of the length scale, and
+for a triad the corrected assembly the nearest of its polynomial's roots to the prediction
+(:func:`assur.kernels.reductions.triad_check`, which also gives the sample's separation from the other assemblies).
 A certified step lets the next be twice as long (never longer than ``step`` of crank, or a ``stages``-th of the
 design change), one that fails is retried at a quarter of its length; a walk whose step falls below ``cmin`` of
 crank, or that needs more than :data:`MAX_STEPS` steps, ends there: the design cannot reach that input on its
@@ -331,17 +335,18 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
     ``values``: the traced values the ``epilogue`` lines read (source lines that may read ``d``, ``u`` and those
     values' sources, and ``sepok``: no other assembly of a triad within ``asep`` of the length scale, the numpy
     backend's ``continuation.separate``); ``missed``: lines run for every sample the walks cannot reach; ``valid``: the
-    traced flag of every step assembled (a walk step's certificate). ``head``/``tail``: lines run per design before and after its
-    walks (8 spaces of indentation), ``before``: once per call. The traced program's selects call
-    :func:`assur.kernels.reductions.select` (trace with ``Tracer(select="select")``). The kernel's first arguments
-    are :data:`NEWTON_ARGS`, the rest ``signature``:
+    traced flag of every step assembled (a walk step's certificate). ``head``/``tail``: lines run per design before
+    and after its walks (8 spaces of indentation), ``before``: once per call. The traced program's selects call
+    :func:`assur.kernels.reductions.select` (trace with ``Tracer(select="select")``). ``each``: every sample walked
+    from the sketch on its own (:func:`_walk_each`, the default continuation), else each design swept through its
+    inputs (:func:`_walk`). The kernel's first arguments are :data:`NEWTON_ARGS`, the rest ``signature``:
 
     - ``P (D, n_params)`` the designs, ``P0 (n_params,)`` the file's (the parameters are read from a scratch row
       ``p``: the traced program loads ``p[k]``), ``seeds`` the groups' unknowns at the sketch (their x, y, θ, in solve
       order); ``cs0, sn0, qs``: the sketch's crank angle's cosine, sine and value;
     - ``cq, sq (Dq, N)`` the inputs' cosines and sines (Dq = 1: the same N inputs for every design, or D), ``ahead
-      (Dq, N)`` each input's angle past the sketch's in [0, 2π), ``fwd``, ``bwd (Dq, N)`` the inputs in the order the
-      forward and the backward walks visit them;
+      (Dq, N)`` each input's angle past the sketch's in [0, 2π) (with ``each``: from the sketch's the short way, in
+      [−π, π)), ``fwd``, ``bwd (Dq, N)`` the inputs in the order the forward and the backward walks visit them;
     - ``stages`` (a step changes a design by at most its ``stages``-th part), ``step`` the longest crank step (rad),
       ``cmin`` the shortest, ``corr`` the largest correction (of the length scale ``ls``, m); ``tol`` the radicand
       tolerance of the closed forms, ``rtol``, ``atol`` the iterations' and the acceptance's residual tolerances

@@ -1,12 +1,14 @@
-"""The compiled backend for plans with Newton-solved groups: a whole batch swept in one numba kernel.
+"""The compiled backend for plans with Newton-solved groups: a whole batch solved in one numba kernel.
 
 A plan whose groups include a triad or a larger group (:func:`assur.engine.planar.traced.covers` with
 ``newton=True``) is traced once (:mod:`.traced`, :mod:`.traced_newton`: the numpy backend's step executors and loop
-equations on symbols) and wrapped by :func:`assur.kernels.codegen.newton_source` in the numpy backend's sweep
-(:func:`assur.engine.planar.sweep.execute_cycle`): per design, its parameters continued from the file's at the
-sketch's crank angle, then the inputs visited by their angle past the sketch's, forward and then backward, each
-solve started from the one before. So every design follows the sketch's assembly continuously, and its samples are
-certified on the sketch's branch as the numpy backend certifies them.
+equations on symbols) and wrapped by :func:`assur.kernels.newton_codegen.newton_source` in the numpy backend's
+certified continuation: every sample continued from the sketch on its own
+(:func:`assur.engine.planar.continuation.execute`, the default), or each design swept through its inputs
+(:func:`assur.engine.planar.sweep.execute_cycle`, ``solve(..., sweep=True)``). So every sample follows the sketch's
+assembly, certified as the numpy backend certifies it, and its valid flag and numbers are numpy's to round-off; the
+one check not compiled (a sample's distance to the other assemblies of a group the certified reduction enumerates)
+is numpy's own, on the few samples that need it (:func:`separate_by_reduction`).
 
 Batch layout (:func:`layout`): the last batch axis is the samples of one sweep, the leading axes the designs (the
 parameters must not vary along the last axis; if they do, every sample is a design of its own). The inputs may be

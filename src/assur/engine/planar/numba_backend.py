@@ -5,8 +5,9 @@ symbols (:mod:`assur.engine.planar.traced`: the numpy backend's own closed forms
 :mod:`assur.kernels.codegen`, which also loads and caches them. A plan with Newton-solved groups has its own kernels
 (:mod:`.newton_kernels`: the numpy backend's sweep through the inputs, Newton's iterations traced from the same loop
 equations). A plan that is not traced (several inputs, gears, PRP/PPR, driven actuators) and a batch of a dyad plan
-that is not laid out as designs × inputs return ``None`` here and the numpy backend solves them. numba is imported only when a kernel runs. The loaded kernels are cached per plan
-outside the (frozen) plan, in a weak-keyed dictionary, so they go with the plan.
+that is not laid out as designs × inputs return ``None`` here and the numpy backend solves them. numba is imported
+only when a kernel runs. The loaded kernels are cached per plan outside the (frozen) plan, in a weak-keyed
+dictionary, so they go with the plan.
 """
 from __future__ import annotations
 
