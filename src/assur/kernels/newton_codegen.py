@@ -368,7 +368,9 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
     for g in triads:
         sample += em.take(groups[g].triad)
         sample += [f"TA[{k}] = {source(v)}" for k, v in enumerate(groups[g].triad)]
-        sample.append(f"tok{g}, tsep{g} = triad_check(TA, TS, RT{g}, asep * ls)")
+        # only where the step assembled (near a toggle most steps fail before: their roots, merging, are costly)
+        sample += [f"if {source(valid)}:", f"{I4}tok{g}, tsep{g} = triad_check(TA, TS, RT{g}, asep * ls)",
+                   "else:", f"{I4}tok{g}, tsep{g} = False, True"]
     sample.append("stepok = " + " and ".join([source(valid)] + [f"{source(grp.moved)} <= corr * ls" for grp in groups]
                                              + [f"tok{g}" for g in triads]))
     sample.append("sepok = " + " and ".join(["True"] + [f"tsep{g}" for g in triads]))

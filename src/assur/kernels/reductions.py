@@ -188,15 +188,20 @@ def _triad_at(TA, e):
     return gr * gr + gi * gi - ld * ld, complex(Nr / delta, Ni / delta)
 
 
+#: Weierstrass iterations at most when the roots are tracked from the last call's
+_TRACK_ITERATIONS = 30
+
+
 @njit(cache=True, error_model="numpy")
 def _track_roots(TS, RT):
     """The six roots of the polynomial in ``TS[8:15]`` by Weierstrass (Durand–Kerner) iterations started from
     ``RT[0:6]`` (the roots found at the last call: the walk moves them little), written back to ``RT``; False where
-    they do not converge to distinct finite roots within a few iterations (then the caller finds them afresh)."""
+    they do not converge to distinct finite roots within :data:`_TRACK_ITERATIONS` iterations (then the caller finds
+    them afresh: an eigenvalue solve costs as much as some thirty of these iterations)."""
     a0 = TS[8]
     if not RT[6].real > 0.0 or a0 == 0:
         return False
-    for it in range(12):
+    for it in range(_TRACK_ITERATIONS):
         worst = 0.0
         for i in range(6):
             z = RT[i]
@@ -213,14 +218,15 @@ def _track_roots(TS, RT):
             worst = max(worst, (dz.real * dz.real + dz.imag * dz.imag) / (1.0 + z.real * z.real + z.imag * z.imag))
         if not worst == worst:
             return False
-        if worst < 1e-14:
-            # a relative step below 1e-7 between distinct roots (none closer than 1e-4, relative): Newton's quadratic
-            # convergence leaves an error of about 1e-10 of a root's size, far below what the certificates resolve
+        if worst < 1e-18:
+            # a relative step below 1e-9 between distinct roots (none closer than 1e-6, relative): Newton's quadratic
+            # convergence leaves an error of about (1e-9)²/1e-6 = 1e-12 of a root's size, far below what the
+            # certificates resolve (a root within 1e-6 of the scale, the factor 2 between distances)
             for i in range(6):
                 zi = RT[i]
                 for j in range(i + 1, 6):
                     d = zi - RT[j]
-                    if not d.real * d.real + d.imag * d.imag > 1e-8 * (1.0 + zi.real * zi.real + zi.imag * zi.imag):
+                    if not d.real * d.real + d.imag * d.imag > 1e-12 * (1.0 + zi.real * zi.real + zi.imag * zi.imag):
                         return False
             return True
     return False
