@@ -155,7 +155,6 @@ def compile_worker() -> dict:
 
     import assur
     from assur.engine.planar import numba_backend
-    from assur.kernels import codegen
     plan = assur.compile(assur.load(EX / "triad_sixbar.toml"))
     q = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
     out = {}
