@@ -160,7 +160,11 @@ def server_previews(doc: dict, point: str, count: int) -> list[float]:
     """ms of ``Session.handle`` answering a preview that moves ``point`` by a little (no browser, no socket)."""
     from assur.designer.payload import describe
     from assur.designer.session import Session
+    from assur.designer.server import _prepare_kernels
     session = Session(doc, None)
+    loading = _prepare_kernels(session)        # as `assur design` does: a Newton kernel loaded in the background
+    if loading is not None:
+        loading.join()
     sketch = describe(doc).mechanism.sketch(point)
     out = []
     for i in range(count):

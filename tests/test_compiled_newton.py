@@ -278,6 +278,7 @@ def test_auto_takes_the_kernel_when_ready_or_paid(triad, monkeypatch):
     assert assur.solve(triad, inputs=q)._xyz is None                          # not ready, not paid: numpy
     assert api._compiled_pays(triad, AUTO_NEWTON_COMPILE_MIN_SAMPLES, 2)      # paid: compiled first
     jansen = assur.compile(assur.load(EXAMPLES / "jansen.toml"))
+    monkeypatch.setattr(numba_backend, "kernel_ready", lambda *a, **k: False)
     assert not api._compiled_pays(jansen, AUTO_NEWTON_COMPILE_MIN_SAMPLES, 2)  # a dyad plan's numpy is 1000× faster
 
 
@@ -362,8 +363,13 @@ def test_the_designer_compiles_a_triads_kernel_in_the_background(monkeypatch):
     assert _prepare_kernels(Session(doc, None)) is None
 
 
-def test_prepare_newton_has_nothing_to_do_for_a_ready_kernel_or_a_dyad_plan(triad, monkeypatch):
+def test_prepare_newton_loads_the_kernel_and_says_whether_it_compiled(triad, monkeypatch):
     from assur.engine.planar import numba_backend
+    loaded = []
+    monkeypatch.setattr(numba_backend, "solve_newton", lambda plan, *a, **k: loaded.append(plan))
     monkeypatch.setattr(numba_backend, "newton_cached", lambda plan, each=True: True)
-    assert numba_backend.prepare_newton(triad) is False
+    assert numba_backend.prepare_newton(triad) is False and loaded == [triad]          # cached: loaded only
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan, each=True: False)
+    assert numba_backend.prepare_newton(triad) is True and loaded == [triad, triad]    # compiled
     assert numba_backend.prepare_newton(assur.compile(assur.load(EXAMPLES / "jansen.toml"))) is False
+    assert loaded == [triad, triad]

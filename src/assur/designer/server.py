@@ -198,9 +198,10 @@ def _warm(session: Session) -> None:
 
 
 def _prepare_kernels(session: Session):
-    """A mechanism with Newton-solved groups (a triad): its compiled kernel, if not cached yet, compiled in a
-    background thread (seconds, once per structure); until it is ready the previews run on numpy, then on it
-    (``backend="auto"``: a ready kernel serves every preview). Returns the thread, or None."""
+    """A mechanism with Newton-solved groups (a triad): its compiled kernel loaded in a background thread (and
+    compiled first if it is not cached yet: seconds, once per structure); until it is ready the previews run on
+    numpy, then on it (``backend="auto"``: a ready kernel serves every preview once numba is imported). Returns the
+    thread, or None."""
     from ..engine.planar import numba_backend
     plan = session.entry(session.doc).plan
     if plan is None or not (numba_backend.available() and numba_backend.newton_covers(plan)):

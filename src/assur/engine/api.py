@@ -11,8 +11,7 @@ from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
 from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES,
-                      AUTO_NEWTON_COMPILE_MIN_SAMPLES, AUTO_NEWTON_IMPORT_MIN_SAMPLES, check_options,
-                      prepare_batch)
+                      AUTO_NEWTON_COMPILE_MIN_SAMPLES, check_options, prepare_batch)
 from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -129,12 +128,10 @@ def _compiled_pays(plan, size: int, order: int, sweep: bool = False) -> bool:
     ``AUTO_COMPILED_MIN_SAMPLES`` samples, or from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported, so a small
     batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py). A plan
     with Newton-solved groups costs numpy about a thousand times more per sample: its kernel is compiled first from
-    ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` samples, and a ready one is worth numba's import from
-    ``AUTO_NEWTON_IMPORT_MIN_SAMPLES``."""
+    ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` samples."""
     if size >= (AUTO_NEWTON_COMPILE_MIN_SAMPLES if numba_backend.newton_covers(plan) else AUTO_COMPILE_MIN_SAMPLES):
         return numba_backend.available()
-    imported = "numba" in sys.modules or (size >= AUTO_NEWTON_IMPORT_MIN_SAMPLES and numba_backend.newton_covers(plan))
-    if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and not imported):
+    if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and "numba" not in sys.modules):
         return False
     return numba_backend.kernel_ready(plan, False, order, sweep)
 

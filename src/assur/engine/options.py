@@ -23,12 +23,9 @@ AUTO_CACHED_MIN_SAMPLES = 16
 #: only a batch this size wins back at once (the numpy backend solves about a million samples a second)
 AUTO_COMPILE_MIN_SAMPLES = 5_000_000
 #: … or, for a plan with Newton-solved groups, this large: the numpy backend continues such a sample from the sketch
-#: in about half a millisecond, so a batch this size wins back the first compile of its kernel (a few seconds;
-#: benchmarks/newton.py measures both)
-AUTO_NEWTON_COMPILE_MIN_SAMPLES = 10_000
-#: … and, for such a plan, a ready kernel serves a batch this large even before numba is imported: numpy would spend
-#: longer on it than numba's import (about half a second)
-AUTO_NEWTON_IMPORT_MIN_SAMPLES = 256
+#: in about 0.65 ms (one design's cycle; several ms for a population's), so a batch this size costs it about the first
+#: compile of the kernel (some 20 s: benchmarks/newton.py measures both)
+AUTO_NEWTON_COMPILE_MIN_SAMPLES = 30_000
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.

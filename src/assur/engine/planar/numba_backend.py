@@ -83,14 +83,15 @@ def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates
 
 
 def prepare_newton(plan) -> bool:
-    """Compile the plan's Newton solve kernel of the default continuation now (a long session, such as the
-    designer's, calls it in a background thread: its previews then take the kernel as soon as it is ready, by the
-    automatic backend's rule). True when it was compiled here; False when there was nothing to do (numba missing, no
-    Newton-solved group, the kernel ready already)."""
-    if not (available() and newton_covers(plan)) or newton_cached(plan):
+    """Load the plan's Newton solve kernel of the default continuation now, compiling it if it is not cached (a long
+    session, such as the designer's, calls it in a background thread: numba is then imported and the kernel ready, so
+    its previews take the kernel by the automatic backend's rule). True when it had to compile; False when it only
+    loaded it, or had nothing to do (numba missing, no Newton-solved group)."""
+    if not (available() and newton_covers(plan)):
         return False
+    compiles = not newton_cached(plan)
     solve_newton(plan, plan.defaults, np.array([plan.sketch_inputs]), DEFAULT, (1,))
-    return True
+    return compiles
 
 
 def _load(plan, key: str, make_source, what: str = "a kernel"):
