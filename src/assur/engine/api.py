@@ -62,7 +62,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         is compiled already (in this process or in the disk cache), for batches of at least
         ``AUTO_CACHED_MIN_SAMPLES`` when besides numba is imported already (the kernel then costs nothing to
         start), and compiles it first only for a batch of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs
-        seconds). Both give the same numbers to round-off.
+        seconds; ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` for a plan with Newton-solved groups, whose kernels follow
+        the same certified continuation: :mod:`assur.engine.planar.newton_kernels`). Both give the same numbers
+        (and the same valid samples) to round-off.
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
