@@ -18,7 +18,9 @@ directly, no browser, no socket).
 
 Cases: the four-bar walking leg (``examples/walker_fourbar.toml``) and Jansen's linkage (``examples/jansen.toml``),
 each with the torque panel off (masses, gravity and the gait's body weight stripped from the document) and on (the
-four-bar file's own masses; for Jansen every link given ``--jansen-mass`` kg and gravity).
+four-bar file's own masses; for Jansen every link given ``--jansen-mass`` kg and gravity); the triad six-bar
+(``examples/triad_sixbar.toml``, a class-III group: its compiled Newton kernel, compiled before the drag, as the
+designer compiles it in the background). ``--only TEXT`` runs the cases whose name contains TEXT (``'Jansen, torque off|triad'``: two).
 """
 from __future__ import annotations
 
@@ -72,11 +74,13 @@ def cases(jansen_mass: float) -> dict:
     from assur.designer.session import document_of
     fourbar, _ = document_of(ROOT / "examples" / "walker_fourbar.toml")
     jansen, _ = document_of(ROOT / "examples" / "jansen.toml")
+    triad, _ = document_of(ROOT / "examples" / "triad_sixbar.toml")
     return {  # name: (document, dragged point, torque panel expected)
         "four-bar leg, torque off": (without_masses(fourbar), "O1", False),
         "four-bar leg, torque on": (fourbar, "O1", True),
         "Jansen, torque off": (without_masses(jansen), "P", False),
         "Jansen, torque on": (with_masses(jansen, jansen_mass), "P", True),
+        "triad six-bar (Newton kernel)": (without_masses(triad), "B", False),
     }
 
 
@@ -156,7 +160,11 @@ def server_previews(doc: dict, point: str, count: int) -> list[float]:
     """ms of ``Session.handle`` answering a preview that moves ``point`` by a little (no browser, no socket)."""
     from assur.designer.payload import describe
     from assur.designer.session import Session
+    from assur.designer.server import _prepare_kernels
     session = Session(doc, None)
+    loading = _prepare_kernels(session)        # as `assur design` does: a Newton kernel loaded in the background
+    if loading is not None:
+        loading.join()
     sketch = describe(doc).mechanism.sketch(point)
     out = []
     for i in range(count):
@@ -177,13 +185,25 @@ def main(argv=None) -> int:
     ap.add_argument("--radius", type=float, default=12.0, help="radius of the dragged circle (CSS px)")
     ap.add_argument("--jansen-mass", type=float, default=0.1, help="kg given to each link of Jansen's leg")
     ap.add_argument("--out", default=str(HERE / "designer_results.md"), help="Markdown file to write ('-' for none)")
+    ap.add_argument("--only", default="", help="run only the cases whose name contains this text (or one of "
+                                                 "several separated by |)")
     args = ap.parse_args(argv)
+    import subprocess
+    import assur
+    if not args.only or "triad" in args.only:
+        # the Newton kernel into the disk cache the designer's process reads, compiled in a process of its own (this
+        # one does not import numba before the cases that come first: the triad's case is the last)
+        subprocess.run([sys.executable, "-c", "import assur; from assur.engine.planar import numba_backend; "
+                        "numba_backend.prepare_newton(assur.compile(assur.load(%r)))"
+                        % str(ROOT / "examples" / "triad_sixbar.toml")], check=True)
     from playwright.sync_api import sync_playwright
     rows = []
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
         try:
             for name, (doc, point, torque) in cases(args.jansen_mass).items():
+                if not any(part in name for part in args.only.split("|")):
+                    continue
                 trips = drag_round_trips(browser, doc, point, args.moves, args.warmup, args.radius, torque)
                 server = server_previews(doc, point, max(20, args.moves // 4))
                 rows.append((name, point, len(trips), min(trips), statistics.median(trips), percentile(trips, 95),
@@ -191,9 +211,8 @@ def main(argv=None) -> int:
                 print(f"{name}: p50 {rows[-1][4]:.1f} ms, p95 {rows[-1][5]:.1f} ms", file=sys.stderr)
         finally:
             browser.close()
-    import assur
     command = (f"python benchmarks/designer.py --moves {args.moves} --warmup {args.warmup} --radius {args.radius:g} "
-               f"--jansen-mass {args.jansen_mass:g}")
+               f"--jansen-mass {args.jansen_mass:g}" + (f" --only '{args.only}'" if args.only else ""))
     lines = [f"# The designer's drag round trip ({datetime.date.today().isoformat()})", "",
              f"`{command}` on {platform.machine()} ({_cores()} cores), Python {platform.python_version()}, "
              f"numpy {np.__version__}, assur {assur.__version__}, headless Chromium ({Path(CHROMIUM).name}).", "",

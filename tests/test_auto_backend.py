@@ -35,7 +35,12 @@ def test_a_loaded_kernel_serves_an_ordinary_batch(fourbar_plan):
     assert not _compiled(tiny)
 
 
-def test_newton_groups_and_the_oracle_stay_on_numpy(triad_sixbar_plan, fourbar_plan):
+def test_newton_groups_follow_the_same_rule_and_the_oracle_stays_on_numpy(triad_sixbar_plan, fourbar_plan,
+                                                                           monkeypatch):
+    """A plan with Newton-solved groups takes its compiled kernel by the same rule (tests/test_compiled_newton.py: once
+    it is ready); without it an ordinary batch stays on numpy. The Newton oracle of a dyad plan is numpy's alone."""
+    from assur.engine.planar import numba_backend
+    monkeypatch.setattr(numba_backend, "newton_cached", lambda plan, each=True: False)
     assert not _compiled(assur.solve(triad_sixbar_plan, inputs=Q[:40]))
     assert not _compiled(assur.solve(fourbar_plan, inputs=Q, method="newton"))
 

@@ -155,7 +155,7 @@ def test_layouts_designs_by_inputs_and_per_sample():
 def test_the_kernel_key_carries_the_generator_digest_and_a_changed_generator_recompiles(tmp_path, monkeypatch):
     """numba's disk cache does not follow a callee's changes: every generated kernel's source (and so its file name
     and its numba cache) starts with the digest of the generator and the functions its kernels call
-    (assur.kernels.codegen, .trace, .reductions), computed here independently from the files' bytes. A second
+    (assur.kernels.codegen, .newton_codegen, .trace, .reductions), computed here independently from the files' bytes. A second
     process loads the cached kernel; after a change of the generator (its digest), the same source is a new kernel
     that numba compiles afresh: never the stale one."""
     import hashlib
@@ -165,7 +165,8 @@ def test_the_kernel_key_carries_the_generator_digest_and_a_changed_generator_rec
     from assur.kernels import codegen
     folder = Path(codegen.__file__).parent
     digest = hashlib.sha1(b"".join((folder / f).read_bytes()
-                                   for f in ("codegen.py", "trace.py", "reductions.py"))).hexdigest()[:16]
+                                   for f in ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py"))
+                          ).hexdigest()[:16]
     assert codegen.generator_digest() == digest
     source = "from numba import njit\n\n\n@njit(cache=True)\ndef kernel(x):\n    return x + 1.0\n"
 

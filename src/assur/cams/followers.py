@@ -91,7 +91,7 @@ def _pair_index(mechanism, cam) -> int:
 def from_plan(plan, cam=0, params=None) -> CamGeometry:
     """The geometry of the mechanism's cam pair ``cam`` (a name or an index) at one design ``params (n_params,)``
     (default the plan's), placed as at the plan's sketch inputs: x = 0 is the sketch position."""
-    from ..engine.planar.steps import context_at
+    from ..engine.planar.continuation import context_at
     m = plan.mechanism
     k = _pair_index(m, cam)
     cp = m.cams[k]

@@ -192,8 +192,24 @@ def _warm(session: Session) -> None:
     otherwise stall a drag now and then."""
     import gc
     session.handle({"op": "hello", "seq": None})
+    _prepare_kernels(session)
     gc.collect()
     gc.freeze()
+
+
+def _prepare_kernels(session: Session):
+    """A mechanism with Newton-solved groups (a triad): its compiled kernel loaded in a background thread (and
+    compiled first if it is not cached yet: seconds, once per structure); until it is ready the previews run on
+    numpy, then on it (``backend="auto"``: a ready kernel serves every preview once numba is imported). Returns the
+    thread, or None."""
+    from ..engine.planar import numba_backend
+    plan = session.entry(session.doc).plan
+    if plan is None or not (numba_backend.available() and numba_backend.newton_covers(plan)):
+        return None
+    thread = threading.Thread(target=numba_backend.prepare_newton, args=(plan,), daemon=True,
+                              name="assur-newton-kernel")
+    thread.start()
+    return thread
 
 
 def start_server(session: Session, port: int = 0) -> RunningServer:

@@ -10,8 +10,8 @@ import numpy as np
 from ..errors import SpecError
 from ..model.mechanism import Mechanism
 from ..tolerances import DEFAULT
-from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES, check_options,
-                      prepare_batch)
+from .options import (AUTO_CACHED_MIN_SAMPLES, AUTO_COMPILE_MIN_SAMPLES, AUTO_COMPILED_MIN_SAMPLES,
+                      AUTO_NEWTON_COMPILE_MIN_SAMPLES, check_options, prepare_batch)
 from .plan import PlanarPlan, SpatialPlan, require_mechanism, require_plan
 from .planar import numba_backend
 from .planar.compile import compile_planar
@@ -62,7 +62,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         is compiled already (in this process or in the disk cache), for batches of at least
         ``AUTO_CACHED_MIN_SAMPLES`` when besides numba is imported already (the kernel then costs nothing to
         start), and compiles it first only for a batch of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs
-        seconds). Both give the same numbers to round-off.
+        seconds; ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` for a plan with Newton-solved groups, whose kernels follow
+        the same certified continuation: :mod:`assur.engine.planar.newton_kernels`). Both give the same numbers
+        (and the same valid samples) to round-off.
     sweep : bool
         The inputs along the last batch axis are one turn of the plan's single crank, the same for every design
         (a cycle): Newton-solved groups are then swept through the samples in turn instead of continued from the
@@ -81,9 +83,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order))):
+    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order, sweep))):
         state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
-                                required=backend == "numba")
+                                required=backend == "numba", sweep=sweep)
         if state is not None:
             return state
     return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
@@ -122,23 +124,27 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
     return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
 
 
-def _compiled_pays(plan, size: int, order: int) -> bool:
+def _compiled_pays(plan, size: int, order: int, sweep: bool = False) -> bool:
     """backend="auto": the compiled kernel for a batch of ``size`` samples when it costs nothing to start and the
     batch is large enough to gain from it (compiled already, in this process or the disk cache: from
     ``AUTO_COMPILED_MIN_SAMPLES`` samples, or from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported, so a small
-    batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py)."""
-    if size >= AUTO_COMPILE_MIN_SAMPLES:
-        return True
+    batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py). A plan
+    with Newton-solved groups costs numpy about a thousand times more per sample: its kernel is compiled first from
+    ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` samples."""
+    if size >= (AUTO_NEWTON_COMPILE_MIN_SAMPLES if numba_backend.newton_covers(plan) else AUTO_COMPILE_MIN_SAMPLES):
+        return numba_backend.available()
     if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and "numba" not in sys.modules):
         return False
-    return numba_backend.kernel_ready(plan, False, order)
+    return numba_backend.kernel_ready(plan, False, order, sweep)
 
 
-def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required):
+def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, required, sweep=False):
     """The compiled backend, or None where it does not apply (numba missing and not required,
     a plan or batch layout it does not cover)."""
     if not (required or numba_backend.available()):
         return None
+    if numba_backend.newton_covers(plan):
+        return _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, sweep)
     n = plan.n_inputs
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
@@ -156,6 +162,35 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
     def complete():
         """The numpy backend's full state (body orientations), solved on first use."""
         return solve(plan, params, inputs, speeds=qdot, accels=qddot, order=order, backend="numpy", tolerances=tol)
+
+    return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
+                  complete=complete, xyz=xyz, xyz_time=time_mode)
+
+
+def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tol, sweep=False):
+    """A plan with Newton-solved groups by its compiled sweep (:func:`numba_backend.solve_newton`): the points'
+    values, velocities and accelerations (at one scalar nonzero speed; else the analogues) as the State's float
+    views; the bodies' orientations from the same buffer on first use."""
+    qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
+    qddot = np.zeros(plan.n_inputs) if accels is None else np.asarray(accels, dtype=float)
+    time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
+    w, a = (float(qdot[0]), float(qddot[0])) if time_mode else (1.0, 0.0)
+    buffer, (pos, first, second), valid = numba_backend.solve_newton(plan, params, inputs, tol, shape,
+                                                                     (w, w * w, a), sweep)
+    if not valid.all():
+        buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
+    n = len(plan.point_names)
+    xyz = (pos[..., :n, :], first[..., :n, :] if order >= 1 else None, second[..., :n, :] if order >= 2 else None)
+
+    def complete():
+        """The full state (points and body orientations, complex, with their analogues) from the kernel's buffer:
+        nothing solved again."""
+        z, dz, d2z = (v[..., 0] + 1j * v[..., 1] for v in (pos, first, second))
+        if time_mode:
+            dz = dz / w
+            d2z = (d2z - dz * a) / (w * w)
+        return finish(plan, params, inputs, shape, z, dz[..., None] if order >= 1 else None,
+                      d2z[..., None, None] if order >= 2 else None, valid, speeds, accels, "nan")
 
     return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
                   complete=complete, xyz=xyz, xyz_time=time_mode)

@@ -22,6 +22,10 @@ AUTO_CACHED_MIN_SAMPLES = 16
 #: … and batches at least this large compile it first: a new mechanism's kernel takes seconds to compile, which
 #: only a batch this size wins back at once (the numpy backend solves about a million samples a second)
 AUTO_COMPILE_MIN_SAMPLES = 5_000_000
+#: … or, for a plan with Newton-solved groups, this large: the numpy backend continues such a sample from the sketch
+#: in about 0.65 ms (one design's cycle; several ms for a population's), so a batch this size costs it about the first
+#: compile of the kernel (some 20 s: benchmarks/newton.py measures both)
+AUTO_NEWTON_COMPILE_MIN_SAMPLES = 30_000
 
 #: Samples of one input turn shared by the analysis, the report, the figures, the force cycle and the animation's
 #: path (:class:`assur.analysis.study.Study`): every command samples one turn at it unless told otherwise.

@@ -36,8 +36,8 @@ STREAMS = 12
 #: not in its disk cache yet (the command line prints it; silent for a library user by default)
 LOG = logging.getLogger("assur.compile")
 #: the modules (beside this one) whose text decides what a generated kernel does: the tracer and the callees
-GENERATOR_FILES = ("codegen.py", "trace.py", "reductions.py")
-I4, I8, I12 = " " * 4, " " * 8, " " * 12
+GENERATOR_FILES = ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py")
+I4, I8, I12, I16 = " " * 4, " " * 8, " " * 12, " " * 16
 
 
 def available() -> bool:
@@ -157,6 +157,38 @@ CYCLE_COLUMNS = ("unassembled", "shortfall", "transmission", "gait.step", "gait.
 PATH_COLUMN = len(CYCLE_COLUMNS)
 
 
+#: the scratch arrays of a cycle kernel: the foot's stride coordinate, height, speed and horizontal velocity, the path
+#: point's x and y, the transmission angle's tangent, one value per sample
+_CYCLE_SCRATCH = ("fx", "fv", "fs", "fw", "px", "py", "ft")
+
+
+def _cycle_after(transmission, foot, path) -> list:
+    """The per-sample stores of a cycle kernel: (target, traced value)."""
+    after = []
+    if transmission is not None:
+        after.append(("ft[u]", transmission))
+    if foot is not None:
+        after += list(zip(("fx[u]", "fv[u]", "fs[u]", "fw[u]"), foot))
+    if path is not None:
+        after += list(zip(("px[u]", "py[u]"), path))
+    return after
+
+
+def _cycle_reduce(transmission: bool, foot: bool, path: bool) -> list[str]:
+    """A design's reductions after its samples (``cbad`` counted, the scratch arrays of M samples filled): the
+    columns of :data:`CYCLE_COLUMNS` and the path distances."""
+    return [
+        "out[d, 0] = cbad", "out[d, 1] = shortfall", "tmin = math.inf",
+        *(["for u in range(M):", f"{I4}tmin = min(tmin, ft[u])"] if transmission else []),
+        "out[d, 2] = math.atan(tmin) if cbad < M else math.nan",
+        "for k in range(3, out.shape[1]):", f"{I4}out[d, k] = math.nan",
+        "if cbad == 0:",
+        *([f"{I4}gait_reduce(fx, fv, fs, fw, out, d, 3)"] if foot else []),
+        *([f"{I4}polyline_distance(px, py, txy, out, d, {PATH_COLUMN})"] if path else []),
+        f"{I4}pass",
+    ]
+
+
 def cycle_source(tracer, ok, deficit, *, transmission=None, foot=None, path=None) -> str:
     """Python source of a fused numba kernel that reduces the whole-cycle quantities of each design.
 
@@ -177,32 +209,23 @@ def cycle_source(tracer, ok, deficit, *, transmission=None, foot=None, path=None
     Gait terms and distances are NaN for a design with a sample that does not assemble (as the sampled numpy
     forms). Only a few samples per design are stored (scratch arrays of M values reused for every design).
     """
-    after = []
-    if transmission is not None:
-        after.append(("ft[u]", transmission))
-    if foot is not None:
-        after += list(zip(("fx[u]", "fv[u]", "fs[u]", "fw[u]"), foot))
-    if path is not None:
-        after += list(zip(("px[u]", "py[u]"), path))
+    after = _cycle_after(transmission, foot, path)
     call, design = _design_and_call(tracer, [ok, deficit] + [v for _, v in after])
     body = [
-        f"{I4}M = cq.shape[0]", *[f"{I4}{a} = np.empty(M)" for a in ("fx", "fv", "fs", "fw", "px", "py", "ft")],
+        f"{I4}M = cq.shape[0]", *[f"{I4}{a} = np.empty(M)" for a in _CYCLE_SCRATCH],
         *call, f"{I4}for d in range(P.shape[0]):", *design,
         *_cycle_loop(tracer, ok, deficit, "M", after),
-        f"{I8}out[d, 0] = cbad", f"{I8}out[d, 1] = shortfall", f"{I8}tmin = math.inf",
-        *([f"{I8}for u in range(M):", f"{I12}tmin = min(tmin, ft[u])"] if transmission is not None else []),
-        f"{I8}out[d, 2] = math.atan(tmin) if cbad < M else math.nan",
-        f"{I8}for k in range(3, out.shape[1]):", f"{I12}out[d, k] = math.nan",
-        f"{I8}if cbad == 0:",
-        *([f"{I12}gait_reduce(fx, fv, fs, fw, out, d, 3)"] if foot is not None else []),
-        *([f"{I12}polyline_distance(px, py, txy, out, d, {PATH_COLUMN})"] if path is not None else []),
-        f"{I12}pass",
+        *_block(_cycle_reduce(transmission is not None, foot is not None, path is not None), I8),
     ]
     # reassoc lets LLVM vectorise the sums and the minimum over the samples (their order is fixed by M, so a
     # design's values never depend on the batch it is evaluated in)
     return module("assur.kernels.codegen.cycle_source", "P, cq, sq, tol, g, up, omega, scale, txy, out", body,
                   fastmath=("contract", "reassoc"),
                   imports=["from assur.kernels.reductions import gait_reduce, polyline_distance"])
+
+
+def _block(lines: list[str], indent: str) -> list[str]:
+    return [indent + ln for ln in lines]
 
 
 # -- loading and caching -----------------------------------------------------------------------------------------
@@ -223,17 +246,30 @@ def generator_digest() -> str:
     return _DIGEST
 
 
+def _stamped(source: str) -> tuple[str, str]:
+    """(module name, stamped source) of a generated source: the generator's digest first, the name its digest."""
+    import hashlib
+    source = f"# generator: assur.kernels.codegen sha1 {generator_digest()}\n" + source
+    return "assur_kernel_" + hashlib.sha1(source.encode()).hexdigest()[:16], source
+
+
+def cached(source: str) -> bool:
+    """True when numba's disk cache in the kernel cache directory holds the kernel of a generated source (loading it
+    then compiles nothing)."""
+    from pathlib import Path
+    name, _ = _stamped(source)
+    return any((Path(cache_dir()) / "__pycache__").glob(f"{name}.*.nbi"))
+
+
 def load_kernel(source: str, directory):
     """Import a generated kernel module from ``directory`` and return its ``kernel``: the source, stamped with the
     :func:`generator_digest`, is written once under the name of its own digest (atomically), so numba's on-disk
     cache beside it is reused across processes and a changed generator never reuses it."""
-    import hashlib
     import importlib.util
     import os
     import sys
     from pathlib import Path
-    source = f"# generator: assur.kernels.codegen sha1 {generator_digest()}\n" + source
-    name = "assur_kernel_" + hashlib.sha1(source.encode()).hexdigest()[:16]
+    name, source = _stamped(source)
     path = Path(directory) / f"{name}.py"
     if not path.exists() or path.read_text(encoding="utf-8") != source:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -1,11 +1,33 @@
-"""Per-design reductions of sampled cycles, called by the generated cycle kernels (:mod:`assur.kernels.codegen`):
-the sampled gait terms of a walking leg's foot and the distances of targets to a sampled closed path. Compiled by
-numba (imported with this module, which only generated kernels and tests import)."""
+"""What the generated kernels (:mod:`assur.kernels.codegen`) call: the per-design reductions of sampled cycles (the
+sampled gait terms of a walking leg's foot, the distances of targets to a sampled closed path) and :func:`select`, the
+branch-free choice of the Newton kernels. Compiled by numba (imported with this module, which only generated kernels
+and tests import)."""
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
+from numba.core import types
+from numba.extending import intrinsic
+
+
+@intrinsic
+def select(typingctx, cond, a, b):
+    """``a if cond else b`` as one LLVM ``select`` instruction: no branch, so no basic blocks for numba's front end to
+    analyse (a conditional expression makes three, and the cost of numba's analyses grows with blocks × variables:
+    the traced Newton kernels, with a hundred selects in their iteration loops, compile in about half the time)."""
+    if not isinstance(cond, types.Boolean):
+        return None
+    common = typingctx.unify_types(a, b)
+    if common is None:
+        return None
+
+    def codegen(context, builder, signature, args):
+        x = context.cast(builder, args[1], signature.args[1], common)
+        y = context.cast(builder, args[2], signature.args[2], common)
+        return builder.select(args[0], x, y)
+    return common(cond, a, b), codegen
 
 
 @njit(cache=True, error_model="numpy")
@@ -102,3 +124,196 @@ def polyline_distance(px, py, txy, out, d, col):
             ey = ay + t * aby - ty
             best = min(best, ex * ex + ey * ey)
         out[d, col + j] = math.sqrt(best)
+
+
+# -- a triad's assemblies near a solved pose ----------------------------------------------------------------------
+#: samples of the triad's function per turn (assur.kernels.triad.SAMPLES) and a root's distance from the unit circle
+#: below which it is an assembly (assur.kernels.triad.ON_CIRCLE)
+_TRIAD_SAMPLES, _ON_CIRCLE = 8, 1e-3
+
+
+#: exp(iφ_j) at the triad's sample orientations φ_j = 2πj/8, and the discrete Fourier transform's factors
+#: exp(−2πi·jk/8) (numpy's fft) — constants of the compiled code
+_TRIAD_E = np.exp(1j * 2.0 * np.pi * np.arange(_TRIAD_SAMPLES) / _TRIAD_SAMPLES)
+_TRIAD_DFT = np.exp(-2j * np.pi * np.outer(np.arange(_TRIAD_SAMPLES), np.arange(_TRIAD_SAMPLES)) / _TRIAD_SAMPLES)
+
+
+@njit(cache=True, error_model="numpy")
+def _triad_coefficients(TA, TS):
+    """The coefficients of z³·G(z) (assur.kernels.triad.triad_polynomial), highest power first, into ``TS[8:15]``
+    (complex scratch; ``TS[0:8]`` the samples of G) from ``TA``'s w (0:6, re/im × 3), Q (6:12) and ell (12:15): the
+    discrete Fourier transform of G's eight samples, whose bins −k are the conjugates of the bins k (G is real)."""
+    for j in range(_TRIAD_SAMPLES):
+        TS[j] = _triad_at(TA, _TRIAD_E[j])[0]
+    for k in range(4):
+        acc = 0j
+        for j in range(_TRIAD_SAMPLES):
+            acc += TS[j].real * _TRIAD_DFT[j, k]
+        c = acc / _TRIAD_SAMPLES
+        TS[11 - k] = c                   # e^{+ikφ}: the coefficient of z^{3+k}
+        if k:
+            TS[11 + k] = c.conjugate()   # e^{−ikφ}: of z^{3−k}
+
+
+@njit(cache=True, error_model="numpy")
+def _triad_function(TA, phi):
+    """(G(φ), p(φ)) of assur.kernels.triad.triad_function for one orientation φ."""
+    return _triad_at(TA, complex(math.cos(phi), math.sin(phi)))
+
+
+@njit(cache=True, error_model="numpy")
+def _triad_at(TA, e):
+    """(G, p) of assur.kernels.triad.triad_function at the orientation e = exp(iφ) (real arithmetic)."""
+    er, ei = e.real, e.imag
+    v0r = er * TA[0] - ei * TA[1] - TA[6]
+    v0i = er * TA[1] + ei * TA[0] - TA[7]
+    v1r = er * TA[2] - ei * TA[3] - TA[8]
+    v1i = er * TA[3] + ei * TA[2] - TA[9]
+    v2r = er * TA[4] - ei * TA[5] - TA[10]
+    v2i = er * TA[5] + ei * TA[4] - TA[11]
+    vv0 = v0r * v0r + v0i * v0i
+    vv1 = v1r * v1r + v1i * v1i
+    vv2 = v2r * v2r + v2i * v2i
+    u2r, u2i = v1r - v0r, v1i - v0i
+    u3r, u3i = v2r - v0r, v2i - v0i
+    l0 = TA[12] * TA[12]
+    rho2 = 0.5 * (TA[13] * TA[13] - l0 - vv1 + vv0)
+    rho3 = 0.5 * (TA[14] * TA[14] - l0 - vv2 + vv0)
+    delta = u2r * u3i - u2i * u3r
+    # N = i·(ρ3·u2 − ρ2·u3)
+    ar, ai = rho3 * u2r - rho2 * u3r, rho3 * u2i - rho2 * u3i
+    Nr, Ni = -ai, ar
+    gr, gi = Nr + delta * v0r, Ni + delta * v0i
+    ld = TA[12] * delta
+    return gr * gr + gi * gi - ld * ld, complex(Nr / delta, Ni / delta)
+
+
+#: Weierstrass iterations at most when the roots are tracked from the last call's
+_TRACK_ITERATIONS = 30
+
+
+@njit(cache=True, error_model="numpy")
+def _track_roots(TS, RT):
+    """The six roots of the polynomial in ``TS[8:15]`` by Weierstrass (Durand–Kerner) iterations started from
+    ``RT[0:6]`` (the roots found at the last call: the walk moves them little), written back to ``RT``; False where
+    they do not converge to distinct finite roots within :data:`_TRACK_ITERATIONS` iterations (then the caller finds
+    them afresh: an eigenvalue solve costs as much as some thirty of these iterations)."""
+    a0 = TS[8]
+    if not RT[6].real > 0.0 or a0 == 0:
+        return False
+    for it in range(_TRACK_ITERATIONS):
+        worst = 0.0
+        for i in range(6):
+            z = RT[i]
+            f = TS[8]
+            for k in range(1, 7):
+                f = f * z + TS[8 + k]
+            den = a0
+            for j in range(6):
+                if j != i:
+                    den *= z - RT[j]
+            dz = f / den
+            RT[i] = z - dz
+            # |dz|² / (1 + |z|²): the relative step, squared (no square roots)
+            worst = max(worst, (dz.real * dz.real + dz.imag * dz.imag) / (1.0 + z.real * z.real + z.imag * z.imag))
+        if not worst == worst:
+            return False
+        if worst < 1e-18:
+            # a relative step below 1e-9 between distinct roots (none closer than 1e-6, relative): Newton's quadratic
+            # convergence leaves an error of about (1e-9)²/1e-6 = 1e-12 of a root's size, far below what the
+            # certificates resolve (a root within 1e-6 of the scale, the factor 2 between distances)
+            for i in range(6):
+                zi = RT[i]
+                for j in range(i + 1, 6):
+                    d = zi - RT[j]
+                    if not d.real * d.real + d.imag * d.imag > 1e-12 * (1.0 + zi.real * zi.real + zi.imag * zi.imag):
+                        return False
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def triad_check(TA, TS, RT, sep):
+    """A triad's certificates at a solved pose, as the numpy backend's continuation checks them
+    (assur.engine.planar.continuation._nearest_triad_assembly and separate): (the step's: the pose x is the assembly
+    of the triad's polynomial nearest the prediction and every other at least twice as far from it; the sample's: no
+    other assembly within ``sep`` (m) of x). Distances are the largest of the ternary's three joints.
+
+    ``TA``: w (0:6, the ternary's three points in its frame, re/im), Q (6:12, the three known points), ell (12:15, the
+    binary links' lengths), the ternary's pose at x (15:18: x, y, θ) and at the prediction (18:21), the length scale
+    (21); ``TS``: complex scratch (22,); ``RT``: the roots of the last call (0:6) and whether they are known (6: > 0).
+    The polynomial's roots are the last call's, refined (:func:`_track_roots`); where that fails, the companion
+    matrix's eigenvalues, as numpy finds them."""
+    ox, oth = (TA[15], TA[16]), TA[17]
+    po, pth = (TA[18], TA[19]), TA[20]
+    scale = TA[21]
+    cx, sx, cp, sp = math.cos(oth), math.sin(oth), math.cos(pth), math.sin(pth)
+    _triad_coefficients(TA, TS)
+    a = TS[8:15]
+    big2 = 0.0
+    finite = True
+    for i in range(7):
+        big2 = max(big2, a[i].real * a[i].real + a[i].imag * a[i].imag)
+        finite = finite and math.isfinite(a[i].real) and math.isfinite(a[i].imag)
+    big = math.sqrt(big2)
+    n = 0
+    regular = finite and abs(a[0]) > 1e-13 * big
+    if regular and _track_roots(TS, RT):
+        n = 6
+    else:
+        RT[6] = 0.0
+        if regular:
+            comp = np.zeros((6, 6), dtype=np.complex128)
+            for j in range(6):
+                comp[0, j] = -a[j + 1] / a[0]
+            for i in range(1, 6):
+                comp[i, i - 1] = 1.0
+            z = np.linalg.eigvals(comp)
+            for i in range(6):
+                RT[i] = z[i]
+            RT[6] = 1.0
+            n = 6
+        elif finite and big > 0.0:
+            z = np.roots(a.copy())
+            n = len(z)
+            for i in range(n):
+                RT[i] = z[i]
+    # the roots on the unit circle (numpy's order, by angle, does not change what follows): for each, the largest
+    # squared distance of the ternary's joints in that assembly from those at the prediction and at x
+    lo, hi = (1.0 - _ON_CIRCLE) ** 2, (1.0 + _ON_CIRCLE) ** 2
+    mine = -1
+    dxm = np.inf
+    dpm = np.inf
+    for i in range(n):
+        z = RT[i]
+        r2 = z.real * z.real + z.imag * z.imag
+        if not lo < r2 < hi:
+            continue
+        rr = math.sqrt(r2)
+        e = complex(z.real / rr, z.imag / rr)
+        p = _triad_at(TA, e)[1]
+        mp = 0.0
+        mx = 0.0
+        for k in range(3):
+            wr, wi = TA[2 * k], TA[2 * k + 1]
+            ar, ai = p.real + e.real * wr - e.imag * wi, p.imag + e.real * wi + e.imag * wr
+            dr, di = ar - (po[0] + cp * wr - sp * wi), ai - (po[1] + cp * wi + sp * wr)
+            mp = max(mp, dr * dr + di * di)
+            dr, di = ar - (ox[0] + cx * wr - sx * wi), ai - (ox[1] + cx * wi + sx * wr)
+            mx = max(mx, dr * dr + di * di)
+        TA[22 + i] = mp if math.isfinite(mp) else np.inf
+        TA[28 + i] = mx if math.isfinite(mx) else np.inf
+        if TA[28 + i] < dxm:
+            mine, dxm, dpm = i, TA[28 + i], TA[22 + i]
+    # squared distances throughout: the numpy code's comparisons of distances, on their squares
+    others = np.inf
+    second = np.inf
+    for i in range(n):
+        z = RT[i]
+        r2 = z.real * z.real + z.imag * z.imag
+        if i == mine or not lo < r2 < hi:
+            continue
+        others = min(others, TA[22 + i])
+        second = min(second, TA[28 + i])
+    is_root = dxm <= (1e-6 * scale) ** 2
+    return (not is_root) or (4.0 * dpm <= others), not (second <= sep * sep)

@@ -14,8 +14,8 @@ Levels. A symbol carries a level: the bit set of the loops it varies in, :data:`
 parameters) and :data:`SAMPLE` (on one input sample). A line's level is the union of its operands' levels, and the
 kernel generator (:mod:`.codegen`) places each line in the outermost loop it may run in, the loop of its highest
 bit: a call-level line (level 0: it reads only the kernel's scalar arguments) once per call, a design's geometry
-once per design, the rest once per sample. A further loop inside those (the iterations of Newton's method, say) is
-one more bit, above SAMPLE.
+once per design, the rest once per sample. A further loop inside those, the iterations of Newton's method, is one
+more bit above SAMPLE, :data:`ITER`.
 
 The tracer also folds constants (x·1 → x, x + 0 → x, 0·x → 0 and 0/x → 0: a zero times a non-finite value gives
 zero, not NaN, so a non-finite derivative at a singular position may come out infinite where numpy gives NaN; either
@@ -33,6 +33,8 @@ import numpy as np
 DESIGN = 1
 #: level bit: the value depends on an input sample
 SAMPLE = 2
+#: level bit: the value depends on the unknowns of a Newton iteration (its lines run inside the iteration loop)
+ITER = 4
 
 
 class Line:
@@ -47,15 +49,18 @@ class Line:
 
 
 class Tracer:
-    """The lines of one traced program, in order; ``prefix`` names its temporaries (``t0``, ``t1``, …)."""
+    """The lines of one traced program, in order; ``prefix`` names its temporaries (``t0``, ``t1``, …); ``select``:
+    the function an element-wise choice (``numpy.where``) is written as, ``select(c, a, b)``, or None for the
+    conditional expression ``a if c else b``."""
 
-    def __init__(self, prefix: str = "t"):
+    def __init__(self, prefix: str = "t", select: str | None = None):
         self.lines: list[Line] = []
         self.by_name: dict[str, Line] = {}
         self.memo: dict[tuple, object] = {}
         #: the name of a traced negation ``-x`` → x (so that −(−x) is x, a − (−b) is a + b, x·(−y) is −(x·y))
         self.negated: dict[str, R] = {}
         self.prefix = prefix
+        self.select = select
 
     # -- what the kernels read ---------------------------------------------------------------------------------
     def free(self, name: str, level: int = 0) -> "R":
@@ -340,8 +345,9 @@ def where(cond, a, b):
         return C(where(cond, a.re, b.re), where(cond, a.im, b.im))
     if a is b or (_const(a) and _const(b) and source(a) == source(b)):
         return a
-    return cond.t.emit(f"{source(a)} if {cond.name} else {source(b)}",
-                       [cond] + [x for x in (a, b) if isinstance(x, R)])
+    expr = (f"{source(a)} if {cond.name} else {source(b)}" if cond.t.select is None
+            else f"{cond.t.select}({cond.name}, {source(a)}, {source(b)})")
+    return cond.t.emit(expr, [cond] + [x for x in (a, b) if isinstance(x, R)])
 
 
 # -- complex numbers -------------------------------------------------------------------------------------------

@@ -72,20 +72,26 @@ def default_backend() -> str:
 
 #: the compiled kernels cost several seconds to compile for a new mechanism (``benchmarks/first_use.py``) and then
 #: evaluate a design in 1–20 µs; numpy takes about NUMPY_SECONDS_PER_UNIT per solved sample and plan step (18 µs for
-#: C2's 5 targets, 0.2–2 ms for the problems that solve a whole cycle). A run that names no backend compiles when its
+#: C2's 5 targets, 0.2–2 ms for the problems that solve a whole cycle), and NUMPY_SECONDS_PER_NEWTON_GROUP per solved
+#: sample and Newton-solved group (a class-III triad, say: Newton's iterations continued along the turn; 0.4 ms
+#: measured on the triad six-bar's populations, benchmarks/newton.py). A run that names no backend compiles when its
 #: numpy evaluations would take at least PAYBACK_SECONDS by that estimate (or, without a budget, when its time limit
 #: is at least PAYBACK_SECONDS), and runs numpy otherwise
 NUMPY_SECONDS_PER_UNIT = 0.5e-6
+NUMPY_SECONDS_PER_NEWTON_GROUP = 300e-6
 PAYBACK_SECONDS = 10.0
 
 
 def numpy_seconds(problem, evaluations: int) -> float:
     """The estimated numpy time (s) of ``evaluations`` evaluations of ``problem``: the solved samples of one (its
-    targets, and a whole cycle's samples when a term or constraint needs one) times the plan's steps times
-    :data:`NUMPY_SECONDS_PER_UNIT`. A deterministic estimate: it depends on the problem, never on the machine."""
+    targets, and a whole cycle's samples when a term or constraint needs one) times the plan's steps' cost
+    (:data:`NUMPY_SECONDS_PER_UNIT` a step, :data:`NUMPY_SECONDS_PER_NEWTON_GROUP` a Newton-solved group). A
+    deterministic estimate: it depends on the problem, never on the machine."""
     samples = (problem.targets.n if problem.targets is not None else 0) + \
         (problem.cycle_samples if problem.needs_cycle() else 0)
-    return evaluations * max(samples, 1) * len(problem.plan.steps) * NUMPY_SECONDS_PER_UNIT
+    newton = sum(st.kind == "newton" for st in problem.plan.steps)
+    per_sample = (len(problem.plan.steps) - newton) * NUMPY_SECONDS_PER_UNIT + newton * NUMPY_SECONDS_PER_NEWTON_GROUP
+    return evaluations * max(samples, 1) * per_sample
 
 
 def run_backend(problem, budget: int | None, time_limit: float | None) -> str:
@@ -513,5 +519,5 @@ def _sampled_forces(plan, st, valid, backend) -> dict:
     return {k: np.where(bad, np.nan, v) for k, v in out.items()}
 
 
-__all__ = ["Evaluation", "Evaluator", "NUMPY_SECONDS_PER_UNIT", "PAYBACK_SECONDS", "default_backend", "numpy_seconds",
-           "run_backend"]
+__all__ = ["Evaluation", "Evaluator", "NUMPY_SECONDS_PER_NEWTON_GROUP", "NUMPY_SECONDS_PER_UNIT", "PAYBACK_SECONDS",
+           "default_backend", "numpy_seconds", "run_backend"]

@@ -2,27 +2,33 @@
 
 The kernels are generated per plan by the package's one code generator: the plan's step executors are traced on
 symbols (:mod:`assur.engine.planar.traced`: the numpy backend's own closed forms and jets) and wrapped in loops by
-:mod:`assur.kernels.codegen`, which also loads and caches them. A plan that is not traced (several inputs, gears,
-PRP/PPR, driven actuators, Newton groups) and a batch that is not laid out as designs × inputs return ``None`` here
-and the numpy backend solves them. numba is imported only when a kernel runs. The loaded kernels are cached per plan
-outside the (frozen) plan, in a weak-keyed dictionary, so they go with the plan.
+:mod:`assur.kernels.codegen`, which also loads and caches them. A plan with Newton-solved groups has its own kernels
+(:mod:`.newton_kernels`: the numpy backend's sweep through the inputs, Newton's iterations traced from the same loop
+equations). A plan that is not traced (several inputs, gears, PRP/PPR, driven actuators) and a batch of a dyad plan
+that is not laid out as designs × inputs return ``None`` here and the numpy backend solves them. numba is imported
+only when a kernel runs. The loaded kernels are cached per plan outside the (frozen) plan, in a weak-keyed
+dictionary, so they go with the plan.
 """
 from __future__ import annotations
 
 import weakref
+from dataclasses import replace
 
 import numpy as np
 
-from ...kernels import codegen
+from ...kernels import codegen, newton_codegen
 from ...kernels.codegen import LOG, available, cache_dir  # noqa: F401  (the backend's public names)
 from ...kernels.trace import SAMPLE, minimum, where
+from ...tolerances import DEFAULT
 from ..plan import PlanarPlan
-from . import traced
+from . import newton_kernels, traced
 
 #: plan → {kernel key: loaded kernel}
 _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 #: plan → whether the plan is traced (:func:`covers`)
 _COVERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: plan → whether the plan's Newton-solved groups are traced (:func:`newton_covers`)
+_NEWTON: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 def covers(plan) -> bool:
@@ -35,12 +41,65 @@ def covers(plan) -> bool:
     return c
 
 
-def _load(plan, key: str, make_source):
+def newton_covers(plan) -> bool:
+    """True when the plan has Newton-solved groups and the compiled backend solves it
+    (:func:`.newton_kernels.covers`)."""
+    if not isinstance(plan, PlanarPlan):
+        return False
+    c = _NEWTON.get(plan)
+    if c is None:
+        c = _NEWTON[plan] = newton_kernels.covers(plan)
+    return c
+
+
+def _newton_key(each: bool) -> str:
+    return f"newton_2_{'each' if each else 'sweep'}"
+
+
+def newton_cached(plan, each: bool = True) -> bool:
+    """True when the plan's Newton solve kernel (``each``: :func:`.newton_kernels.solve_source`) is compiled in this
+    process or in numba's disk cache (a solve then costs no compile)."""
+    k = _KERNELS.get(plan, {}).get(_newton_key(each))
+    if k is not None:
+        return codegen.ready(k)
+    try:
+        return codegen.cached(newton_kernels.solve_source(plan, 2, each))
+    except OSError:
+        return False
+
+
+def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates=(1.0, 1.0, 0.0), sweep=False):
+    """Solve a plan with Newton-solved groups by its compiled continuation (:func:`.newton_kernels.solve`, order 2:
+    one kernel per plan whatever the order asked); None if not covered. ``tol``: the Tolerances; ``sweep``: as
+    ``solve(..., sweep=True)``, the designs swept through their inputs where the batch is one turn of inputs shared
+    by every design (:func:`.newton_kernels.sweeps`), else every sample continued from the sketch on its own.
+    Returns ``(buffer, (pos, first, second), valid)`` for the points and then the bodies (views shape + (n_points +
+    n_bodies, 2): the value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
+    if not newton_covers(plan):
+        return None
+    each = not (sweep and newton_kernels.sweeps(plan, params, inputs, shape))
+    k = _load(plan, _newton_key(each), lambda: newton_kernels.solve_source(plan, 2, each), "a Newton kernel")
+    return newton_kernels.solve(plan, params, inputs, tol, 2, shape, k, rates, each)
+
+
+def prepare_newton(plan) -> bool:
+    """Load the plan's Newton solve kernel of the default continuation now, compiling it if it is not cached (a long
+    session, such as the designer's, calls it in a background thread: numba is then imported and the kernel ready, so
+    its previews take the kernel by the automatic backend's rule). True when it had to compile; False when it only
+    loaded it, or had nothing to do (numba missing, no Newton-solved group)."""
+    if not (available() and newton_covers(plan)):
+        return False
+    compiles = not newton_cached(plan)
+    solve_newton(plan, plan.defaults, np.array([plan.sketch_inputs]), DEFAULT, (1,))
+    return compiles
+
+
+def _load(plan, key: str, make_source, what: str = "a kernel"):
     """A generated kernel of the plan under ``key``, generated, written and compiled once (:func:`codegen.load`)."""
     kernels = _KERNELS.setdefault(plan, {})
     k = kernels.get(key)
     if k is None:
-        k = kernels[key] = codegen.load(make_source())
+        k = kernels[key] = codegen.load(make_source(), what)
     return k
 
 
@@ -71,9 +130,12 @@ def solve_source(plan, with_bodies: bool, order: int) -> str:
     return codegen.solve_source(t.tracer, rows, ok)
 
 
-def kernel_ready(plan, with_bodies: bool = False, order: int = 2) -> bool:
-    """True when the plan's kernel (:func:`kernel`) runs without a compile: compiled in this process or found in
-    the disk cache. False without numba or for a plan the backend does not cover."""
+def kernel_ready(plan, with_bodies: bool = False, order: int = 2, sweep: bool = False) -> bool:
+    """True when the plan's kernel (:func:`kernel`, or for a plan with Newton-solved groups its Newton kernel:
+    :func:`newton_cached`, ``sweep`` as in :func:`solve_newton`) runs without a compile: compiled in this process or
+    found in the disk cache. False without numba or for a plan the backend does not cover."""
+    if newton_covers(plan):
+        return available() and newton_cached(plan, not sweep)
     if not (covers(plan) and available()):
         return False
     try:
@@ -122,14 +184,16 @@ def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_x
 
 
 def cycle_covers(plan, transmission: bool = False) -> bool:
-    """True when :func:`cycle_objective` covers the plan: a traced plan (:func:`covers`), and for the transmission
-    angle only RRR dyads (the angle of RRP and RPR dyads needs a slide's direction: the numpy route computes it)."""
-    return covers(plan) and not (transmission and any(st.kind in ("RRP", "RPR") for st in plan.steps))
+    """True when :func:`cycle_objective` covers the plan: a traced plan (:func:`covers`, or one with Newton-solved
+    groups: :func:`newton_covers`), and for the transmission angle only RRR dyads (the angle of RRP and RPR dyads
+    needs a slide's direction: the numpy route computes it)."""
+    return (covers(plan) or newton_covers(plan)) and not (
+        transmission and any(st.kind in ("RRP", "RPR") for st in plan.steps))
 
 
 def cycle_objective(plan, params: np.ndarray, cycle_inputs: np.ndarray, tol: float, *, foot: str | None = None,
                     ground=(1.0, 0.0), up=(0.0, 1.0), omega: float = 1.0, scale: float = 1.0,
-                    path: str | None = None, target_xy=None, transmission: bool = False):
+                    path: str | None = None, target_xy=None, transmission: bool = False, tolerances=DEFAULT):
     """Fused reduction of the whole-cycle quantities of a population; None if the plan is not covered.
 
     params (D, n_params); cycle_inputs (M,) one uniform turn. Returns (D, 12 + N), the columns of
@@ -137,30 +201,40 @@ def cycle_objective(plan, params: np.ndarray, cycle_inputs: np.ndarray, tol: flo
     past their toggles; with ``transmission`` the smallest RRR transmission angle (rad, folded to [0, π/2]);
     with ``foot`` the sampled gait terms of :func:`assur.analysis.gait.population_gait` (``ground``, ``up``,
     ``omega``, ``scale`` as there); with ``path`` and ``target_xy (N, 2)`` the distance of each target to the
-    closed polyline of that point's samples (SI), in the N last columns. NaN where a term does not apply.
+    closed polyline of that point's samples (SI), in the N last columns. NaN where a term does not apply. A plan with
+    Newton-solved groups is swept through the turn from each design's assembly at the sketch
+    (:mod:`.newton_kernels`; ``tolerances``: its Newton tolerances), as ``solve(..., sweep=True)`` solves it; its
+    shortfall is 0 (a Newton-solved group has no margin).
     """
     if not cycle_covers(plan, transmission):
         return None
+    newton = newton_covers(plan)
     key = f"cycle_{foot}_{path}_{transmission}"
     kern = _load(plan, key, lambda: cycle_source(plan, foot, path, transmission))
     designs = _designs(params)
     q = np.asarray(cycle_inputs, dtype=float)
     txy = np.zeros((0, 2)) if target_xy is None or path is None else _designs(target_xy)
     out = np.empty((designs.shape[0], codegen.PATH_COLUMN + len(txy)))
-    kern(designs, np.cos(q), np.sin(q), float(tol), _designs(ground), _designs(up), float(omega), float(scale), txy,
-         out)
+    extra = (_designs(ground), _designs(up), float(omega), float(scale), txy, out)
+    if newton:
+        kern(*newton_kernels.arguments(plan, designs, q[None, :], replace(tolerances, radicand=float(tol))), *extra)
+    else:
+        kern(designs, np.cos(q), np.sin(q), float(tol), *extra)
     if not (transmission and plan.steps_of("RRR")):
         out[:, 2] = np.nan
     return out
 
 
 def cycle_source(plan, foot: str | None, path: str | None, transmission: bool) -> str:
-    """The source of the plan's cycle kernel (:func:`assur.kernels.codegen.cycle_source`): its per-sample values
+    """The source of the plan's cycle kernel (:func:`assur.kernels.codegen.cycle_source`, or
+    :func:`~assur.kernels.codegen.newton_cycle_source` for a plan with Newton-solved groups): its per-sample values
     traced from the plan's state — the tangent of the smallest folded transmission angle of the RRR dyads
     (|cross|/|dot| of J→A and J→B, 0 where they are parallel, +inf where the sample does not assemble), the foot's
     stride coordinate x = P·g·scale, height P·up·scale, speed |dP/dq|·omega·scale and horizontal velocity
     dP/dq·g·omega·scale, the path point's x and y."""
-    t = traced.trace_plan(plan, 1 if foot is not None else 0)
+    newton = newton_covers(plan)
+    order = 1 if foot is not None else 0
+    t = traced.trace_plan(plan, order, row="p[{}]", select="select") if newton else traced.trace_plan(plan, order)
     tr = t.tracer
     worst = None
     if transmission:
@@ -180,6 +254,9 @@ def cycle_source(plan, foot: str | None, path: str | None, transmission: bool) -
         foot_values = ((x * g0 + y * g1) * scale, (x * u0 + y * u1) * scale,
                        np.sqrt(dx * dx + dy * dy) * omega * scale, (dx * g0 + dy * g1) * omega * scale)
     path_values = None if path is None else (np.real(t.pos[path].v), np.imag(t.pos[path].v))
+    if newton:
+        return newton_codegen.newton_cycle_source(tr, t.groups, t.valid, t.valid, transmission=worst,
+                                                  foot=foot_values, path=path_values)
     return codegen.cycle_source(tr, t.valid, t.deficit(), transmission=worst, foot=foot_values, path=path_values)
 
 

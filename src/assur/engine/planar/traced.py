@@ -10,8 +10,9 @@ every body's orientation as jets of traced values, the validity flag and the gro
 numpy backend and every compiled kernel alike.
 
 The traced plans (:func:`covers`): one rotary input, frame, crank and the RRR, RRP and RPR dyads without a driven
-actuator (walking legs, four-bars, slider-cranks, slotted levers, passive cylinders). Others (several inputs, gears,
-PRP and PPR dyads, Newton-solved groups) are solved by the numpy backend.
+actuator (walking legs, four-bars, slider-cranks, slotted levers, passive cylinders), and with ``newton=True`` also
+Newton-solved groups (triads and larger groups of revolute and passive prismatic pairs: :mod:`.traced_newton`). Others
+(several inputs, gears, PRP and PPR dyads, driven actuators) are solved by the numpy backend.
 """
 from __future__ import annotations
 
@@ -23,16 +24,20 @@ import numpy as np
 from ...kernels.jet import Jet
 from ...kernels.trace import DESIGN, SAMPLE, C, Tracer, isfinite, where
 from .steps import EXECUTORS, Context
+from .traced_newton import trace_group
 
 #: the step kinds a traced kernel covers
 TRACED_KINDS = ("frame", "crank", "RRR", "RRP", "RPR")
 
 
-def covers(plan) -> bool:
-    """True when the plan's steps can be traced into a compiled kernel (see the module's docstring)."""
+def covers(plan, newton: bool = False) -> bool:
+    """True when the plan's steps can be traced into a compiled kernel (see the module's docstring); with ``newton``
+    Newton-solved groups are traced too."""
     if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary" or getattr(plan, "gear_slots", ()):
         return False
     for st in plan.steps:
+        if st.kind == "newton" and newton:       # one rotary input: no driven actuator's length equation
+            continue
         if st.kind not in TRACED_KINDS:
             return False
         if st.kind in ("RRR", "RRP") and st.side_a.actuator is not None:
@@ -43,26 +48,43 @@ def covers(plan) -> bool:
 
 
 class _Params:
-    """One design's parameter row as traced loads ``P[d, k]``, indexed like ``params (..., n_params)``."""
+    """One design's parameter row as traced loads (``P[d, k]``; ``row`` names another array), indexed like
+    ``params (..., n_params)``."""
 
-    def __init__(self, tracer: Tracer, n: int):
-        self.tracer, self.shape = tracer, (n,)
+    def __init__(self, tracer: Tracer, n: int, row: str = "P[d, {}]"):
+        self.tracer, self.shape, self.row = tracer, (n,), row
 
     def __getitem__(self, key):
         k = key[-1] if isinstance(key, tuple) else key
-        return self.tracer.load(f"P[d, {int(k)}]", DESIGN)
+        return self.tracer.load(self.row.format(int(k)), DESIGN)
+
+
+class _TracedPlan:
+    """The plan as the traced executors read it: its records and tables, with its length scale the kernel argument
+    ``ls`` (a number of the design's sketch, so never a constant of a kernel's source)."""
+
+    def __init__(self, plan, tracer: Tracer):
+        self._plan = plan
+        self.length_scale = tracer.free("ls")
+
+    def __getattr__(self, name):
+        return getattr(self._plan, name)
 
 
 class TracedContext(Context):
     """A :class:`~.steps.Context` on symbols: one design (``P[d, k]``), one input sample (its cosine ``c`` and sine
     ``s``, with dq = 1, d²q = 0), the tolerance ``tol``; constants are jets with zero derivatives that cost
-    nothing, and the closed forms' margins are collected."""
+    nothing, and the closed forms' margins are collected. ``row``: the parameters' load (default ``P[d, k]``); the
+    plan's length scale is the free name ``ls``;
+    ``groups``: the Newton-solved groups traced so far (:class:`.traced_newton.TracedGroup`)."""
 
-    def __init__(self, plan, tracer: Tracer, order: int):
+    def __init__(self, plan, tracer: Tracer, order: int, row: str = "P[d, {}]"):
         self.tracer = tracer
         tol = SimpleNamespace(radicand=tracer.free("tol"))
-        super().__init__(plan, _Params(tracer, plan.n_params), [None] * plan.n_inputs, order, tol)
+        super().__init__(_TracedPlan(plan, tracer), _Params(tracer, plan.n_params, row), [None] * plan.n_inputs, order,
+                         tol)
         self.margins = []
+        self.groups, self.group_steps = [], []
 
     def const(self, v):
         return Jet(v, 0.0 if self.order >= 1 else None, 0.0 if self.order >= 2 else None)
@@ -80,12 +102,14 @@ class KinematicsTrace:
     """A plan traced on symbols: ``pos`` (point name → complex Jet), ``orient`` (per body, its e = exp(iθ) as a
     complex Jet), ``valid`` (a traced boolean: every group assembled), ``margins`` (the closed forms' margins, in
     solve order: each ≥ 0 where its group assembles). The values of a sample that does not assemble are the
-    toggle's continuation, meaningless: the kernels mask them with ``valid``."""
+    toggle's continuation, meaningless: the kernels mask them with ``valid``. ``groups``: the Newton-solved groups'
+    pieces (:class:`.traced_newton.TracedGroup`), in solve order."""
     tracer: Tracer
     pos: dict
     orient: list
     valid: object
     margins: list
+    groups: list = ()
 
     def deficit(self):
         """The groups' summed shortfall past their toggles, Σ max(−margin, 0): a group past its toggle continues at
@@ -104,13 +128,14 @@ class KinematicsTrace:
         return ok
 
 
-def trace_plan(plan, order: int) -> KinematicsTrace:
-    """Run the plan's step executors on symbols (derivatives up to ``order`` by the input) and return the traced
+def trace_plan(plan, order: int, row: str = "P[d, {}]", select: str | None = None) -> KinematicsTrace:
+    """Run the plan's step executors on symbols (derivatives up to ``order`` by the input; the parameters loaded as
+    ``row``; element-wise choices written as ``select``: :class:`~assur.kernels.trace.Tracer`) and return the traced
     state. The plan must be covered (:func:`covers`)."""
-    tracer = Tracer()
-    ctx = TracedContext(plan, tracer, order)
+    tracer = Tracer(select=select)
+    ctx = TracedContext(plan, tracer, order, row)
     with np.errstate(all="ignore"):
         for st in plan.steps:
-            EXECUTORS[st.kind](ctx, st)
+            (trace_group if st.kind == "newton" else EXECUTORS[st.kind])(ctx, st)
     return KinematicsTrace(tracer, ctx.pos, [ctx.pose[b][1] for b in range(len(plan.body_names))], ctx.valid,
-                           ctx.margins)
+                           ctx.margins, ctx.groups)
