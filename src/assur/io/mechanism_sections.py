@@ -53,7 +53,7 @@ def _branch_hint(P, path, pn, spec, point_names, slides) -> BranchHint | None:
         if spec.get("side") not in ("left", "right") or not isinstance(spec.get("of"), list) or len(spec["of"]) != 2:
             P.add(path, "must be {side = 'left'|'right', of = [P, Q]} (the side of the directed line P → Q)")
             return None
-        bad = [q for q in spec["of"] if q not in point_names]
+        bad = [q for q in spec["of"] if _name(q) not in point_names]
         if bad:
             P.add(f"{path}.of", f"unknown point {bad[0]!r} {_known(point_names)}")
             return None
@@ -368,7 +368,7 @@ def read_gait(data, P, point_names, A: float) -> Gait | None:
         return None
     P.unknown_keys(gdata, ("foot", "ground", "phases", "up", "weight", "friction"), "gait")
     foot = gdata.get("foot")
-    if foot not in point_names:
+    if _name(foot) not in point_names:
         P.add("gait.foot", f"unknown point {foot!r} {_known(point_names)}")
     vecs = {k: _unit_vector_2d(gdata.get(k), f"gait.{k}", P) for k in ("ground", "up")}
     phases = gdata.get("phases", [0.0])

@@ -236,9 +236,9 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             unused.discard(vn)
             if vn not in var_names:
                 P.add("targets", f"timing names {vn!r}, which is not a design variable")
-    obj = P.section(data, "objective")
+    obj = _with_array_of_tables(P.section(data, "objective"), "objective", "terms", P)
     deviation, dev_weight, terms = _read_objective(obj, P, targets, expression, number)
-    con = P.section(data, "constraints")
+    con = _with_array_of_tables(P.section(data, "constraints"), "constraints", "limits", P)
     constraints, fourbar, limits = _read_constraints(con, obj, P, plan, targets, expression, number)
     samples, offset, vw = _read_options(data, P, number)
     _check_quantities(mechanism, plan, obj, con, samples, P)
@@ -258,6 +258,15 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
                    violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
                    source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
                    solver=solver)
+
+
+def _with_array_of_tables(table: dict, path: str, key: str, P) -> dict:
+    """``table`` itself when its ``key`` is absent or a list (an array of tables, ``[[path.key]]``); else a problem
+    at ``path.key`` and a copy of the table with an empty list there."""
+    if isinstance(table.get(key, []), list):
+        return table
+    P.add(f"{path}.{key}", f"must be an array of tables [[{path}.{key}]]")
+    return {**table, key: []}
 
 
 def _number(P, where, v) -> float | None:
@@ -400,9 +409,9 @@ def _read_constraints(con, obj, P, plan, targets, expression, number):
         P.add("constraints.use", "must be a list of constraint names")
         use = []
     for i, c in enumerate(use):
-        if c not in CONSTRAINTS:
+        if not isinstance(c, str) or c not in CONSTRAINTS:
             P.add(f"constraints.use[{i}]", f"unknown constraint {c!r} (known: {', '.join(CONSTRAINTS)})")
-    use = [c for c in use if c in CONSTRAINTS]
+    use = [c for c in use if isinstance(c, str) and c in CONSTRAINTS]
     implied = []   # a path without timing, gait and transmission quantities need the whole cycle
     named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
     if (targets is not None and targets.timing == "path") or any(q.startswith(CYCLE_FAMILIES) for q in named):
