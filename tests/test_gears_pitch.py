@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from assur.gears import (GearError, GearPair, PitchCurve, WheelStepLaw, check_module, closure_report,
+from assur.gears import (GearError, PitchCurve, PitchPair, WheelStepLaw, check_module, closure_report,
                          curvature_report, find_corners, law_from_callable, law_from_ratio, law_from_table,
                          pitch_pair, speed_law)
 from assur.gears.wheelstep import Shoe
@@ -88,7 +88,7 @@ def test_ratio_and_table_laws_give_the_same_pair(ellipse_pair):
 
 
 def test_interface_objects_built_directly_interpolate():
-    """G2's use: PitchCurve/GearPair built from arrays only (no exact function, no law object)."""
+    """G2's use: PitchCurve/PitchPair built from arrays only (no exact function, no law object)."""
     n = 2048
     phi = np.arange(n) * (2 * np.pi / n)
     theta = ellipse_law(phi)
@@ -98,7 +98,7 @@ def test_interface_objects_built_directly_interpolate():
     a2 = np.mod(np.pi + theta, 2 * np.pi)
     o2 = np.argsort(a2)
     driven = PitchCurve(a2[o2], ellipse_radius(a2[o2]))
-    pair = GearPair(2 * A, 1, phi, theta, driving, driven)
+    pair = PitchPair(2 * A, 1, phi, theta, driving, driven)
     np.testing.assert_allclose(driving.radius_at(BETA), ellipse_radius(BETA), rtol=1e-7)
     q = np.linspace(0.1, 6.0, 40)
     np.testing.assert_allclose(pair.law(q), ellipse_law(q), atol=1e-5)
@@ -300,3 +300,20 @@ def test_corner_between_grid_points_of_a_ratio_law():
                                atol=1e-3)
     for c in corners:
         assert -c.tangent_jump == pytest.approx(jump, abs=math.radians(0.1))
+
+
+def test_the_old_name_of_a_pitch_pair_warns_and_is_the_same_class():
+    """A pair of pitch curves is a PitchPair; its old name GearPair (also the name of a mechanism's gear pair,
+    assur.model.gearing.GearPair) stays importable for one release, with a DeprecationWarning naming PitchPair."""
+    import assur.gears
+    import assur.gears.pitch
+    from assur.model.gearing import GearPair as MechanismGearPair
+    for module in (assur.gears.pitch, assur.gears):
+        with pytest.warns(DeprecationWarning, match=r"GearPair is deprecated: use PitchPair"):
+            old = module.GearPair
+        assert old is PitchPair and old is not MechanismGearPair
+    with pytest.warns(DeprecationWarning, match="use PitchPair"):
+        from assur.gears.pitch import GearPair  # noqa: F401
+    assert "GearPair" not in assur.gears.__all__ and "PitchPair" in assur.gears.__all__
+    with pytest.raises(AttributeError):
+        assur.gears.pitch.NoSuchPair

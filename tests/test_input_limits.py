@@ -92,6 +92,20 @@ def test_a_typo_in_a_parameter_name_gets_a_suggestion(tmp_path):
         _problem(tmp_path, "[targets]", '[parameters]\n"crank.lenght" = "100"\n\n[targets]')
 
 
+@pytest.mark.parametrize("old, new, where", [
+    ('use = ["buildable"]', 'use = [["buildable"]]', "constraints.use[0]"),
+    ('use = ["buildable"]', 'use = [{ name = "buildable" }]', "constraints.use[0]"),
+    ("[objective]", "[objective]\nterms = 5", "objective.terms"),
+    ('[[constraints.limits]]\nexpression = "rod.length - crank.length"\nmin = 0', "limits = 3", "constraints.limits"),
+])
+def test_a_value_of_the_wrong_shape_in_a_problem_is_a_located_error(tmp_path, old, new, where):
+    """A list where a constraint name belongs, a number where an array of terms or limits belongs: each once ended
+    in a TypeError from the reader; each is one located problem."""
+    with pytest.raises(SpecError) as info:
+        _problem(tmp_path, old, new)
+    assert [p for p, _ in info.value.problems] == [where]
+
+
 def test_a_length_that_disagrees_with_the_sketch_is_reported_with_both_numbers():
     """crank_rocker.toml draws O4–B exactly 80 mm (|(133.880965996, 72.471236661) − (100, 0)| = 80.000 mm)."""
     from assur.errors import SketchWarning

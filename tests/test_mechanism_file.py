@@ -362,3 +362,24 @@ def test_link_points_that_are_not_names_are_a_located_error(points):
     with pytest.raises(assur.SpecError) as info:
         assur.loads(text)
     assert "links.crank.points[0]" in dict(info.value.problems)
+
+
+@pytest.mark.parametrize("name, edit, where", [
+    ("walker_fourbar.toml", lambda d: d["branches"]["L"].__setitem__("of", [["K"], "O1"]), "branches.L.of"),
+    ("walker_fourbar.toml", lambda d: d["branches"]["L"].__setitem__("of", [{"a": 1}, "O1"]), "branches.L.of"),
+    ("walker_fourbar.toml", lambda d: d["gait"].__setitem__("foot", ["H"]), "gait.foot"),
+    ("walker_fourbar.toml", lambda d: d["gait"].__setitem__("foot", {"a": 1}), "gait.foot"),
+    ("walker_fourbar_geared.toml", lambda d: d["gears"][0].__setitem__("mesh", ["external"]), "gears[0].mesh"),
+    ("cam_press.toml", lambda d: d["cams"][0]["law"][1].__setitem__("motion", ["dwell"]), "cams[0].law[1].motion"),
+])
+def test_a_list_or_table_where_a_name_belongs_is_a_located_error(name, edit, where):
+    """A list or a table where a point name or a keyword belongs once ended in a TypeError (unhashable) raised
+    from the reader; it is one located problem like any other unknown name."""
+    from assur.io.mechanism_file import from_dict
+    from assur.io.toml_reader import read_toml
+    path = os.path.join(os.path.dirname(__file__), "..", "examples", name)
+    doc = read_toml(path)
+    edit(doc)
+    with pytest.raises(assur.SpecError) as info:
+        from_dict(doc, source=path)
+    assert [p for p, _ in info.value.problems] == [where]

@@ -306,3 +306,23 @@ def test_expressions_are_checked_once_and_pickle():
                      ("", "non-empty")):
         with pytest.raises(ExpressionError, match=why):
             Expression(bad, {"x"})
+
+
+def test_the_former_expressions_module_warns_and_serves_the_same_names():
+    """assur.synthesis.expressions is a shim for one release: importing it warns with a DeprecationWarning naming
+    assur.io.expressions and serves the very same objects; no module of the package imports it."""
+    import importlib
+    import sys
+    import assur.io.expressions as current
+    sys.modules.pop("assur.synthesis.expressions", None)
+    with pytest.warns(DeprecationWarning, match=r"assur\.synthesis\.expressions is deprecated: import from "
+                                                r"assur\.io\.expressions"):
+        old = importlib.import_module("assur.synthesis.expressions")
+    for name in ("CONSTANTS", "Expression", "ExpressionError", "FUNCTIONS"):
+        assert getattr(old, name) is getattr(current, name)
+    src = Path(assur.__file__).parent
+    shim_uses = ("synthesis.expressions", "synthesis import expressions")
+    users = [str(p.relative_to(src)) for p in src.rglob("*.py") if p.name != "expressions.py"
+             and (any(use in (text := p.read_text(encoding="utf-8")) for use in shim_uses)
+                  or "from .expressions" in text and p.parent.name == "synthesis")]
+    assert not users, users

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from ..errors import GearError
 from ..tolerances import DEFAULT as TOL
 from .law import TransmissionLaw
-from .pitch import GearPair, pitch_pair
+from .pitch import PitchPair, pitch_pair
 from .wheelstep import Shoe
 
 #: relative mismatch allowed between the driving pitch perimeter and z·π·m in envelope mode
@@ -55,7 +55,7 @@ class GearDesign:
     def driving_turns(self) -> int:
         return self.law.driving_turns
 
-    def pair(self, samples: int = 2048) -> GearPair:
+    def pair(self, samples: int = 2048) -> PitchPair:
         """The exact pitch curves at the design centre distance (cached per ``samples``)."""
         key = ("pair", samples)
         if key not in self._cache:
@@ -91,7 +91,7 @@ class WheelStepDesign:
     description: str = ""
     source: str | None = None
 
-    def pair(self, samples: int = 2048) -> GearPair:
+    def pair(self, samples: int = 2048) -> PitchPair:
         if self.gears is None:
             raise GearError("this wheel-step design has no [drive] gears file")
         return self.gears.pair(samples)

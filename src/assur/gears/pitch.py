@@ -10,8 +10,10 @@ Geometry (one convention for the whole package):
 - body frames: the driving pitch point at rotation φ has body polar angle −φ (mod 2π); the driven one has body polar
   angle π + θ (mod 2π). So ``driving.radius_at(-phi) + driven.radius_at(pi + law(phi)) = L``.
 
-Besides the two dataclasses of the shared interface (:class:`PitchCurve`, :class:`GearPair`) this module checks
+Besides the two dataclasses of the shared interface (:class:`PitchCurve`, :class:`PitchPair`) this module checks
 closure, finds corners (tangent jumps) and concave stretches, and flags undercut risk for a module.
+:class:`PitchPair` was called ``GearPair`` (a deprecated alias, kept for one release): that name is now only
+the gear pair of a mechanism, :class:`assur.model.gearing.GearPair`.
 """
 from __future__ import annotations
 
@@ -131,7 +133,7 @@ class PitchCurve:
 
 
 @dataclass(frozen=True, slots=True, eq=False)   # array fields: compare by identity
-class GearPair:
+class PitchPair:
     """A pair of rolling pitch curves at centre distance L (see the module docstring for conventions).
 
     phi: (N,) driving rotation over the full cycle 0 … 2π·driving_turns (endpoint excluded);
@@ -171,7 +173,7 @@ class GearPair:
 
 
 def pitch_pair(law=None, centre_distance: float = None, *, ratio=None, driving_turns: int | None = None,
-               samples: int = 2048) -> GearPair:
+               samples: int = 2048) -> PitchPair:
     """Both pitch curves of the pair that realises ``law`` at ``centre_distance`` (m).
 
     law: a :class:`TransmissionLaw` (e.g. :class:`WheelStepLaw`), a vectorised callable θ(φ) over [0, 2π·n], or a
@@ -217,7 +219,7 @@ def pitch_pair(law=None, centre_distance: float = None, *, ratio=None, driving_t
 
     driving = PitchCurve(a1[o1], r1[:samples][o1], function=r_driving)
     driven = PitchCurve(a2[o2], r2[o2], function=r_driven)
-    return GearPair(L, n, phi, theta, driving, driven, transmission=tl)
+    return PitchPair(L, n, phi, theta, driving, driven, transmission=tl)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -235,7 +237,7 @@ class ClosureReport:
     rolling_error: float           #: max |arc driven − arc driving| over the sample steps, relative to the step arc
 
 
-def closure_report(pair: GearPair, steps: int = 64) -> ClosureReport:
+def closure_report(pair: PitchPair, steps: int = 64) -> ClosureReport:
     """Closure and rolling check: r1 + r2 = L, θ(2πn) = 2π, driven/driving perimeter = n, equal arc elements."""
     phi = np.linspace(0.0, TWO_PI * pair.driving_turns, steps + 1)
     r1, r2 = pair.contact_radii(phi)
@@ -378,7 +380,7 @@ def curvature_report(curve: PitchCurve, *, module: float | None = None, pressure
                            undercut_ranges=undercut, undercut_limit=limit)
 
 
-def check_module(pair: GearPair, module: float, pressure_angle: float = math.radians(20.0)) -> None:
+def check_module(pair: PitchPair, module: float, pressure_angle: float = math.radians(20.0)) -> None:
     """Raise GearError if the module is too large for the pitch-curve curvature of either gear (see
     :func:`curvature_report`), naming the gear and the body-angle range."""
     if not (np.isfinite(module) and module > 0):
@@ -391,6 +393,16 @@ def check_module(pair: GearPair, module: float, pressure_angle: float = math.rad
                             f"angle ∈ {rep.undercut_ranges}")
 
 
-def speed_law(pair: GearPair, phi) -> np.ndarray:
+def speed_law(pair: PitchPair, phi) -> np.ndarray:
     """Driven angular speed per unit driving speed, θ̇/φ̇ = k(φ), (...) → (...)."""
     return pair.ratio(phi)
+
+
+def __getattr__(name: str):
+    """``GearPair``: the deprecated name of :class:`PitchPair` (warns with a DeprecationWarning)."""
+    if name == "GearPair":
+        import warnings
+        warnings.warn("assur.gears.pitch.GearPair is deprecated: use PitchPair (a pair of pitch curves; GearPair "
+                      "names a mechanism's gear pair, assur.model.gearing.GearPair)", DeprecationWarning, stacklevel=2)
+        return PitchPair
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

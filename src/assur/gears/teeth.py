@@ -516,7 +516,7 @@ def cut_pair(pair, *, module: float | None = None, teeth: int | None = None,
              backlash: float = 0.0, rel_tol: float = TOL.tooth_perimeter, samples: int | None = None,
              tip_radius: float = 0.0, profile_shift: float = 0.0, print_clearance: float = 0.0,
              states_per_tooth: int | None = None) -> GearTeeth:
-    """Cut both gears of a :class:`~assur.gears.pitch.GearPair` with one basic rack.
+    """Cut both gears of a :class:`~assur.gears.pitch.PitchPair` with one basic rack.
 
     module (m) and/or teeth (tooth count of the driving gear): the driving pitch perimeter must be π·m·z within
     ``rel_tol`` (else GearError naming the numbers); the driven gear gets z·driving_turns teeth. pressure_angle in

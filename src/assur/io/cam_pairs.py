@@ -184,7 +184,7 @@ def read_law(v, where: str, P, angle_factor: float, lift_factor: float) -> CamLa
             continue
         P.unknown_keys(sg, ("motion", "angle", "lift"), at)
         motion = sg.get("motion", "dwell")
-        if motion not in MOTIONS:
+        if not isinstance(motion, str) or motion not in MOTIONS:
             P.add(f"{at}.motion", f"must be one of {', '.join(MOTIONS)}: {motion!r}")
             ok = False
             continue

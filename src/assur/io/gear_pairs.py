@@ -67,7 +67,7 @@ def read_gear_pairs(data: dict, P, *, angle_factor: float, link_points: dict, fr
         if len(ends) == 2 and ends[0] == ends[1] and isinstance(ends[0], str):
             P.add(f"{path}.b", f"must differ from a: {ends[1]!r}")
         mesh = spec.get("mesh", "external")
-        if mesh not in MESH_SIGNS:
+        if not isinstance(mesh, str) or mesh not in MESH_SIGNS:
             P.add(f"{path}.mesh", f"must be 'external' or 'internal': {mesh!r}")
             mesh = "external"
         phase = _angle(spec, "phase", 0.0, angle_factor, path, P)

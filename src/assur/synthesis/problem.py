@@ -30,10 +30,12 @@ length unit (a sum of distances in mm for a problem in mm, squared distances in 
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -210,47 +212,110 @@ def load_problem(path) -> Problem:
 
 def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, mechanism=None) -> Problem:
     """Build a Problem from a parsed document. ``mechanism`` (a Mechanism or a PlanarPlan) replaces
-    the document's ``mechanism`` path (the Python route)."""
+    the document's ``mechanism`` path (the Python route).
+
+    Each section has its reader below, called in turn; every reader adds its problems to one list, raised at
+    the end (a template that does not read stops the reading there: the rest depends on its parameters)."""
     P = Problems()
-
-    def fail():
-        raise P.error(source)
-
     P.unknown_keys(data, sorted(_TOP))
     if data.get("format") != FORMAT:
         P.add("format", f"must be '{FORMAT}': {data.get('format')!r}")
+    mechanism, plan, mech_source = _read_template(data, P, base_dir, source, mechanism)
+    units = mechanism.units
+    L, A = LENGTH[units.length], ANGLE[units.angle]
+    params = set(plan.param_names)
+    number = partial(_number, P)
+    variables = _read_variables(data, P, plan, {"length": L, "angle": A, "number": 1.0}, number)
+    var_names = {v.name for v in variables}
+    expression = partial(_expression, P, var_names | params)
+    mapping = _read_parameters(data, P, plan, variables, var_names | params, expression)
+    unused = var_names - params - {n for _, e in mapping for n in e.names}
+    targets = parse_targets(data.get("targets"), plan, L, A, number, P)
+    if targets is not None:
+        for vn in (*targets.input_variables, *([targets.start] if targets.start else [])):
+            unused.discard(vn)
+            if vn not in var_names:
+                P.add("targets", f"timing names {vn!r}, which is not a design variable")
+    obj = _with_array_of_tables(P.section(data, "objective"), "objective", "terms", P)
+    deviation, dev_weight, terms = _read_objective(obj, P, targets, expression, number)
+    con = _with_array_of_tables(P.section(data, "constraints"), "constraints", "limits", P)
+    constraints, fourbar, limits = _read_constraints(con, obj, P, plan, targets, expression, number)
+    samples, offset, vw = _read_options(data, P, number)
+    _check_quantities(mechanism, plan, obj, con, samples, P)
+    if not (deviation != "none" or terms):
+        P.add("objective", "nothing to minimise: give a deviation or terms")
+    for vn in sorted(unused):
+        P.add(f"variables.{vn}", "is used by no parameter, timing or expression")
+    if plan.n_inputs != 1 and targets is not None:
+        P.add("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}")
+    solver = read_solver(data.get("solver"), P)
+    targets = _settle_free_timing(data, P, plan, targets, mapping, terms, limits, fourbar)
+    if P:
+        raise P.error(source)
+    return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
+                   deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
+                   limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
+                   violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
+                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
+                   solver=solver)
+
+
+def _with_array_of_tables(table: dict, path: str, key: str, P) -> dict:
+    """``table`` itself when its ``key`` is absent or a list (an array of tables, ``[[path.key]]``); else a problem
+    at ``path.key`` and a copy of the table with an empty list there."""
+    if isinstance(table.get(key, []), list):
+        return table
+    P.add(f"{path}.{key}", f"must be an array of tables [[{path}.{key}]]")
+    return {**table, key: []}
+
+
+def _number(P, where, v) -> float | None:
+    """``v`` as a float; None with a problem at ``where`` when it is not a finite number."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        P.add(where, f"must be a finite number: {v!r}")
+        return None
+    return float(v)
+
+
+def _expression(P, known, where, text) -> Expression | None:
+    """An expression over the names ``known``; None with a problem at ``where`` when it does not read."""
+    try:
+        return Expression(text, known)
+    except ExpressionError as exc:
+        P.add(where, str(exc))
+        return None
+
+
+def _read_template(data, P, base_dir, source, mechanism):
+    """``mechanism``: the template (a file relative to ``base_dir``, or the Mechanism or plan given) as
+    (mechanism, plan, the file's path or None); raises the problems so far when it cannot be had."""
     mech_source = None
     if mechanism is None:
         ref = data.get("mechanism")
         if not isinstance(ref, str) or not ref:
             P.add("mechanism", f"must be the path of a mechanism file: {ref!r}")
-            fail()
+            raise P.error(source)
         mech_path = (Path(base_dir) / ref)
         mech_source = os.path.normpath(mech_path)     # examples/crank_rocker.toml, not examples/synthesis/../…
         try:
             mechanism = load(mech_path)
         except SpecError as exc:
             P.extend((f"mechanism ({ref})" + (f": {p}" if p else ""), m) for p, m in exc.problems)
-            fail()
+            raise P.error(source)
     if isinstance(mechanism, Mechanism):
         plan = compile_(mechanism)
     else:
         plan = mechanism
         mechanism = plan.mechanism
     if P:
-        fail()
-    units = mechanism.units
-    L, A = LENGTH[units.length], ANGLE[units.angle]
-    scale = {"length": L, "angle": A, "number": 1.0}
+        raise P.error(source)
+    return mechanism, plan, mech_source
+
+
+def _read_variables(data, P, plan, scale: dict, number) -> list[Variable]:
+    """``[variables]``: name = [low, high] or {bounds, kind, periodic}; bounds in file units (``scale`` per kind
+    to SI)."""
     params = set(plan.param_names)
-
-    def number(where, v):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            P.add(where, f"must be a finite number: {v!r}")
-            return None
-        return float(v)
-
-    # variables
     variables = []
     raw_vars = data.get("variables", {})
     if not isinstance(raw_vars, dict) or not raw_vars:
@@ -288,17 +353,13 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         if periodic is None:
             periodic = kind == "angle"
         variables.append(Variable(name, lo * scale[kind], hi * scale[kind], kind, bool(periodic)))
+    return variables
+
+
+def _read_parameters(data, P, plan, variables, known, expression) -> list[tuple[str, Expression]]:
+    """``[parameters]``: parameter = "expression"; after the identity of each variable that is a parameter."""
+    params = set(plan.param_names)
     var_names = {v.name for v in variables}
-    known = var_names | params
-
-    def expression(where, text):
-        try:
-            return Expression(text, known)
-        except ExpressionError as exc:
-            P.add(where, str(exc))
-            return None
-
-    # parameters: identity for variables that are parameters, then the expressions
     mapping = [(v.name, Expression(v.name, known)) for v in variables if v.name in params]
     raw_params = P.section(data, "parameters", "must be a table: parameter = \"expression\"")
     for name, text in raw_params.items():
@@ -317,15 +378,11 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         e = expression(where, str(text))
         if e is not None:
             mapping.append((name, e))
-    unused = var_names - params - {n for _, e in mapping for n in e.names}
-    targets = parse_targets(data.get("targets"), plan, L, A, number, P)
-    if targets is not None:
-        for vn in (*targets.input_variables, *([targets.start] if targets.start else [])):
-            unused.discard(vn)
-            if vn not in var_names:
-                P.add("targets", f"timing names {vn!r}, which is not a design variable")
-    # objective
-    obj = P.section(data, "objective")
+    return mapping
+
+
+def _read_objective(obj, P, targets, expression, number):
+    """``[objective]``: the deviation of the targets, its weight and the terms, as (deviation, weight, terms)."""
     P.unknown_keys(obj, ("deviation", "weight", "terms"), "objective")
     deviation = obj.get("deviation", "distance" if targets is not None else "none")
     if deviation not in DEVIATIONS:
@@ -340,17 +397,21 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             q, e, extra = item
             w = extra.get("weight", 1.0)
             terms.append(Term(q, 1.0 if w is None else w, extra.get("target"), e))
-    # constraints
-    con = P.section(data, "constraints")
+    return deviation, dev_weight, terms
+
+
+def _read_constraints(con, obj, P, plan, targets, expression, number):
+    """``[constraints]``: the constraints used (named, and implied by the targets and quantities), the four-bar's
+    link lengths and the limits, as (constraints, fourbar, limits)."""
     P.unknown_keys(con, ("use", "fourbar", "limits", "defects"), "constraints")
     use = con.get("use", [])
     if not isinstance(use, list):
         P.add("constraints.use", "must be a list of constraint names")
         use = []
     for i, c in enumerate(use):
-        if c not in CONSTRAINTS:
+        if not isinstance(c, str) or c not in CONSTRAINTS:
             P.add(f"constraints.use[{i}]", f"unknown constraint {c!r} (known: {', '.join(CONSTRAINTS)})")
-    use = [c for c in use if c in CONSTRAINTS]
+    use = [c for c in use if isinstance(c, str) and c in CONSTRAINTS]
     implied = []   # a path without timing, gait and transmission quantities need the whole cycle
     named = {str(x.get("quantity")) for x in [*obj.get("terms", []), *con.get("limits", [])] if isinstance(x, dict)}
     if (targets is not None and targets.timing == "path") or any(q.startswith(CYCLE_FAMILIES) for q in named):
@@ -364,26 +425,8 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     elif "defects" in use and "defects" in con:
         P.add("constraints.defects", "is false, but constraints.use lists 'defects'")
     constraints = tuple(dict.fromkeys(["assembly", *use, *implied]))
-    fourbar = []
-    raw_fb = con.get("fourbar")
-    if raw_fb is not None:
-        if not isinstance(raw_fb, dict) or set(raw_fb) != {"ground", "crank", "coupler", "rocker"}:
-            P.add("constraints.fourbar", "must give ground, crank, coupler and rocker (expressions)")
-        else:
-            for role in ("ground", "crank", "coupler", "rocker"):
-                e = expression(f"constraints.fourbar.{role}", str(raw_fb[role]))
-                if e is not None:
-                    fourbar.append((role, e))
-    for c in constraints:
-        if c in FOURBAR_CONSTRAINTS and raw_fb is None:
-            P.add("constraints.use", f"{c!r} needs constraints.fourbar (the four link lengths)")
-        if c in FREE_TIMING_CONSTRAINTS and (targets is None or targets.timing != "free"):
-            P.add("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")")
-        if c == "continuous_motion" and targets is not None and targets.timing == "path":
-            P.add("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path")
-        if c == "defects" and (targets is None or plan.n_inputs != 1 or plan.input_kinds[0] != "rotary"):
-            P.add("constraints.use" if "defects" in use else "constraints.defects",
-                  "'defects' needs [targets] and a mechanism with one rotary input")
+    fourbar = _read_fourbar(con.get("fourbar"), P, expression)
+    _check_constraints_apply(constraints, use, con.get("fourbar") is not None, P, plan, targets)
     limits = []
     for i, t in enumerate(con.get("limits", [])):
         item = _quantity_item(t, f"constraints.limits[{i}]", ("min", "max"), expression, number, P, targets)
@@ -392,6 +435,39 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
             if extra.get("min") is None and extra.get("max") is None:
                 P.add(f"constraints.limits[{i}]", "needs min or max")
             limits.append(Limit(q, extra.get("min"), extra.get("max"), e))
+    return constraints, fourbar, limits
+
+
+def _read_fourbar(raw_fb, P, expression) -> list[tuple[str, Expression]]:
+    """``constraints.fourbar``: the expressions of the ground, crank, coupler and rocker lengths."""
+    fourbar = []
+    if raw_fb is not None:
+        if not isinstance(raw_fb, dict) or set(raw_fb) != {"ground", "crank", "coupler", "rocker"}:
+            P.add("constraints.fourbar", "must give ground, crank, coupler and rocker (expressions)")
+        else:
+            for role in ("ground", "crank", "coupler", "rocker"):
+                e = expression(f"constraints.fourbar.{role}", str(raw_fb[role]))
+                if e is not None:
+                    fourbar.append((role, e))
+    return fourbar
+
+
+def _check_constraints_apply(constraints, use, has_fourbar: bool, P, plan, targets) -> None:
+    """Each constraint has what it needs: the four-bar's lengths, free timing, timed targets, one rotary input."""
+    for c in constraints:
+        if c in FOURBAR_CONSTRAINTS and not has_fourbar:
+            P.add("constraints.use", f"{c!r} needs constraints.fourbar (the four link lengths)")
+        if c in FREE_TIMING_CONSTRAINTS and (targets is None or targets.timing != "free"):
+            P.add("constraints.use", f"{c!r} applies to free timing only ([targets] timing = \"free\")")
+        if c == "continuous_motion" and targets is not None and targets.timing == "path":
+            P.add("constraints.use", "'continuous_motion' needs timed targets; use 'buildable' for a path")
+        if c == "defects" and (targets is None or plan.n_inputs != 1 or plan.input_kinds[0] != "rotary"):
+            P.add("constraints.use" if "defects" in use else "constraints.defects",
+                  "'defects' needs [targets] and a mechanism with one rotary input")
+
+
+def _read_options(data, P, number) -> tuple[int, float, float]:
+    """``[options]``: (cycle_samples, infeasible_offset, violation_weight)."""
     opts = P.section(data, "options")
     P.unknown_keys(opts, ("cycle_samples", "infeasible_offset", "violation_weight"), "options")
     samples = opts.get("cycle_samples", 360)
@@ -400,6 +476,11 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         samples = 360
     offset = number("options.infeasible_offset", opts.get("infeasible_offset", 1e7)) or 1e7
     vw = number("options.violation_weight", opts.get("violation_weight", 1e3)) or 1e3
+    return samples, offset, vw
+
+
+def _check_quantities(mechanism, plan, obj, con, samples, P) -> None:
+    """The forces.* and dynamics.* quantities of the terms and limits can be computed for this mechanism."""
     items = [(f"objective.terms[{i}]", t) for i, t in enumerate(obj.get("terms", []))] \
         + [(f"constraints.limits[{i}]", t) for i, t in enumerate(con.get("limits", []))]
     _check_forces(mechanism, items, samples, P)
@@ -408,28 +489,18 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
         q = t.get("quantity") if isinstance(t, dict) else None
         if why is not None and isinstance(q, str) and q in DYNAMICS_QUANTITIES:
             P.add(f"{where}.quantity", f"{q} {why}")
-    if not (deviation != "none" or terms):
-        P.add("objective", "nothing to minimise: give a deviation or terms")
-    for vn in sorted(unused):
-        P.add(f"variables.{vn}", "is used by no parameter, timing or expression")
-    if plan.n_inputs != 1 and targets is not None:
-        P.add("targets", f"target timing needs a mechanism with one input; this one has {plan.n_inputs}")
-    solver = read_solver(data.get("solver"), P)
+
+
+def _settle_free_timing(data, P, plan, targets, mapping, terms, limits, fourbar):
+    """The targets with free_timing 'inner' kept where it applies: refused when the file asks for it and it
+    cannot be used, else (the default) replaced by the explicit formulation."""
     if targets is not None and targets.free_timing == "inner":
         why = _inner_timing_refusal(plan, targets, mapping, terms, limits, fourbar)
         if why and isinstance(data.get("targets"), dict) and "free_timing" in data["targets"]:
             P.add("targets.free_timing", f"'inner' cannot be used here: {why} (use \"explicit\")")
         elif why:                          # the default where it applies: else the explicit formulation
-            import dataclasses
             targets = dataclasses.replace(targets, free_timing="explicit")
-    if P:
-        fail()
-    return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
-                   deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
-                   limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
-                   violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
-                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
-                   solver=solver)
+    return targets
 
 
 def _inner_timing_refusal(plan, targets, mapping, terms, limits, fourbar) -> str | None:
