@@ -70,14 +70,12 @@ def cmd_simulate(args) -> int:
     from ..dynamics.cycle import MotorRun, run_forces
     from ..dynamics.compare import kinetostatic_estimate
     from ..dynamics.api import simulate
-    from ..io.output import atomic_file, json_text, write_csv
+    from ..io.output import atomic_file, check_writable, json_text, write_csv
     from ..report import dynamics as text
     from .args import compile_file
-    from .forces import _check_csv
     if args.csv:
-        _check_csv(args.csv)
+        check_writable(args.csv)      # before any work: a file, a new name, `-`, a device or a pipe (io/output.py)
     if args.plot:
-        from ..io.output import check_writable
         check_writable(args.plot)
     m, plan = compile_file(args.file)
     motor = False if args.motor is not None and args.motor.strip().lower() == "none" else args.motor

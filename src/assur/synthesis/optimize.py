@@ -244,13 +244,14 @@ def initial_population(problem, size, rng) -> np.ndarray:
     return X
 
 
-def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin"):
-    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter)."""
+def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin", polish=True):
+    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter). It leaves a
+    fifth of the budget to the polish; without a polish (``polish`` False) the budget itself ends it."""
     from scipy.optimize import differential_evolution
     D = problem.n_vars
     bounds = list(map(tuple, problem.bounds))
     pop = max(5, popsize) * D
-    if tracker.budget is not None:   # leave a fifth of the budget to the polish
+    if tracker.budget is not None and polish:   # leave a fifth of the budget to the polish
         maxiter = min(maxiter, max(1, int(0.8 * (tracker.budget - tracker.evaluations)) // pop - 1))
     history = []
 
@@ -261,8 +262,10 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
             return False
         old, new = history[-patience - 1], history[-1]
         return old - new <= tol * max(abs(old), 1e-300)
+    # scipy's own test (the spread of the population's values ≤ atol + tol·|mean|) is off (atol < 0): a population
+    # whose designs are all infeasible by the same penalty has no spread and is not converged; ``stalled`` decides
     out = differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
-                           maxiter=maxiter, tol=0.0, atol=0.0, rng=rng, polish=False,
+                           maxiter=maxiter, tol=0.0, atol=-1.0, rng=rng, polish=False,
                            init=initial_population(problem, pop, rng),
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
     return np.asarray(out.x, dtype=float)
@@ -414,7 +417,7 @@ def run_start(problem, method, seed, budget, time_limit, options, evaluator=None
             _run_lshade(tracker, problem, rng, options)
         elif method == "de":
             _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"],
-                    options["patience"], options["strategy"])
+                    options["patience"], options["strategy"], polish=options["polish"] != "none")
         elif method == "cmaes":
             _run_cmaes(tracker, problem, rng, options["popsize"], options["maxiter"], options["tol"])
         elif method == "local":
