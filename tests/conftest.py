@@ -7,12 +7,17 @@ Markers (registered in pyproject.toml): ``slow`` marks the seeded optimiser thre
 and headless-Chromium tests, the reproduction page and anything else over about 5 s; the quick loop is
 ``pytest -m "not slow"``, ``make test`` runs everything.
 """
+import os
 from pathlib import Path
 
 import pytest
 from assur.synthesis import InProcess
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+# Text in the tests' files and pipes is UTF-8 whatever the locale (a library may set LC_CTYPE to "C" inside the test
+# process, and CI runs without a UTF-8 locale): the test workers and every process a test starts run in UTF-8 mode.
+os.environ.setdefault("PYTHONUTF8", "1")
 
 #: the canonical mechanisms, one shipped file each (compiled on first use by their fixtures, never at import)
 CANONICAL = {"fourbar": "crank_rocker.toml", "walking_fourbar": "walker_fourbar.toml",

@@ -156,7 +156,8 @@ def test_six_link_ranking_end_to_end(tmp_path, six):
     n = len(subset)
     assert len(entries) == n == 24
     assert [e["rank"] for e in entries] == list(range(1, n + 1))
-    assert not any(e["skipped"] for e in entries) and all(e["evaluations"] >= 1200 for e in entries)
+    # each start's search runs whole generations within its share of the budget (a population is 15 per variable)
+    assert not any(e["skipped"] for e in entries) and all(e["evaluations"] >= 0.8 * 1200 for e in entries)
     ok = [bool(e["feasible"] and e["metrics"]) for e in entries]
     assert ok == sorted(ok, reverse=True) and sum(ok) >= 10          # feasible first
     objectives = [e["objective"] for e, good in zip(entries, ok) if good]

@@ -59,9 +59,9 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
         'numba' is the fused compiled loop (:mod:`assur.engine.planar.numba_backend`; plans and
         batches it does not cover fall back to numpy; spatial plans always use numpy), 'auto' uses it
         when numba is installed for batches of at least ``AUTO_COMPILED_MIN_SAMPLES`` samples whose kernel
-        is compiled already (in this process or in the disk cache), for batches of at least
+        is compiled already (in this process or in the disk cache) — for a plan with Newton-solved groups from
         ``AUTO_CACHED_MIN_SAMPLES`` when besides numba is imported already (the kernel then costs nothing to
-        start), and compiles it first only for a batch of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs
+        start) — and compiles it first only for a batch of ``AUTO_COMPILE_MIN_SAMPLES`` (a compile costs
         seconds; ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` for a plan with Newton-solved groups, whose kernels follow
         the same certified continuation: :mod:`assur.engine.planar.newton_kernels`). Both give the same numbers
         (and the same valid samples) to round-off.
@@ -126,14 +126,15 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
 
 def _compiled_pays(plan, size: int, order: int, sweep: bool = False) -> bool:
     """backend="auto": the compiled kernel for a batch of ``size`` samples when it costs nothing to start and the
-    batch is large enough to gain from it (compiled already, in this process or the disk cache: from
-    ``AUTO_COMPILED_MIN_SAMPLES`` samples, or from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported, so a small
-    batch never pays numba's import), or when the batch alone wins back a first compile (engine/options.py). A plan
+    batch is large enough to gain from it (compiled already, in this process or the disk cache, from
+    ``AUTO_COMPILED_MIN_SAMPLES`` samples; a plan with Newton-solved groups, whose numpy path costs a thousand times
+    more, from ``AUTO_CACHED_MIN_SAMPLES`` once numba is imported), or when the batch alone wins back a first compile (engine/options.py). A plan
     with Newton-solved groups costs numpy about a thousand times more per sample: its kernel is compiled first from
     ``AUTO_NEWTON_COMPILE_MIN_SAMPLES`` samples."""
     if size >= (AUTO_NEWTON_COMPILE_MIN_SAMPLES if numba_backend.newton_covers(plan) else AUTO_COMPILE_MIN_SAMPLES):
         return numba_backend.available()
-    if size < AUTO_CACHED_MIN_SAMPLES or (size < AUTO_COMPILED_MIN_SAMPLES and "numba" not in sys.modules):
+    newton = numba_backend.newton_covers(plan)
+    if size < (AUTO_CACHED_MIN_SAMPLES if newton and "numba" in sys.modules else AUTO_COMPILED_MIN_SAMPLES):
         return False
     return numba_backend.kernel_ready(plan, False, order, sweep)
 
@@ -148,6 +149,8 @@ def _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbui
     n = plan.n_inputs
     qdot = plan.speeds if speeds is None else np.asarray(speeds, dtype=float)
     qddot = np.zeros(n) if accels is None else np.asarray(accels, dtype=float)
+    if qdot.shape != (n,) or qddot.shape != (n,):      # rates per sample: the numpy backend's
+        return None
     # one scalar nonzero speed: the kernel writes velocities and accelerations directly
     time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
     rates = (qdot[0], qdot[0] ** 2, qddot[0]) if time_mode else (1.0, 1.0, 0.0)

@@ -16,8 +16,8 @@ BACKENDS = ("auto", "numpy", "numba")
 #: with backend="auto", batches at least this large use the compiled backend when numba is installed and the
 #: plan's kernel is compiled already (in this process or in the disk cache) …
 AUTO_COMPILED_MIN_SAMPLES = 20_000
-#: … and batches at least this large when, besides, numba is imported already (the kernel then costs nothing to
-#: start; a smaller batch never pays numba's import) …
+#: … and, for a plan with Newton-solved groups (numpy costs a thousand times more per sample), batches at least this
+#: large when, besides, numba is imported already (the kernel then costs nothing to start) …
 AUTO_CACHED_MIN_SAMPLES = 16
 #: … and batches at least this large compile it first: a new mechanism's kernel takes seconds to compile, which
 #: only a batch this size wins back at once (the numpy backend solves about a million samples a second)

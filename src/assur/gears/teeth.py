@@ -225,7 +225,8 @@ def first_crossing(xy, a, chunk: int = 256) -> np.ndarray:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (p[None, :, 0] * e[None, :, 1] - p[None, :, 1] * e[None, :, 0]) / den    # along the ray
             w = (p[None, :, 0] * d[..., 1] - p[None, :, 1] * d[..., 0]) / den            # along the edge
-        hit = (den != 0) & (t > 0) & (w >= 0) & (w < 1)
+        # a ray through a vertex meets both edges there: each end is kept within round-off (the nearest counts)
+        hit = (den != 0) & (t > 0) & (w >= -1e-12) & (w <= 1 + 1e-12)
         out[i:i + chunk] = np.where(hit, t, np.inf).min(axis=1)
     return out.reshape(a.shape)
 

@@ -3,9 +3,7 @@
 a progress bar, a budget of evaluations or of time, and Ctrl-C — none of which loses the best
 design found so far: every evaluated population passes through one :class:`Tracker` that keeps it.
 
-    result = synthesize(problem, seed=1)          # the defaults: method 'restart', the default budget
-    result = synthesize(problem, method="de", seed=1, budget=200_000, starts=4)
-    result.objective, result.x_file, result.mechanism(), result.on_bounds
+    result = synthesize(problem, seed=1)          # the defaults (or method="de", budget=200_000, starts=4, …)
 
 Settings not given come from the problem file's ``[solver]`` table, then from the built-in defaults
 (:mod:`assur.synthesis.solver`). The default method, 'restart', runs differential evolution restarted on
@@ -245,14 +243,14 @@ def initial_population(problem, size, rng) -> np.ndarray:
 
 
 def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin", polish=True):
-    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter). It leaves a
-    fifth of the budget to the polish; without a polish (``polish`` False) the budget itself ends it."""
+    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter)."""
     from scipy.optimize import differential_evolution
     D = problem.n_vars
     bounds = list(map(tuple, problem.bounds))
     pop = max(5, popsize) * D
-    if tracker.budget is not None and polish:   # leave a fifth of the budget to the polish
-        maxiter = min(maxiter, max(1, int(0.8 * (tracker.budget - tracker.evaluations)) // pop - 1))
+    if tracker.budget is not None:   # whole generations within the budget, less a fifth for the polish
+        share = 0.8 if polish else 1.0
+        maxiter = min(maxiter, max(1, int(share * (tracker.budget - tracker.evaluations)) // pop - 1))
     history = []
 
     def stalled(intermediate_result):
@@ -262,8 +260,7 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
             return False
         old, new = history[-patience - 1], history[-1]
         return old - new <= tol * max(abs(old), 1e-300)
-    # scipy's own test (the spread of the population's values ≤ atol + tol·|mean|) is off (atol < 0): a population
-    # whose designs are all infeasible by the same penalty has no spread and is not converged; ``stalled`` decides
+    # scipy's spread test off (atol < 0): all infeasible by one penalty is no convergence; ``stalled`` decides
     out = differential_evolution(lambda x: tracker.F(x.T), bounds, vectorized=True, updating="deferred", popsize=popsize,
                            maxiter=maxiter, tol=0.0, atol=-1.0, rng=rng, polish=False,
                            init=initial_population(problem, pop, rng),
