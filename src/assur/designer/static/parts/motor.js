@@ -85,8 +85,7 @@ export class MotorPart {
   }
 
   motorLinear() {
-    const summary = this.motor.summary;
-    if (summary && Array.isArray(summary.domain)) return true;
+    // the kind of the cycle's input (a run's summary gives a domain for a crank that cannot turn fully as well)
     return this.isLinearInput();
   }
 
