@@ -27,6 +27,7 @@ import secrets
 import time
 
 from .document import EditRefused
+from .synthesis_job import stop_process
 
 #: the arrays of a run the page receives (those that are None are left out)
 RUN_ARRAYS = ("t", "q", "speed", "accel", "effort", "motor_torque", "motor_speed", "power", "current")
@@ -235,13 +236,7 @@ class MotorJob:
         if self._finished or self._cancelled:
             return
         self._cancelled = True
-        proc = self._process
-        if proc.is_alive():
-            proc.terminate()
-            proc.join(0.5)
-            if proc.is_alive():        # a stopped or stuck process ignores SIGTERM
-                proc.kill()
-                proc.join(0.5)
+        stop_process(self._process)
 
 
 __all__ = ["MAX_TIME", "MotorJob", "check_runnable", "drivers_end_line", "located_hint", "motor_hint", "run_document",

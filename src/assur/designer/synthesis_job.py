@@ -49,6 +49,16 @@ import warnings
 
 from .document import EditRefused
 
+
+def stop_process(proc) -> None:
+    """End a worker process now: SIGTERM, then SIGKILL for one that ignores it (stopped or stuck)."""
+    if proc.is_alive():
+        proc.terminate()
+        proc.join(0.5)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(0.5)
+
 #: how often the worker reports progress (s)
 PROGRESS_INTERVAL = 0.25
 #: how long a cancelled worker may take to answer before it is terminated (s)
@@ -429,13 +439,7 @@ class SynthesisJob:
         self._timer.start()
 
     def _stop_process(self) -> None:
-        proc = self._process
-        if proc.is_alive():
-            proc.terminate()
-            proc.join(0.5)
-            if proc.is_alive():        # a stopped or stuck process ignores SIGTERM
-                proc.kill()
-                proc.join(0.5)
+        stop_process(self._process)
 
     def _reap(self) -> None:
         """After the last message: no more termination timer; the worker is exiting (never waited for)."""

@@ -33,10 +33,9 @@ from dataclasses import replace
 import numpy as np
 
 from ...kernels.jet import Jet
-from ...kernels.triad import triad_roots
 from ...tolerances import DEFAULT
 from .group_assemblies import (assembly_distances, before_group, group_assemblies, group_method, group_points,
-                               take_rows, triad_layout)
+                               take_rows, triad_layout, triad_root_poses)
 from .newton_group import _residual_and_jacobian, certificate_det
 from .steps import Context, _run
 
@@ -187,12 +186,7 @@ class Walker:
 def _triad_joints(c, st, n):
     """(joints of every root of the triad's polynomial (n, 6, 3), NaN where fewer; a function giving the ternary's
     three joints (n, 3) of group poses (n, 3k))."""
-    t, legs = triad_layout(c.plan, st)
-    w = np.stack([np.broadcast_to(np.asarray(c.w[(t, p)]), (n,)) for _, p, _ in legs], axis=-1)
-    Q = np.stack([np.broadcast_to(c.pos[far].v, (n,)) for _, _, far in legs], axis=-1)
-    ell = np.stack([np.broadcast_to(np.abs(np.asarray(c.w[(leg, far)]) - np.asarray(c.w[(leg, p)])), (n,))
-                    for leg, p, far in legs], axis=-1)
-    phi, p = triad_roots(w, Q, ell)                                             # (n, 6)
+    t, legs, w, Q, phi, p = triad_root_poses(c, st, n)                             # phi, p: (n, 6)
     roots = p[..., None] + np.exp(1j * phi)[..., None] * w[:, None, :]         # (n, 6, 3)
     ti = st.bodies.index(t)
 
