@@ -27,7 +27,7 @@ import secrets
 import time
 
 from .document import EditRefused
-from .synthesis_job import stop_process
+from .worker_process import stop_process
 
 #: the arrays of a run the page receives (those that are None are left out)
 RUN_ARRAYS = ("t", "q", "speed", "accel", "effort", "motor_torque", "motor_speed", "power", "current")

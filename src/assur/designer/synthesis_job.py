@@ -48,16 +48,8 @@ import time
 import warnings
 
 from .document import EditRefused
+from .worker_process import stop_process
 
-
-def stop_process(proc) -> None:
-    """End a worker process now: SIGTERM, then SIGKILL for one that ignores it (stopped or stuck)."""
-    if proc.is_alive():
-        proc.terminate()
-        proc.join(0.5)
-        if proc.is_alive():
-            proc.kill()
-            proc.join(0.5)
 
 #: how often the worker reports progress (s)
 PROGRESS_INTERVAL = 0.25
