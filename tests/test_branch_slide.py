@@ -18,33 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LEVER = (ROOT / "examples" / "lever_manipulator.toml").read_text()
 
 #: a crank-driven slotted lever (Whitworth): the crank pin C slides in the slot of the rocker O2–T
-WHITWORTH = """
-format = "assur/1"
-[units]
-length = "mm"
-angle = "deg"
-[points]
-O = [0, 0]
-O2 = [0, -60]
-C = [30, 0]
-T = [0, 80]
-[links]
-frame = ["O", "O2"]
-crank = ["O", "C"]
-rocker = ["O2", "T"]
-[[prismatic]]
-name = "slot"
-point = "C"
-guide = "rocker"
-through = "O2"
-angle = 0
-offset = 5
-[[drivers]]
-name = "crank"
-link = "crank"
-pivot = "O"
-arm = "C"
-"""
+WHITWORTH = (Path(__file__).parent / "data" / "whitworth_slotted_lever.toml").read_text(encoding="utf-8")
 
 
 def along(state, plan, slider_point, guide_point, guide_body, slide_angle):

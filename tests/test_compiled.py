@@ -1,5 +1,8 @@
 """The compiled (numba) backend gives the numpy backend's numbers, for every kind it covers."""
+from pathlib import Path
+
 import numpy as np
+
 import pytest
 
 import assur
@@ -9,33 +12,7 @@ pytest.importorskip("numba")
 EXAMPLES = ["walker_fourbar", "walker_crank_slider", "walker_sixbar", "walker_sixbar_beta1_60", "jansen", "klann",
             "chebyshev_lambda", "slider_crank", "crank_rocker"]
 
-WHITWORTH = """
-format = "assur/1"
-[units]
-length = "mm"
-angle = "deg"
-[points]
-O = [0, 0]
-O2 = [0, -60]
-C = [30, 0]
-T = [0, 80]
-[links]
-frame = ["O", "O2"]
-crank = ["O", "C"]
-rocker = ["O2", "T"]
-[[prismatic]]
-name = "slot"
-point = "C"
-guide = "rocker"
-through = "O2"
-angle = 0
-offset = 5
-[[drivers]]
-name = "crank"
-link = "crank"
-pivot = "O"
-arm = "C"
-"""
+WHITWORTH = (Path(__file__).parent / "data" / "whitworth_slotted_lever.toml").read_text(encoding="utf-8")
 
 DOUBLE_ROCKER = """
 format = "assur/1"

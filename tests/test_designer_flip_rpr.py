@@ -19,32 +19,7 @@ from assur.designer.session import Session, doc_of_toml
 ROOT = Path(__file__).resolve().parents[1]
 EX = ROOT / "examples"
 
-WHITWORTH = """format = "assur/1"
-[units]
-length = "mm"
-angle = "deg"
-[points]
-O = [0, 0]
-O2 = [0, -60]
-C = [30, 0]
-T = [0, 80]
-[links]
-frame = ["O", "O2"]
-crank = ["O", "C"]
-rocker = ["O2", "T"]
-[[prismatic]]
-name = "slot"
-point = "C"
-guide = "rocker"
-through = "O2"
-angle = 0
-offset = 5
-[[drivers]]
-name = "crank"
-link = "crank"
-pivot = "O"
-arm = "C"
-"""
+WHITWORTH = (Path(__file__).parent / "data" / "whitworth_slotted_lever.toml").read_text(encoding="utf-8")
 
 
 def reply(s, **request):
