@@ -19,6 +19,17 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 # process, and CI runs without a UTF-8 locale): the test workers and every process a test starts run in UTF-8 mode.
 os.environ.setdefault("PYTHONUTF8", "1")
 
+# Property tests draw the same examples on every run (a failure found once is found again, in any order of the
+# tests) and have no time limit per example (the machines that run them are shared and often loaded).
+try:
+    from hypothesis import HealthCheck, settings
+except ImportError:                                                      # hypothesis is a test extra
+    pass
+else:
+    settings.register_profile("assur", derandomize=True, deadline=None,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.load_profile("assur")
+
 #: the canonical mechanisms, one shipped file each (compiled on first use by their fixtures, never at import)
 CANONICAL = {"fourbar": "crank_rocker.toml", "walking_fourbar": "walker_fourbar.toml",
              "slider_crank": "slider_crank.toml", "rssr": "rssr.toml", "triad_sixbar": "triad_sixbar.toml",
