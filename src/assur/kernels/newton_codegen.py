@@ -5,11 +5,11 @@ as the numpy backend's certified continuation walks it (:mod:`assur.engine.plana
 One kernel solves designs × inputs. Per design (a row ``r`` of the inputs), first the file's design at the sketch's
 crank angle, solved from the seeds (the sketch's poses; the certificate there gives each group's branch sign); then
 
-- *every sample on its own* (:func:`_walk_each`, the default continuation, ``continuation.execute``): walked from
+- *every sample on its own* (:func:`_each_walk`, the default continuation, ``continuation.execute``): walked from
   there to the design at the sample's input, parameters and input together, the short way round and, where that
   fails, the long way; the file's design walks in whole steps of crank, which the walks of one direction share (a
   walk starts at the last cached step it passes);
-- or *swept* (:func:`_walk`, ``solve(..., sweep=True)``, ``sweep.execute_cycle``): the parameters walked from the
+- or *swept* (:func:`_sweep_walk`, ``solve(..., sweep=True)``, ``sweep.execute_cycle``): the parameters walked from the
   file's to the design's at the sketch angle, then the inputs visited by their angle past the sketch's, each walked
   to from the one before, forward and then backward for the inputs the forward walk could not reach.
 
@@ -111,25 +111,31 @@ def _group_block(em: _Emitter, g: int, grp) -> list[str]:
     ]
 
 
-def _walk(thetas: list[int], sample: list[str], final: list[str], missed: list[str], design: list[str],
-          preds: list[str]) -> list[str]:
-    """The per-design event loop (module docstring) at 8 spaces: one solve per pass (``sample``: the groups' blocks
-    and the step certificate's lines, setting ``good`` and ``stepok``); ``final``: the lines run at the certified
-    last step of a walk to a sample (at the sample's own input: its values); ``missed``: for a sample not reached;
-    ``design``: the design's lines (run where the parameters change); ``preds``: the lines setting the groups'
-    predictions from ``PRED``; ``thetas``: the angles among the unknowns."""
+def _event_loop(walk: dict, thetas: list[int], sample: list[str], design: list[str], preds: list[str],
+                missed: list[str]) -> list[str]:
+    """The per-design event loop both continuations share, at 8 spaces: the state reset, one solve per pass — the
+    first at the sketch (the file's design at the sketch's angle, from the seeds, its certificate's sign the
+    branch's), then one walk step each — and the step's certificate and length (module docstring), then ``missed``
+    for every sample no walk reached. ``walk`` holds what a continuation adds (lines at their own indentation):
+    ``state`` its variables, ``next`` where a pass that is not the sketch's picks its walk, step and input (under
+    ``else:`` at 4 spaces), ``sketch`` what the sketch's solve leaves (under ``if phase == -1:``), ``direct`` lines
+    run after it for a solve that is not a walk step, ``grown``/``shrunk`` after a certified/failed step, ``stuck``
+    where a walk gives up and ``arrived`` where it reaches its input (each under its own ``if``). ``sample``: the
+    groups' blocks and the step certificate's lines, setting ``good`` and ``stepok``; ``design``: the design's lines
+    (run where the parameters change); ``preds``: the lines setting the groups' predictions from ``PRED``;
+    ``thetas``: the angles among the unknowns."""
     two_pi = repr(2.0 * math.pi)
     return _block([
         "for u in range(N):", f"{I4}reached[u] = False",
         "for i in range(NT):", f"{I4}X[i] = seeds[i]", f"{I4}PRED[i] = seeds[i]",
         "moved = False",
         "for j in range(p.shape[0]):", f"{I4}if P[d, j] != P0[j]:", f"{I8}moved = True",
-        "phase = -1", "alive = True", "walking = False", "newp = True", "m = 0", "u = 0", "t = 0.0", "tn = 0.0",
-        "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "qf = qs", "dq = 0.0", "target = qs",
+        *walk["state"],
         "while True:",
         f"{I4}final = False",
         f"{I4}probe = False",
         f"{I4}maxit = citers",
+        *_block(walk.get("pass", []), I4),
         f"{I4}if phase == -1:",
         f"{I8}probe = True",
         f"{I8}maxit = iters",
@@ -137,52 +143,15 @@ def _walk(thetas: list[int], sample: list[str], final: list[str], missed: list[s
         f"{I8}for j in range(p.shape[0]):", f"{I12}p[j] = P0[j]",
         f"{I8}c = cs0", f"{I8}s = sn0",
         f"{I4}else:",
-        f"{I8}if not walking:",
-        f"{I12}if phase == 0:",
-        f"{I16}if not (moved and alive):",
-        f"{I16}    phase = 1",
-        f"{I16}    for i in range(NT):", f"{I16}        S[i] = X[i]",
-        f"{I16}    salive = alive", f"{I16}    qf = qs", f"{I16}    m = 0", f"{I16}    newp = True",
-        f"{I16}    for j in range(p.shape[0]):", f"{I16}        p[j] = P[d, j]",
-        f"{I16}    continue",
-        f"{I16}dq = 0.0", f"{I16}hmax = min(1.0, 1.0 / stages)", f"{I16}hmin = 1e-12",
-        f"{I12}else:",
-        f"{I16}if not alive or m >= N:",
-        f"{I16}    if phase == 2:",
-        f"{I16}        break",
-        f"{I16}    phase = 2",
-        f"{I16}    for i in range(NT):", f"{I16}        X[i] = S[i]",
-        f"{I16}    alive = salive", f"{I16}    qf = qs", f"{I16}    m = 0",
-        f"{I16}    continue",
-        f"{I16}u = fwd[r, m] if phase == 1 else bwd[r, m]",
-        f"{I16}m += 1",
-        f"{I16}if reached[u]:", f"{I16}    continue",
-        f"{I16}target = qs + (ahead[r, u] if phase == 1 else ahead[r, u] - {two_pi})",
-        f"{I16}dq = target - qf",
-        f"{I16}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
-        f"{I16}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
-        f"{I12}walking = True", f"{I12}t = 0.0", f"{I12}tl = math.nan", f"{I12}h = hmax", f"{I12}tries = 0",
-        f"{I12}for i in range(NT):", f"{I16}L[i] = X[i]",
-        f"{I8}tn = min(t + h, 1.0)",
-        f"{I8}ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
-        f"{I8}for i in range(NT):", f"{I12}PRED[i] = X[i] + ratio * (X[i] - L[i])",
-        f"{I8}if phase == 0:",
-        f"{I12}newp = True",
-        f"{I12}for j in range(p.shape[0]):", f"{I16}p[j] = P0[j] + tn * (P[d, j] - P0[j])",
-        f"{I8}final = phase != 0 and tn >= 1.0",
-        f"{I8}if final:",
-        f"{I12}c = cq[r, u]", f"{I12}s = sq[r, u]",
-        f"{I8}else:",
-        f"{I12}qq = qf + tn * dq", f"{I12}c = math.cos(qq)", f"{I12}s = math.sin(qq)",
+        *_block(walk["next"], I8),
         f"{I4}if newp:", *_block(design, I8), f"{I8}newp = False",
         *_block(preds, I4),
         f"{I4}good = True",
         *_block(sample, I4),
         f"{I4}if phase == -1:",
-        f"{I8}alive = good",
-        f"{I8}for i in range(NT):", f"{I12}X[i] = W[i]",
-        f"{I8}phase = 0",
+        *_block(walk["sketch"], I8),
         f"{I8}continue",
+        *_block(walk.get("direct", []), I4),
         # a walk step: the angles continued (within half a turn of the prediction), the certificate, the step length
         *[f"{I4}W[{i}] = PRED[{i}] + (W[{i}] - PRED[{i}] + math.pi) % {two_pi} - math.pi" for i in thetas],
         f"{I4}ok = stepok",
@@ -190,140 +159,147 @@ def _walk(thetas: list[int], sample: list[str], final: list[str], missed: list[s
         f"{I4}if ok:",
         f"{I8}for i in range(NT):", f"{I12}L[i] = X[i]", f"{I12}X[i] = W[i]",
         f"{I8}tl = t", f"{I8}t = tn", f"{I8}h = min(h * {GROW!r}, hmax)",
+        *_block(walk.get("grown", []), I8),
         f"{I4}else:", f"{I8}h *= {SHRINK!r}",
+        *_block(walk.get("shrunk", []), I8),
         f"{I4}tries += 1",
         f"{I4}if (not ok and h < hmin) or tries > {MAX_STEPS}:",
-        f"{I8}alive = False", f"{I8}walking = False",
-        f"{I8}for i in range(NT):", f"{I12}X[i] = math.nan",
+        *_block(walk["stuck"], I8),
         f"{I4}elif t >= 1.0:",
         f"{I8}walking = False",
-        f"{I8}moved = False",
-        f"{I8}if phase != 0:",
-        f"{I12}qf = target",
-        f"{I12}reached[u] = True",
-        *_block(final, I12),
+        *_block(walk["arrived"], I8),
         "for u in range(N):", f"{I4}if not reached[u]:", *_block(missed, I8), f"{I8}pass",
     ], I8)
 
 
-def _walk_each(thetas: list[int], sample: list[str], final: list[str], missed: list[str], design: list[str],
-               preds: list[str]) -> list[str]:
-    """The per-design event loop of the default continuation (:func:`assur.engine.planar.continuation.execute`), at 8
-    spaces: after the solve at the sketch, every input ``u`` walked on its own from there — the file's design at the
-    sketch's angle — to the design at the input, parameters and input together along the straight line, the short way
-    round (``ahead[r, u]``: the input's angle from the sketch's in [−π, π)); where that walk fails, the long way (a
-    turn the other way). An input at the sketch's angle of the file's design is solved from the sketch directly (with
-    the full iteration cap). Arguments as :func:`_walk`."""
+def _sweep_walk(final: list[str]) -> dict:
+    """The swept continuation's pieces of :func:`_event_loop` (``solve(..., sweep=True)``,
+    :func:`assur.engine.planar.sweep.execute_cycle`): phase 0 walks the parameters from the file's design to the
+    design's at the sketch's angle, phase 1 visits the inputs by their angle past the sketch's (``fwd``), each walked
+    to from the one before, phase 2 walks backward from the sketch (``bwd``) to the inputs the forward walk could not
+    reach. ``final``: the lines run at the certified last step of a walk to a sample."""
     two_pi = repr(2.0 * math.pi)
-    return _block([
-        "for u in range(N):", f"{I4}reached[u] = False",
-        "for i in range(NT):", f"{I4}X[i] = seeds[i]", f"{I4}PRED[i] = seeds[i]",
-        "moved = False",
-        "for j in range(p.shape[0]):", f"{I4}if P[d, j] != P0[j]:", f"{I8}moved = True",
-        "phase = -1", "salive = False", "walking = False", "direct = False", "newp = True", "leg = 0", "m = 0",
-        "nf = 0", "nb = 0", "uniform = False", "kk = 0", "fwdir = True",
-        "u = 0", "t = 0.0", "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0",
-        "dq = 0.0",
-        "while True:",
-        f"{I4}final = False",
-        f"{I4}probe = False",
-        f"{I4}maxit = citers",
-        f"{I4}direct = False",
-        f"{I4}if phase == -1:",
-        f"{I8}probe = True",
-        f"{I8}maxit = iters",
-        f"{I8}newp = True",
-        f"{I8}for j in range(p.shape[0]):", f"{I12}p[j] = P0[j]",
-        f"{I8}c = cs0", f"{I8}s = sn0",
-        f"{I4}else:",
-        f"{I8}if not walking:",
-        f"{I12}if m >= N or not salive:",
-        f"{I16}break",
-        f"{I12}u = m",
-        f"{I12}dq = ahead[r, u] if leg == 0 else ahead[r, u] - math.copysign({two_pi}, ahead[r, u])",
-        f"{I12}for i in range(NT):", f"{I16}X[i] = S[i]", f"{I16}L[i] = S[i]",
-        f"{I12}if dq == 0.0 and not moved:",
-        # at the sketch: no walk, the sample's solve from the sketch's poses
-        f"{I16}direct = True",
-        f"{I12}else:",
-        f"{I16}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
-        f"{I16}if moved:", f"{I16}    hmax = min(hmax, 1.0 / stages)",
-        f"{I16}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
-        f"{I16}walking = True", f"{I16}t = 0.0", f"{I16}tl = math.nan", f"{I16}h = hmax", f"{I16}tries = 0",
-        # the file's design walked in whole steps of ``step``: the walks of one direction pass the same inputs, so a
-        # walk starts at the last of them it shares with the walks before (cached, C[k - 1] at the k-th step)
-        f"{I16}uniform = (not moved) and hmax < 1.0",
-        f"{I16}kk = 0",
-        f"{I16}fwdir = dq > 0.0",
-        f"{I16}if uniform:",
-        f"{I16}    kk = min(nf if fwdir else nb, int(math.ceil(1.0 / h)) - 1)",
-        f"{I16}    if kk > 0:",
-        f"{I16}        for i in range(NT):",
-        f"{I16}            X[i] = CF[kk - 1, i] if fwdir else CB[kk - 1, i]",
-        f"{I16}            if kk >= 2:",
-        f"{I16}                L[i] = CF[kk - 2, i] if fwdir else CB[kk - 2, i]",
-        f"{I16}        t = kk * h", f"{I16}        tl = (kk - 1) * h", f"{I16}        tries = kk",
-        f"{I8}if direct:",
-        f"{I12}tn = 1.0", f"{I12}ratio = 0.0", f"{I12}maxit = iters",
-        f"{I8}else:",
-        f"{I12}tn = min(t + h, 1.0)",
-        f"{I12}ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
-        f"{I8}for i in range(NT):", f"{I12}PRED[i] = X[i] + ratio * (X[i] - L[i])",
-        f"{I8}final = tn >= 1.0",
-        f"{I8}if moved:",
-        f"{I12}newp = True",
-        f"{I12}for j in range(p.shape[0]):",
-        f"{I16}p[j] = P[d, j] if final else P0[j] + tn * (P[d, j] - P0[j])",
-        f"{I8}if final:",
-        f"{I12}c = cq[r, u]", f"{I12}s = sq[r, u]",
-        f"{I8}else:",
-        f"{I12}qq = qs + tn * dq", f"{I12}c = math.cos(qq)", f"{I12}s = math.sin(qq)",
-        f"{I4}if newp:", *_block(design, I8), f"{I8}newp = False",
-        *_block(preds, I4),
-        f"{I4}good = True",
-        *_block(sample, I4),
-        f"{I4}if phase == -1:",
-        f"{I8}salive = good",
-        f"{I8}for i in range(NT):", f"{I12}S[i] = W[i]",
-        f"{I8}phase = 1",
-        f"{I8}continue",
-        f"{I4}if direct:",
-        f"{I8}reached[u] = True",
-        *_block(final, I8),
-        f"{I8}m += 1",
-        f"{I8}continue",
-        # a walk step: the angles continued (within half a turn of the prediction), the certificate, the step length
-        *[f"{I4}W[{i}] = PRED[{i}] + (W[{i}] - PRED[{i}] + math.pi) % {two_pi} - math.pi" for i in thetas],
-        f"{I4}ok = stepok",
-        f"{I4}for i in range(NT):", f"{I8}ok = ok and math.isfinite(W[i])",
-        f"{I4}if ok:",
-        f"{I8}for i in range(NT):", f"{I12}L[i] = X[i]", f"{I12}X[i] = W[i]",
-        f"{I8}tl = t", f"{I8}t = tn", f"{I8}h = min(h * {GROW!r}, hmax)",
-        f"{I8}if uniform and t < 1.0:",
-        f"{I12}kk += 1",
-        f"{I12}if kk > (nf if fwdir else nb):",
-        f"{I16}for i in range(NT):",
-        f"{I16}    if fwdir:", f"{I16}        CF[kk - 1, i] = X[i]",
-        f"{I16}    else:", f"{I16}        CB[kk - 1, i] = X[i]",
-        f"{I16}if fwdir:", f"{I16}    nf = kk",
-        f"{I16}else:", f"{I16}    nb = kk",
-        f"{I4}else:", f"{I8}h *= {SHRINK!r}", f"{I8}uniform = False",
-        f"{I4}tries += 1",
-        f"{I4}if (not ok and h < hmin) or tries > {MAX_STEPS}:",
-        f"{I8}walking = False",
-        f"{I8}if leg == 0 and dq != 0.0:",
-        f"{I12}leg = 1",
-        f"{I8}else:",
-        f"{I12}leg = 0",
-        f"{I12}m += 1",
-        f"{I4}elif t >= 1.0:",
-        f"{I8}walking = False",
-        f"{I8}reached[u] = True",
-        *_block(final, I8),
-        f"{I8}leg = 0",
-        f"{I8}m += 1",
-        "for u in range(N):", f"{I4}if not reached[u]:", *_block(missed, I8), f"{I8}pass",
-    ], I8)
+    return {
+        "state": ["phase = -1", "alive = True", "walking = False", "newp = True", "m = 0", "u = 0", "t = 0.0",
+                  "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "qf = qs",
+                  "dq = 0.0", "target = qs"],
+        "next": [
+            "if not walking:",
+            f"{I4}if phase == 0:",
+            f"{I8}if not (moved and alive):",
+            f"{I8}    phase = 1",
+            f"{I8}    for i in range(NT):", f"{I8}        S[i] = X[i]",
+            f"{I8}    salive = alive", f"{I8}    qf = qs", f"{I8}    m = 0", f"{I8}    newp = True",
+            f"{I8}    for j in range(p.shape[0]):", f"{I8}        p[j] = P[d, j]",
+            f"{I8}    continue",
+            f"{I8}dq = 0.0", f"{I8}hmax = min(1.0, 1.0 / stages)", f"{I8}hmin = 1e-12",
+            f"{I4}else:",
+            f"{I8}if not alive or m >= N:",
+            f"{I8}    if phase == 2:",
+            f"{I8}        break",
+            f"{I8}    phase = 2",
+            f"{I8}    for i in range(NT):", f"{I8}        X[i] = S[i]",
+            f"{I8}    alive = salive", f"{I8}    qf = qs", f"{I8}    m = 0",
+            f"{I8}    continue",
+            f"{I8}u = fwd[r, m] if phase == 1 else bwd[r, m]",
+            f"{I8}m += 1",
+            f"{I8}if reached[u]:", f"{I8}    continue",
+            f"{I8}target = qs + (ahead[r, u] if phase == 1 else ahead[r, u] - {two_pi})",
+            f"{I8}dq = target - qf",
+            f"{I8}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
+            f"{I8}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
+            f"{I4}walking = True", f"{I4}t = 0.0", f"{I4}tl = math.nan", f"{I4}h = hmax", f"{I4}tries = 0",
+            f"{I4}for i in range(NT):", f"{I8}L[i] = X[i]",
+            "tn = min(t + h, 1.0)",
+            "ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
+            "for i in range(NT):", f"{I4}PRED[i] = X[i] + ratio * (X[i] - L[i])",
+            "if phase == 0:",
+            f"{I4}newp = True",
+            f"{I4}for j in range(p.shape[0]):", f"{I8}p[j] = P0[j] + tn * (P[d, j] - P0[j])",
+            "final = phase != 0 and tn >= 1.0",
+            "if final:",
+            f"{I4}c = cq[r, u]", f"{I4}s = sq[r, u]",
+            "else:",
+            f"{I4}qq = qf + tn * dq", f"{I4}c = math.cos(qq)", f"{I4}s = math.sin(qq)"],
+        "sketch": ["alive = good", "for i in range(NT):", f"{I4}X[i] = W[i]", "phase = 0"],
+        "stuck": ["alive = False", "walking = False", "for i in range(NT):", f"{I4}X[i] = math.nan"],
+        "arrived": ["moved = False", "if phase != 0:", f"{I4}qf = target", f"{I4}reached[u] = True",
+                    *_block(final, I4)],
+    }
+
+
+def _each_walk(final: list[str]) -> dict:
+    """The default continuation's pieces of :func:`_event_loop` (:func:`assur.engine.planar.continuation.execute`):
+    after the solve at the sketch, every input ``u`` walked on its own from there — the file's design at the sketch's
+    angle — to the design at the input, parameters and input together along the straight line, the short way round
+    (``ahead[r, u]``: the input's angle from the sketch's in [−π, π)); where that walk fails, the long way (a turn the
+    other way). An input at the sketch's angle of the file's design is solved from the sketch directly (with the full
+    iteration cap). The file's design walks in whole steps of crank, which the walks of one direction share (a walk
+    starts at the last cached step it passes). ``final`` as :func:`_sweep_walk`."""
+    two_pi = repr(2.0 * math.pi)
+    return {
+        "state": ["phase = -1", "salive = False", "walking = False", "direct = False", "newp = True", "leg = 0",
+                  "m = 0", "nf = 0", "nb = 0", "uniform = False", "kk = 0", "fwdir = True", "u = 0", "t = 0.0",
+                  "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "dq = 0.0"],
+        "pass": ["direct = False"],
+        "next": [
+            "if not walking:",
+            f"{I4}if m >= N or not salive:",
+            f"{I8}break",
+            f"{I4}u = m",
+            f"{I4}dq = ahead[r, u] if leg == 0 else ahead[r, u] - math.copysign({two_pi}, ahead[r, u])",
+            f"{I4}for i in range(NT):", f"{I8}X[i] = S[i]", f"{I8}L[i] = S[i]",
+            f"{I4}if dq == 0.0 and not moved:",
+            # at the sketch: no walk, the sample's solve from the sketch's poses
+            f"{I8}direct = True",
+            f"{I4}else:",
+            f"{I8}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
+            f"{I8}if moved:", f"{I8}    hmax = min(hmax, 1.0 / stages)",
+            f"{I8}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
+            f"{I8}walking = True", f"{I8}t = 0.0", f"{I8}tl = math.nan", f"{I8}h = hmax", f"{I8}tries = 0",
+            # the file's design walked in whole steps of ``step``: the walks of one direction pass the same inputs,
+            # so a walk starts at the last of them it shares with the walks before (cached, C[k - 1] at the k-th step)
+            f"{I8}uniform = (not moved) and hmax < 1.0",
+            f"{I8}kk = 0",
+            f"{I8}fwdir = dq > 0.0",
+            f"{I8}if uniform:",
+            f"{I8}    kk = min(nf if fwdir else nb, int(math.ceil(1.0 / h)) - 1)",
+            f"{I8}    if kk > 0:",
+            f"{I8}        for i in range(NT):",
+            f"{I8}            X[i] = CF[kk - 1, i] if fwdir else CB[kk - 1, i]",
+            f"{I8}            if kk >= 2:",
+            f"{I8}                L[i] = CF[kk - 2, i] if fwdir else CB[kk - 2, i]",
+            f"{I8}        t = kk * h", f"{I8}        tl = (kk - 1) * h", f"{I8}        tries = kk",
+            "if direct:",
+            f"{I4}tn = 1.0", f"{I4}ratio = 0.0", f"{I4}maxit = iters",
+            "else:",
+            f"{I4}tn = min(t + h, 1.0)",
+            f"{I4}ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
+            "for i in range(NT):", f"{I4}PRED[i] = X[i] + ratio * (X[i] - L[i])",
+            "final = tn >= 1.0",
+            "if moved:",
+            f"{I4}newp = True",
+            f"{I4}for j in range(p.shape[0]):",
+            f"{I8}p[j] = P[d, j] if final else P0[j] + tn * (P[d, j] - P0[j])",
+            "if final:",
+            f"{I4}c = cq[r, u]", f"{I4}s = sq[r, u]",
+            "else:",
+            f"{I4}qq = qs + tn * dq", f"{I4}c = math.cos(qq)", f"{I4}s = math.sin(qq)"],
+        "sketch": ["salive = good", "for i in range(NT):", f"{I4}S[i] = W[i]", "phase = 1"],
+        "direct": ["if direct:", f"{I4}reached[u] = True", *_block(final, I4), f"{I4}m += 1", f"{I4}continue"],
+        "grown": ["if uniform and t < 1.0:",
+                  f"{I4}kk += 1",
+                  f"{I4}if kk > (nf if fwdir else nb):",
+                  f"{I8}for i in range(NT):",
+                  f"{I8}    if fwdir:", f"{I8}        CF[kk - 1, i] = X[i]",
+                  f"{I8}    else:", f"{I8}        CB[kk - 1, i] = X[i]",
+                  f"{I8}if fwdir:", f"{I8}    nf = kk",
+                  f"{I8}else:", f"{I8}    nb = kk"],
+        "shrunk": ["uniform = False"],
+        "stuck": ["walking = False", "if leg == 0 and dq != 0.0:", f"{I4}leg = 1", "else:", f"{I4}leg = 0",
+                  f"{I4}m += 1"],
+        "arrived": ["reached[u] = True", *final, "leg = 0", "m += 1"],
+    }
 
 
 def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator: str, signature: str, head=(),
@@ -338,8 +314,9 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
     traced flag of every step assembled (a walk step's certificate). ``head``/``tail``: lines run per design before
     and after its walks (8 spaces of indentation), ``before``: once per call. The traced program's selects call
     :func:`assur.kernels.reductions.select` (trace with ``Tracer(select="select")``). ``each``: every sample walked
-    from the sketch on its own (:func:`_walk_each`, the default continuation), else each design swept through its
-    inputs (:func:`_walk`). The kernel's first arguments are :data:`NEWTON_ARGS`, the rest ``signature``:
+    from the sketch on its own (:func:`_each_walk`, the default continuation), else each design swept through its
+    inputs (:func:`_sweep_walk`; both in :func:`_event_loop`). The kernel's first arguments are :data:`NEWTON_ARGS`,
+    the rest ``signature``:
 
     - ``P (D, n_params)`` the designs, ``P0 (n_params,)`` the file's (the parameters are read from a scratch row
       ``p``: the traced program loads ``p[k]``), ``seeds`` the groups' unknowns at the sketch (their x, y, θ, in solve
@@ -394,7 +371,7 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
         *[f"{I8}sg{g} = math.nan" for g in range(len(groups))],
         *[f"{I8}RT{g}[6] = 0.0" for g, grp in enumerate(groups) if grp.triad is not None],
         *_block(head, I8),
-        *(_walk_each if each else _walk)(thetas, sample, final, missed, design, preds),
+        *_event_loop((_each_walk if each else _sweep_walk)(final), thetas, sample, design, preds, missed),
         *_block(tail, I8),
     ]
     return module(generator, NEWTON_ARGS + ", " + signature, body, fastmath=fastmath,
