@@ -21,6 +21,8 @@ the designer reuses its kernel.
 from __future__ import annotations
 
 import math
+import weakref
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -103,6 +105,37 @@ def seeds(plan) -> np.ndarray:
                     dtype=float)
 
 
+@dataclass(frozen=True)
+class _Fixed:
+    """What every solve of one plan passes or reads alike (:func:`_fixed`): the seeds (the kernels never write them; a
+    writeable array, as numba's signature of the cached kernels has it), the kernel's
+    rows (``6·m`` of the points and bodies, then ``extra`` of the groups' unknowns and certificates), the
+    Newton-solved groups and whether the certified reduction enumerates any of them (else
+    :func:`separate_by_reduction` has nothing to check)."""
+    seeds: np.ndarray
+    m: int
+    extra: int
+    reduced: bool
+
+
+#: plan → its :class:`_Fixed` (a plan is frozen; the entry goes with it)
+_FIXED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: the ``fwd`` and ``bwd`` of a kernel of the default continuation, which visits the inputs in their own order
+_NO_ORDER = np.zeros((1, 0), dtype=np.int64)
+
+
+def _fixed(plan) -> _Fixed:
+    """The plan's :class:`_Fixed`, made once per plan."""
+    f = _FIXED.get(plan)
+    if f is None:
+        from .group_assemblies import group_method
+        groups = tuple(st for st in plan.steps if st.kind == "newton")
+        f = _FIXED[plan] = _Fixed(seeds(plan), len(plan.point_names) + len(plan.body_names),
+                                  sum(3 * len(st.bodies) for st in groups) + len(groups),
+                                  any(group_method(plan, st) == "reduction" for st in groups))
+    return f
+
+
 def layout(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple):
     """The batch as designs × sweeps: ``(designs (D, n_params), q (Dq, N), split)`` where the batch ``shape`` is
     ``(D…, N)`` and q holds the inputs of every design (Dq = 1 when they are the same for all); ``split``: True when
@@ -125,21 +158,24 @@ def layout(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple):
 def arguments(plan, designs: np.ndarray, q: np.ndarray, tol, each: bool = False) -> tuple:
     """The kernel's first arguments (:data:`assur.kernels.newton_codegen.NEWTON_ARGS`) for designs (D, n_params)
     walked through the inputs q (Dq, N): the orders in which :func:`assur.engine.planar.sweep.execute_cycle` visits
-    them, and the tolerances of the numpy backend's continuation (:mod:`assur.engine.planar.continuation`: its
-    corrector's iteration cap, its shortest step and largest correction) and of
+    them (with ``each`` none: that kernel visits them in their own order), and the tolerances of the numpy backend's
+    continuation (:mod:`assur.engine.planar.continuation`: its corrector's iteration cap, its shortest step and
+    largest correction) and of
     :func:`assur.engine.planar.newton_group.solve_group`. With ``each`` (a kernel of :func:`solve_source` with
     ``each``) ``ahead`` is each input's angle from the sketch's the short way, in [−π, π), as
     :func:`assur.engine.planar.continuation.execute` computes it."""
     from .continuation import CORRECTOR_ITERATIONS
     q_s = float(plan.sketch_inputs[0])
-    ahead = np.mod(q - q_s, TWO_PI)
-    if each:
+    if each:           # the inputs visited in their own order: no fwd, bwd
         ahead = (q_s + np.remainder(q - q_s + np.pi, TWO_PI) - np.pi) - q_s
-    fwd = np.argsort(ahead, axis=-1, kind="stable")
-    bwd = np.argsort(-(ahead - TWO_PI), axis=-1, kind="stable")
+        fwd = bwd = _NO_ORDER
+    else:
+        ahead = np.mod(q - q_s, TWO_PI)
+        fwd = np.argsort(ahead, axis=-1, kind="stable")
+        bwd = np.argsort(-(ahead - TWO_PI), axis=-1, kind="stable")
     scale = plan.length_scale
     return (np.require(designs, dtype=float, requirements=["C", "W"]), np.ascontiguousarray(plan.defaults, dtype=float),
-            seeds(plan), float(np.cos(q_s)), float(np.sin(q_s)), q_s, np.cos(q), np.sin(q), ahead, fwd, bwd,
+            _fixed(plan).seeds, float(np.cos(q_s)), float(np.sin(q_s)), q_s, np.cos(q), np.sin(q), ahead, fwd, bwd,
             int(tol.stages_for_new_design), float(tol.stage_angle), float(tol.radicand), float(scale),
             tol.newton_residual * scale, 1e3 * tol.newton_residual * scale, float(tol.newton_certify),
             int(tol.newton_iterations), int(min(tol.newton_iterations, CORRECTOR_ITERATIONS)),
@@ -162,13 +198,12 @@ def solve(plan, params: np.ndarray, inputs: np.ndarray, tol, order: int, shape: 
     value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``), then :func:`separate_by_reduction`."""
     designs, q, split = layout(plan, params, inputs, shape)
     D, N = designs.shape[0], q.shape[-1]
-    m = len(plan.point_names) + len(plan.body_names)
-    groups = [st for st in plan.steps if st.kind == "newton"]
-    unknowns = sum(3 * len(st.bodies) for st in groups)
-    out = np.empty((6 * m + unknowns + len(groups), D, N))
+    fixed = _fixed(plan)
+    m = fixed.m
+    out = np.empty((6 * m + fixed.extra, D, N))
     valid = np.empty((D, N), dtype=np.bool_)
     kernel(*arguments(plan, designs, q, tol, each), *(float(w) for w in rates), out, valid)
-    if params.ndim <= 1:
+    if params.ndim <= 1 and fixed.reduced:
         separate_by_reduction(plan, params, inputs, shape, tol, out[6 * m:].reshape((-1,) + shape),
                               valid.reshape(shape))
     rows = out[:6 * m].reshape((m, 6) + shape)
