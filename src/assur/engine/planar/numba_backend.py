@@ -29,6 +29,9 @@ _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 _COVERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 #: plan → whether the plan's Newton-solved groups are traced (:func:`newton_covers`)
 _NEWTON: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: generated source → its loaded kernel: a new plan of a known structure (the designer compiles one per move) takes
+#: the kernel without hashing, reading or looking up its file again
+_LOADED: dict = {}
 
 
 def covers(plan) -> bool:
@@ -62,8 +65,12 @@ def newton_cached(plan, each: bool = True) -> bool:
     k = _KERNELS.get(plan, {}).get(_newton_key(each))
     if k is not None:
         return codegen.ready(k)
+    source = newton_kernels.solve_source(plan, 2, each)
+    k = _LOADED.get(source)
+    if k is not None:
+        return codegen.ready(k)
     try:
-        return codegen.cached(newton_kernels.solve_source(plan, 2, each))
+        return codegen.cached(source)
     except OSError:
         return False
 
@@ -99,7 +106,13 @@ def _load(plan, key: str, make_source, what: str = "a kernel"):
     kernels = _KERNELS.setdefault(plan, {})
     k = kernels.get(key)
     if k is None:
-        k = kernels[key] = codegen.load(make_source(), what)
+        source = make_source()
+        k = _LOADED.get(source)
+        if k is None:
+            if len(_LOADED) > 64:
+                _LOADED.clear()
+            k = _LOADED[source] = codegen.load(source, what)
+        kernels[key] = k
     return k
 
 
