@@ -261,6 +261,25 @@ def test_the_kernel_source_depends_on_the_structure_only(triad):
     assert structure_key(assur.compile(assur.loads(SLOTTED))) != structure_key(triad)
 
 
+def test_a_new_plan_of_a_known_structure_takes_the_loaded_kernel(triad, monkeypatch):
+    """A designer's drag compiles a new plan per move: its kernel is the one loaded for an earlier plan of the same
+    generated source (numba_backend._LOADED), not looked up, read and hashed again; another source is loaded anew.
+    (codegen.load is replaced by a counter here: nothing compiles.)"""
+    from assur.engine.planar import numba_backend
+    loads = []
+    monkeypatch.setattr(numba_backend, "_LOADED", {})
+    monkeypatch.setattr(numba_backend.codegen, "load", lambda source, what="": loads.append(source) or object())
+    moved = assur.compile(assur.loads(TRIAD.read_text().replace("B = [140, 40]", "B = [141, 41]")))
+    a = numba_backend._load(triad, "test_key", lambda: "source one")
+    b = numba_backend._load(moved, "test_key", lambda: "source one")
+    c = numba_backend._load(moved, "other_key", lambda: "source two")
+    assert a is b and c is not a and loads == ["source one", "source two"]
+    assert numba_backend._load(moved, "test_key", lambda: pytest.fail("traced again")) is a   # kept per plan too
+    for plan in (triad, moved):                        # the stand-ins go with this test
+        for key in ("test_key", "other_key"):
+            numba_backend._KERNELS.get(plan, {}).pop(key, None)
+
+
 @pytest.mark.slow            # compiles the kernel
 def test_auto_takes_the_kernel_when_ready_or_paid(triad, monkeypatch):
     """backend='auto' on a plan with Newton-solved groups (engine.api._compiled_pays): the compiled kernel when it is
