@@ -146,15 +146,21 @@ def _residual_and_jacobian(c, st, x, shape):
     """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``: one pass of the
     residual on jets whose derivative holds all n directions at once."""
     n = 3 * len(st.bodies)
-    x = np.broadcast_to(x, shape + (n,))
+    x = _shaped(x, shape + (n,))
     eye = np.eye(n)
-    X = [Jet(x[..., i:i + 1], np.broadcast_to(eye[i], shape + (n,)), None) for i in range(n)]
+    X = [Jet(x[..., i:i + 1], _shaped(eye[i], shape + (n,)), None) for i in range(n)]
     r = _residual(c, st, X, derivs=False, lift=True)
     if len(r) != n:
         raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
-    F = np.stack([np.broadcast_to(ri.v, shape + (1,))[..., 0] for ri in r], axis=-1)
-    J = np.stack([np.broadcast_to(ri.d, shape + (n,)) for ri in r], axis=-2)
+    F = np.stack([_shaped(ri.v, shape + (1,))[..., 0] for ri in r], axis=-1)
+    J = np.stack([_shaped(ri.d, shape + (n,)) for ri in r], axis=-2)
     return F, J
+
+
+def _shaped(a, shape: tuple):
+    """``a`` broadcast to ``shape``: itself where it has that shape already (one sample, as a compile's sketch solve
+    has: a broadcast costs more than the rest of some of these lines)."""
+    return a if np.shape(a) == shape else np.broadcast_to(a, shape)
 
 
 def sketch_branch_sign(c, st, poses) -> int:

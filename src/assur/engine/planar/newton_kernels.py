@@ -108,10 +108,9 @@ def seeds(plan) -> np.ndarray:
 @dataclass(frozen=True)
 class _Fixed:
     """What every solve of one plan passes or reads alike (:func:`_fixed`): the seeds (the kernels never write them; a
-    writeable array, as numba's signature of the cached kernels has it), the kernel's
-    rows (``6·m`` of the points and bodies, then ``extra`` of the groups' unknowns and certificates), the
-    Newton-solved groups and whether the certified reduction enumerates any of them (else
-    :func:`separate_by_reduction` has nothing to check)."""
+    writeable array, as numba's signature of the cached kernels has it), the kernel's rows (``6·m`` of the points and
+    bodies, then ``extra`` of the groups' unknowns and certificates) and whether the certified reduction enumerates
+    any of its Newton-solved groups (else :func:`separate_by_reduction` has nothing to check)."""
     seeds: np.ndarray
     m: int
     extra: int
