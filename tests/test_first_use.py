@@ -57,6 +57,21 @@ def test_the_rule_is_the_runs_size_not_the_caches_state():
                for p in (motor, c2, six) for b in (10, 10_000, 10 ** 7))
 
 
+def test_free_timing_solved_per_design_counts_its_turn_and_refinements():
+    """With the inner timing solve an evaluation solves a whole turn of the target point and refines each target's
+    input (up to timing.MAX_ITERATIONS order-2 solves): the estimate counts them, so a default run of the ten-point
+    ellipse compiles (counted as its 10 targets alone, 4.5 s of numpy, it ran on numpy for tens of minutes)."""
+    from assur.engine.planar.numba_backend import available
+    from assur.synthesis import load_problem
+    from assur.synthesis.evaluate import numpy_seconds, run_backend
+    from assur.synthesis.timing import MAX_ITERATIONS
+    h5 = load_problem(ROOT / "examples" / "synthesis" / "benchmarks" / "hcdj5_ten_points_ellipse.toml")
+    assert h5.targets.free_timing == "inner" and h5.targets.n == 10 and h5.cycle_samples == 360
+    steps = len(h5.plan.steps)
+    assert numpy_seconds(h5, 1000) == pytest.approx(1000 * (10 + 360 + 10 * MAX_ITERATIONS) * steps * 0.5e-6)
+    assert run_backend(h5, 300_000, None) == ("numba" if available() else "numpy")
+
+
 @pytest.mark.slow
 def test_a_solve_takes_the_cached_kernel_once_it_is_there(tmp_path):
     """After a synthesis compiled a mechanism's kernel, a moderate solve of the same mechanism uses it (the same

@@ -84,11 +84,15 @@ PAYBACK_SECONDS = 10.0
 
 def numpy_seconds(problem, evaluations: int) -> float:
     """The estimated numpy time (s) of ``evaluations`` evaluations of ``problem``: the solved samples of one (its
-    targets, and a whole cycle's samples when a term or constraint needs one) times the plan's steps' cost
-    (:data:`NUMPY_SECONDS_PER_UNIT` a step, :data:`NUMPY_SECONDS_PER_NEWTON_GROUP` a Newton-solved group). A
+    targets, a whole cycle's samples when a term or constraint needs one, and with free timing solved per design
+    the turn it is assigned on and the most refinements of each target, ``timing.MAX_ITERATIONS``) times the plan's
+    steps' cost (:data:`NUMPY_SECONDS_PER_UNIT` a step, :data:`NUMPY_SECONDS_PER_NEWTON_GROUP` a Newton-solved group). A
     deterministic estimate: it depends on the problem, never on the machine."""
-    samples = (problem.targets.n if problem.targets is not None else 0) + \
-        (problem.cycle_samples if problem.needs_cycle() else 0)
+    t = problem.targets
+    samples = (t.n if t is not None else 0) + (problem.cycle_samples if problem.needs_cycle() else 0)
+    if t is not None and t.timing == "free" and t.free_timing == "inner":
+        from .timing import MAX_ITERATIONS      # free timing solved per design: a turn, then each target refined
+        samples += problem.cycle_samples + t.n * MAX_ITERATIONS
     newton = sum(st.kind == "newton" for st in problem.plan.steps)
     per_sample = (len(problem.plan.steps) - newton) * NUMPY_SECONDS_PER_UNIT + newton * NUMPY_SECONDS_PER_NEWTON_GROUP
     return evaluations * max(samples, 1) * per_sample
