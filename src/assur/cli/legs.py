@@ -20,6 +20,9 @@ def add_arguments(sp) -> None:
                    help="objective evaluations per candidate, over its starts (default 8000)")
     g.add_argument("--starts", type=positive(1), default=None, metavar="K", help="starts per candidate (default 4)")
     g.add_argument("--seed", type=int, default=None, metavar="S", help="random seed of the ranking (default 0)")
+    g.add_argument("--rank", choices=("gait", "window"), default=None,
+                   help="rank by the search's gait objective (default) or by the widest constant-speed window the "
+                        "co-design screen passes (docs/codesign.md)")
     g.add_argument("--triads", action="store_true",
                    help="deprecated, ignored: every candidate is dimensioned now, those with a class III or IV group "
                         "included")
@@ -49,7 +52,7 @@ def cmd_walking_legs(args) -> int:
     if args.output is not None:
         from ..io.output import check_output_directory
         check_output_directory(args.output)
-    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed") if getattr(args, k) is not None}
+    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed", "rank") if getattr(args, k) is not None}
     if args.triads:
         print("note: --triads is deprecated and ignored: every candidate is dimensioned now, those with a class III "
               "or IV group included", file=sys.stderr)
@@ -85,12 +88,14 @@ def cmd_walking_legs(args) -> int:
 
 
 def _print(ranking) -> None:
-    from ..report.legs import HEAD, leg_rows
+    from ..report.legs import HEAD, WINDOW_HEAD, leg_rows
     rows = leg_rows(ranking.entries)
-    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(HEAD)]
+    head = HEAD + WINDOW_HEAD if rows and len(rows[0]) > len(HEAD) else HEAD
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(head)]
     s = ranking.settings
-    print(f"walking legs of {ranking.links} links ranked by gait ({s['budget']} evaluations, {s['starts']} starts "
+    by = "the widest constant-speed window" if s.get("rank") == "window" else "gait"
+    print(f"walking legs of {ranking.links} links ranked by {by} ({s['budget']} evaluations, {s['starts']} starts "
           f"per candidate, seed {s['seed']}, {ranking.executor}, {ranking.seconds:.0f} s)")
-    print("  " + "  ".join(h.ljust(w) for h, w in zip(HEAD, widths)))
+    print("  " + "  ".join(h.ljust(w) for h, w in zip(head, widths)))
     for r in rows:
         print("  " + "  ".join(c.ljust(w) if i in (1, 2) else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))))

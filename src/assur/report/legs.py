@@ -59,17 +59,24 @@ def _n(v, digits=4) -> str:
 
 
 def leg_rows(entries) -> list[list[str]]:
-    """The ranking's table rows (text): rank, name, objective, step, lift, sag (mm), vx spreads, transmission."""
+    """The ranking's table rows (text): rank, name, objective, step, lift, sag (mm), vx spreads, transmission; and
+    when the ranking is by window (an entry's metrics have ``window``: :data:`WINDOW_HEAD`), the widest screened
+    window, the worst screen margin at the target window and the window's pressure-angle bound there."""
     rows = []
+    windows = any("window" in (e["metrics"] or {}) for e in entries)
     for e in entries:
         m = e["metrics"] or {}
         status = "skipped" if e.get("skipped") else "yes" if e["feasible"] and e["metrics"] else "no"
         rows.append([str(e["rank"]), e["name"], status,
                      _n(e["objective"]), _n(m.get("step")), _n(m.get("lift")), _n(m.get("sag")),
                      _n(m.get("vx_spread_80")), _n(m.get("vx_spread_90")), _n(m.get("transmission_min"), 3)])
+        if windows:
+            rows[-1] += [_n(m.get("window"), 3), m.get("window_target_worst") or "—",
+                         _n(m.get("window_pressure_bound"), 3)]
     return rows
 
 
+WINDOW_HEAD = ["widest window", "worst at 0.9", "μ bound at 0.9 (°)"]
 HEAD = ["rank", "leg", "feasible", "objective", "step (mm)", "lift (mm)", "sag (mm)", "|vx| spread 80 %",
         "|vx| spread 90 %", "min transmission (°)"]
 
@@ -85,9 +92,17 @@ def _page(ranking, drawings: dict) -> str:
             f"the crank turning fully; objective = sag / "
             f"({s['step']:g} r / 10) + spread of |vx| over the central 80 % of the stride. Metrics: the exact gait "
             f"of each best design (720 crank angles). Ground: the x axis, up: +y.")
-    parts = header(f"Walking legs of {ranking.links} links ranked by gait", meta, desc)
-    parts.append(section("Ranking", '<div class="scroll">' + table(HEAD, leg_rows(ranking.entries),
-                                                                    num_cols=(0, 3, 4, 5, 6, 7, 8, 9)) + "</div>"))
+    rows = leg_rows(ranking.entries)
+    by_window = s.get("rank") == "window"
+    if by_window:
+        desc += (" Ranked by the widest constant-speed window the co-design screen passes (docs/codesign.md): the "
+                 "widest window a gear pair passing every check may give each leg; at 0.9, the screen's worst "
+                 "margin and the window's own pressure-angle bound.")
+    head = HEAD + WINDOW_HEAD if rows and len(rows[0]) > len(HEAD) else HEAD
+    title = "the widest constant-speed window" if by_window else "gait"
+    parts = header(f"Walking legs of {ranking.links} links ranked by {title}", meta, desc)
+    parts.append(section("Ranking", '<div class="scroll">' + table(head, rows, num_cols=(
+        0, 3, 4, 5, 6, 7, 8, 9, *((10, 12) if head is not HEAD else ()))) + "</div>"))
     cards = []
     for e in ranking.entries:
         stem = leg_stem(e)

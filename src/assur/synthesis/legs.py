@@ -45,8 +45,8 @@ import numpy as np
 
 from ..errors import SpecError
 
-__all__ = ["CRANK", "DEFAULTS", "LegCandidate", "LegRanking", "leg_candidates", "leg_problem", "rank_legs",
-           "run_candidate"]
+__all__ = ["CRANK", "DEFAULTS", "RANKS", "LegCandidate", "LegRanking", "leg_candidates", "leg_problem", "rank_legs",
+           "run_candidate", "window_metrics"]
 
 #: the crank length every candidate is normalised to (mm)
 CRANK = 100.0
@@ -63,7 +63,10 @@ DEFAULTS = {
     "reach": 8.0,            # longest link / farthest frame pivot, in r
     "below": 1.0,            # the whole foot path at least this far below the crank's axis, in r
     "backend": None,         # the engine backend of the evaluations: None (numba when installed), "numpy"
+    "rank": "gait",          # the ranking key: "gait" (the objective) or "window" (the widest screened window)
 }
+#: the ranking keys: by the search's objective, or by the widest constant-speed window the co-design screen passes
+RANKS = ("gait", "window")
 #: settings that are gone: accepted with a DeprecationWarning and ignored (name → why)
 DEPRECATED = {"triads": "every candidate is dimensioned now, those with a Newton-solved group included"}
 #: the name of the foot point added to the foot link
@@ -150,6 +153,8 @@ def settings_of(settings: dict | None) -> dict:
     for k in ("budget", "starts", "cycle_samples"):
         if not (isinstance(s[k], (int, np.integer)) and s[k] >= 1):
             raise SpecError([(k, f"must be a positive integer: {s[k]!r}")])
+    if s["rank"] not in RANKS:
+        raise SpecError([("rank", f"must be one of {', '.join(RANKS)}: {s['rank']!r}")])
     if s["backend"] not in (None, "numba", "numpy"):
         raise SpecError([("backend", f"must be 'numba' or 'numpy': {s['backend']!r}")])
     for k in ("step", "lift", "reach", "below"):
@@ -236,6 +241,8 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
         metrics = {"step": g.step_length * 1000, "lift": g.lift * 1000, "sag": g.sag * 1000, "duty": g.duty_factor,
                    "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
                    "speed_spread": (g.support_speed.max - g.support_speed.min) / g.support_speed.mean}
+    if metrics is not None and s["rank"] == "window":
+        metrics.update(window_metrics(problem.plan, params))
     q = res.details.get("quantities", {})
     if metrics is not None and q.get("transmission.min") is not None:
         metrics["transmission_min"] = float(q["transmission.min"])
@@ -245,6 +252,26 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
             "violation": float(res.violation), "variables": res.variables,
             "starts": [float(st["best_F"]) for st in res.starts], "evaluations": int(res.evaluations),
             "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech)}
+
+
+def window_metrics(plan, params) -> dict:
+    """The widest constant-speed window of a dimensioned leg (:func:`assur.codesign.widest.widest_window` of its
+    foot law, 4096 crank angles), as metrics: ``window`` (None when even half the stride fails the screen),
+    ``window_k``, ``window_target`` (0.9), ``window_target_slack``, ``window_target_worst``,
+    ``window_pressure_bound`` (degrees, at the target) and ``window_stopped_by_pressure``; all None when the
+    leg has no foot law (a crank that stops)."""
+    from ..codesign.law import foot_law
+    from ..codesign.widest import widest_window
+    from ..errors import AssurError
+    try:
+        w = widest_window(foot_law(plan, params)).as_dict()
+    except AssurError:
+        w = dict.fromkeys(("window", "window_k", "target", "target_slack", "target_worst", "pressure_bound_deg",
+                           "stopped_by_pressure"))
+    return {"window": w["window"], "window_k": w["window_k"], "window_target": w["target"],
+            "window_target_slack": w["target_slack"], "window_target_worst": w["target_worst"],
+            "window_pressure_bound": w["pressure_bound_deg"],
+            "window_stopped_by_pressure": w["stopped_by_pressure"]}
 
 
 @dataclass
@@ -266,9 +293,12 @@ class LegRanking:
                 "entries": [{k: v for k, v in e.items() if k not in drop} for e in self.entries]}
 
 
-def _order(entry: dict):
+def _order(entry: dict, rank: str = "gait"):
     bad = not entry["feasible"] or entry["metrics"] is None
-    return (int(bad), entry["violation"] if bad else entry["objective"], entry["key"])
+    if rank == "window" and not bad:      # the widest window first; legs without one after, by objective
+        window = entry["metrics"].get("window")
+        return (0, -(window or 0.0), entry["objective"], entry["key"])
+    return (int(bad), entry["violation"] if bad else entry["objective"], 0.0, entry["key"])
 
 
 def rank_legs(links: int, *, settings: dict | None = None, executor=None, candidates=None,
@@ -296,7 +326,7 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
         c = by_key[r["key"]]
         entries.append({"key": c.key, "name": c.name, "inversion": c.inversion, "inversion_name": c.inversion_name,
                         "crank": c.crank_name, "foot_link": c.foot_name, **r})
-    entries.sort(key=_order)
+    entries.sort(key=lambda e: _order(e, s["rank"]))
     for i, e in enumerate(entries):
         e["rank"] = i + 1
     return LegRanking(links, s, entries, executor.name, time.monotonic() - t0)
