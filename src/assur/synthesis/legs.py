@@ -64,6 +64,7 @@ DEFAULTS = {
     "below": 1.0,            # the whole foot path at least this far below the crank's axis, in r
     "backend": None,         # the engine backend of the evaluations: None (numba when installed), "numpy"
     "rank": "gait",          # the ranking key: "gait" (the objective) or "window" (the widest screened window)
+    "window_budget": 450,    # rank "window": designs of the window-widening search after the gait search (0: none)
 }
 #: the ranking keys: by the search's objective, or by the widest constant-speed window the co-design screen passes
 RANKS = ("gait", "window")
@@ -150,6 +151,8 @@ def settings_of(settings: dict | None) -> dict:
         if k not in DEFAULTS:
             raise SpecError([(k, f"unknown walking-leg setting; known: {', '.join(DEFAULTS)}")])
         s[k] = v
+    if not (isinstance(s["window_budget"], (int, np.integer)) and s["window_budget"] >= 0):
+        raise SpecError([("window_budget", f"must be a whole number ≥ 0: {s['window_budget']!r}")])
     for k in ("budget", "starts", "cycle_samples"):
         if not (isinstance(s[k], (int, np.integer)) and s[k] >= 1):
             raise SpecError([(k, f"must be a positive integer: {s[k]!r}")])
@@ -231,6 +234,10 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     res = synthesize(problem, s["method"], seed=candidate_seed(s["seed"], candidate.key), budget=s["budget"],
                      starts=s["starts"], parallel_starts=False, backend=s["backend"],
                      polish="none" if candidate.newton else None)
+    widened = None
+    if s["rank"] == "window" and res.feasible and s["window_budget"] > 0:
+        widened = _widen(problem, res, s, candidate)
+        res = widened.pop("result")
     metrics = None
     params = res.params()
     try:
@@ -251,7 +258,27 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible),
             "violation": float(res.violation), "variables": res.variables,
             "starts": [float(st["best_F"]) for st in res.starts], "evaluations": int(res.evaluations),
-            "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech)}
+            "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech),
+            **({"widening": widened} if widened is not None else {})}
+
+
+def _widen(problem, res, s: dict, candidate: LegCandidate) -> dict:
+    """The window-widening stage (:func:`assur.synthesis.leg_window.widen_window`) from the gait search's best:
+    ``result`` (the search's result with the widened design, its objective re-evaluated), ``start_window``,
+    ``push``, ``evaluations`` and ``moved`` (whether the design changed)."""
+    import dataclasses
+
+    from .evaluate import Evaluator
+    from .leg_window import widen_window
+    w = widen_window(problem, res.x, budget=int(s["window_budget"]),
+                     seed=candidate_seed(s["seed"] + 1, candidate.key))
+    moved = w["x"] is not res.x and not np.array_equal(w["x"], res.x)
+    if moved:
+        ev = Evaluator(problem)(w["x"][None])
+        res = dataclasses.replace(res, x=w["x"], objective=float(ev.objective[0]), feasible=bool(ev.feasible[0]),
+                                  violation=float(ev.violation[0]))
+    return {"result": res, "start_window": w["start_window"], "push": w["push"], "evaluations": w["evaluations"],
+            "moved": bool(moved)}
 
 
 def window_metrics(plan, params) -> dict:

@@ -1,0 +1,95 @@
+"""Widening a walking leg's constant-speed window: the second stage of the atlas's ranking by window
+(``rank = "window"`` in :mod:`assur.synthesis.legs`; docs/codesign.md, "The widest window in the atlas").
+
+The gait search (:func:`assur.synthesis.legs.leg_problem`) minimises the support's sag and the foot's speed spread
+under a uniform crank; a co-designed gear drive needs something else of the leg: a stride coordinate x(q) whose
+window law g = k·x′ gives convex pitch curves with a small pressure angle out to the widest window
+(:mod:`assur.codesign.screen`). :func:`widen_window` starts from the gait search's best design and runs a seeded
+differential evolution (scipy) on the same variables, bounds and gait constraints (step, lift, the foot under the
+body, transmission angle, a full crank turn: the problem's own :class:`~assur.synthesis.evaluate.Evaluator`),
+maximising the screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law
+is sampled at :data:`SAMPLES` crank angles and screened on :data:`POINTS` window samples and :data:`KS` values of k
+(a coarse screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window`).
+The result is the start itself unless a design with a wider exact window is found.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["POINTS", "SAMPLES", "KS", "widen_window"]
+
+#: crank angles of a searched design's foot law, window samples and k values of its screen
+SAMPLES, POINTS, KS = 512, 401, 49
+#: the penalised objective of a design that breaks a gait constraint (plus its violation) or has no window
+INFEASIBLE = 1.0e3
+
+
+def _slack(plan, params, fraction: float) -> float | None:
+    """The coarse screen's slack of one design at ``fraction`` (None: no foot law or no window there)."""
+    from ..codesign.law import foot_law
+    from ..codesign.screen import window_screen
+    from ..errors import AssurError
+    try:
+        return window_screen(foot_law(plan, params, samples=SAMPLES), fraction, points=POINTS, ks=KS).slack
+    except AssurError:
+        return None
+
+
+def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -> dict:
+    """Search the leg ``problem``'s variables from the design ``x0`` (n_vars,) SI (feasible) for a wider window.
+
+    Differential evolution (``budget`` designs in all, population 15 or the variables' count if larger, started
+    around ``x0``: ``x0`` itself and Gaussian steps of ``spread`` times each variable's range), minimising minus
+    the coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs at
+    :data:`INFEASIBLE` + their violation. Returns ``x`` (n_vars,) SI (``x0`` unless a design with a wider exact
+    window was found), ``window`` (its exact widest window, None if none), ``start_window`` (``x0``'s), ``push``
+    and ``evaluations``."""
+    from scipy.optimize import differential_evolution
+
+    from ..codesign.law import foot_law
+    from ..codesign.widest import widest_window
+    from ..errors import AssurError
+    from .evaluate import Evaluator
+
+    evaluator = Evaluator(problem)
+    plan = problem.plan
+    x0 = np.asarray(x0, dtype=float)
+
+    def exact(x):
+        try:
+            return widest_window(foot_law(plan, evaluator.params(x[None])[0])).window
+        except AssurError:
+            return None
+
+    start = exact(x0)
+    push = min(0.95, (start or 0.5) + 0.03)
+    bounds = problem.bounds
+    lo, hi = bounds[:, 0], bounds[:, 1]
+    rng = np.random.default_rng(seed)
+    size = max(15, problem.n_vars)
+    init = np.clip(x0 + spread * (hi - lo) * rng.standard_normal((size, problem.n_vars)), lo, hi)
+    init[0] = np.clip(x0, lo, hi)
+    count = [0]
+
+    def objective(X):                        # X (n_vars, S): scipy's vectorised layout
+        X = np.atleast_2d(X.T)
+        count[0] += len(X)
+        ev = evaluator(X)
+        params = evaluator.params(X)
+        out = np.empty(len(X))
+        for i in range(len(X)):
+            if not ev.feasible[i]:
+                out[i] = INFEASIBLE + float(ev.violation[i])
+                continue
+            s = _slack(plan, params[i], push)
+            out[i] = INFEASIBLE if s is None else -s
+        return out
+
+    generations = max(1, budget // size - 1)
+    res = differential_evolution(objective, list(zip(lo, hi)), init=init, maxiter=generations, seed=seed,
+                                 vectorized=True, updating="deferred", polish=False, tol=0.0, atol=0.0)
+    best = np.asarray(res.x, dtype=float)
+    found = exact(best) if float(res.fun) < INFEASIBLE else None
+    if found is not None and (start is None or found > start) and bool(evaluator(best[None]).feasible[0]):
+        return {"x": best, "window": found, "start_window": start, "push": push, "evaluations": count[0]}
+    return {"x": x0, "window": start, "start_window": start, "push": push, "evaluations": count[0]}
