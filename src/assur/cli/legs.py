@@ -23,6 +23,9 @@ def add_arguments(sp) -> None:
     g.add_argument("--rank", choices=("gait", "window"), default=None,
                    help="rank by the search's gait objective (default) or by the widest constant-speed window the "
                         "co-design screen passes (docs/codesign.md)")
+    g.add_argument("--window-budget", type=positive(0), default=None, metavar="N",
+                   help="with --rank window: designs of the window-widening search per candidate (default 450; 0: "
+                        "rank the gait search's designs as they are)")
     g.add_argument("--triads", action="store_true",
                    help="deprecated, ignored: every candidate is dimensioned now, those with a class III or IV group "
                         "included")
@@ -52,7 +55,10 @@ def cmd_walking_legs(args) -> int:
     if args.output is not None:
         from ..io.output import check_output_directory
         check_output_directory(args.output)
-    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed", "rank") if getattr(args, k) is not None}
+    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed", "rank", "window_budget")
+                if getattr(args, k) is not None}
+    if args.window_budget is not None and args.rank != "window":
+        raise _bad("--window-budget", "only with --rank window")
     if args.triads:
         print("note: --triads is deprecated and ignored: every candidate is dimensioned now, those with a class III "
               "or IV group included", file=sys.stderr)
