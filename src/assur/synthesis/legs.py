@@ -33,6 +33,12 @@ candidates run beside it, nor where: :func:`rank_legs` maps the candidates over 
 (:mod:`assur.synthesis.executors`: in-process, local processes or a Dask cluster) and gets the same numbers from
 each. The ranking puts the feasible designs first, by objective, then the others by their constraint violation;
 each entry carries the exact gait metrics of its best design (:func:`assur.gait_metrics`) and its mechanism file.
+
+With the setting ``rank = "window"`` (``assur atlas --walking-legs --rank window``) each feasible design is then
+widened for a co-designed gear drive (:func:`assur.synthesis.leg_window.widen_window`: the same variables and gait
+constraints, the co-design screen's slack as objective, ``window_budget`` designs) and the entries are ranked by
+the widest constant-speed window the screen passes (:func:`window_metrics`, :mod:`assur.codesign.widest`), widest
+first.
 """
 from __future__ import annotations
 
