@@ -86,8 +86,9 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
         return out
 
     generations = max(1, budget // size - 1)
-    res = differential_evolution(objective, list(zip(lo, hi)), init=init, maxiter=generations, seed=seed,
-                                 vectorized=True, updating="deferred", polish=False, tol=0.0, atol=0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):     # degenerate trial designs are judged, not warned of
+        res = differential_evolution(objective, list(zip(lo, hi)), init=init, maxiter=generations, seed=seed,
+                                     vectorized=True, updating="deferred", polish=False, tol=0.0, atol=0.0)
     best = np.asarray(res.x, dtype=float)
     found = exact(best) if float(res.fun) < INFEASIBLE else None
     if found is not None and (start is None or found > start) and bool(evaluator(best[None]).feasible[0]):
