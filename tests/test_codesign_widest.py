@@ -76,8 +76,11 @@ def test_bad_rank_settings_are_named():
 def test_ranking_by_window_orders_by_the_recomputed_windows():
     """Three six-link candidates, a small budget: the entries are ordered by their widest window, each recomputed
     here from the written mechanism file; the widening never narrows the window and keeps the gait constraints
-    (step ≥ 3 r, lift ≥ r/2, re-measured by assur.gait_metrics on the file)."""
+    (step ≥ 3 r, lift ≥ r/2, re-measured by assur.gait_metrics on the file) and the start's sampled sag."""
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.legs import leg_problem
     cands = [c for c in leg_candidates(6) if not c.newton][:3]
+    by_key = {c.key: c for c in cands}
     settings = {"budget": 300, "starts": 1, "backend": "numpy", "rank": "window", "window_budget": 90}
     ranking = rank_legs(6, settings=settings, candidates=cands)
     windows = []
@@ -88,6 +91,9 @@ def test_ranking_by_window_orders_by_the_recomputed_windows():
         again = widest_window(foot_law(plan)).window
         assert e["metrics"]["window"] == pytest.approx(again, abs=1e-12)
         assert again >= e["widening"]["start_window"] - 1e-12
+        problem = leg_problem(by_key[e["key"]])
+        x = problem.to_si(np.array([e["variables"][n] for n in problem.names]))
+        assert Evaluator(problem)(x[None]).quantities["gait.sag"][0] <= e["widening"]["sag_limit"] * (1 + 1e-12)
         g = assur.gait_metrics(plan)
         assert g.step_length * 1000 >= 3 * CRANK * (1 - 1e-6) and g.lift * 1000 >= 0.5 * CRANK * (1 - 1e-6)
         windows.append(again)

@@ -6,8 +6,8 @@ under a uniform crank; a co-designed gear drive needs something else of the leg:
 window law g = k·x′ gives convex pitch curves with a small pressure angle out to the widest window
 (:mod:`assur.codesign.screen`). :func:`widen_window` starts from the gait search's best design and runs a seeded
 differential evolution (scipy) on the same variables, bounds and gait constraints (step, lift, the foot under the
-body, transmission angle, a full crank turn: the problem's own :class:`~assur.synthesis.evaluate.Evaluator`),
-maximising the screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law
+body, transmission angle, a full crank turn: the problem's own :class:`~assur.synthesis.evaluate.Evaluator`) and
+one more, the support's sag no larger than the start's (a window bought with a sagging stride is no leg), maximising the screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law
 is sampled at :data:`SAMPLES` crank angles and screened on :data:`POINTS` window samples and :data:`KS` values of k
 (a coarse screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window`).
 The result is the start itself unless a design with a wider exact window is found.
@@ -40,10 +40,10 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
 
     Differential evolution (``budget`` designs in all, population 15 or the variables' count if larger, started
     around ``x0``: ``x0`` itself and Gaussian steps of ``spread`` times each variable's range), minimising minus
-    the coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs at
-    :data:`INFEASIBLE` + their violation. Returns ``x`` (n_vars,) SI (``x0`` unless a design with a wider exact
-    window was found), ``window`` (its exact widest window, None if none), ``start_window`` (``x0``'s), ``push``
-    and ``evaluations``."""
+    the coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs (a gait
+    constraint broken, or a sampled sag above ``x0``'s) at :data:`INFEASIBLE` + their violation. Returns ``x`` (n_vars,) SI (``x0`` unless a design with a wider exact
+    window was found), ``window`` (its exact widest window, None if none), ``start_window`` (``x0``'s), ``push``,
+    ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag, mm)."""
     from scipy.optimize import differential_evolution
 
     from ..codesign.law import foot_law
@@ -54,6 +54,7 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     evaluator = Evaluator(problem)
     plan = problem.plan
     x0 = np.asarray(x0, dtype=float)
+    sag_limit = float(evaluator(x0[None]).quantities["gait.sag"][0])     # the search's own sampled sag (mm)
 
     def exact(x):
         try:
@@ -77,9 +78,10 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
         ev = evaluator(X)
         params = evaluator.params(X)
         out = np.empty(len(X))
+        sag_excess = np.nan_to_num(ev.quantities["gait.sag"] - sag_limit, nan=1.0e6)
         for i in range(len(X)):
-            if not ev.feasible[i]:
-                out[i] = INFEASIBLE + float(ev.violation[i])
+            if not ev.feasible[i] or sag_excess[i] > 0:
+                out[i] = INFEASIBLE + float(ev.violation[i]) + max(float(sag_excess[i]), 0.0)
                 continue
             s = _slack(plan, params[i], push)
             out[i] = INFEASIBLE if s is None else -s
@@ -91,6 +93,10 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
                                      vectorized=True, updating="deferred", polish=False, tol=0.0, atol=0.0)
     best = np.asarray(res.x, dtype=float)
     found = exact(best) if float(res.fun) < INFEASIBLE else None
-    if found is not None and (start is None or found > start) and bool(evaluator(best[None]).feasible[0]):
-        return {"x": best, "window": found, "start_window": start, "push": push, "evaluations": count[0]}
-    return {"x": x0, "window": start, "start_window": start, "push": push, "evaluations": count[0]}
+    check = evaluator(best[None])
+    if found is not None and (start is None or found > start) and bool(check.feasible[0]) \
+            and float(check.quantities["gait.sag"][0]) <= sag_limit:
+        return {"x": best, "window": found, "start_window": start, "push": push, "evaluations": count[0],
+                "sag_limit": sag_limit}
+    return {"x": x0, "window": start, "start_window": start, "push": push, "evaluations": count[0],
+            "sag_limit": sag_limit}

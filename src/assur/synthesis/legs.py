@@ -271,7 +271,8 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
 def _widen(problem, res, s: dict, candidate: LegCandidate) -> dict:
     """The window-widening stage (:func:`assur.synthesis.leg_window.widen_window`) from the gait search's best:
     ``result`` (the search's result with the widened design, its objective re-evaluated), ``start_window``,
-    ``push``, ``evaluations`` and ``moved`` (whether the design changed)."""
+    ``push``, ``evaluations``, ``sag_limit`` (mm: the start's sampled sag, which the widening keeps) and ``moved``
+    (whether the design changed)."""
     import dataclasses
 
     from .evaluate import Evaluator
@@ -284,7 +285,7 @@ def _widen(problem, res, s: dict, candidate: LegCandidate) -> dict:
         res = dataclasses.replace(res, x=w["x"], objective=float(ev.objective[0]), feasible=bool(ev.feasible[0]),
                                   violation=float(ev.violation[0]))
     return {"result": res, "start_window": w["start_window"], "push": w["push"], "evaluations": w["evaluations"],
-            "moved": bool(moved)}
+            "sag_limit": w["sag_limit"], "moved": bool(moved)}
 
 
 def window_metrics(plan, params) -> dict:
