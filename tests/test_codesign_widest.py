@@ -118,3 +118,34 @@ def test_cli_window_options_out_of_place_are_one_line(argv, where, capsys):
     assert main(["atlas", *argv]) == 1
     err = capsys.readouterr().err
     assert err.startswith("error:") and where in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.fixture(scope="module")
+def atlas_leg():
+    return assur.compile(assur.load(ROOT / "docs" / "codesign" / "widest_leg6.toml"))
+
+
+def test_the_published_atlas_leg_is_measured_as_the_page_says(atlas_leg):
+    """docs/codesign/widest_leg6.toml (docs/codesign.md, "The widest window in the atlas"): its widest screened
+    window 0.830, the worst margin at 0.9 the pressure angle with the window's bound 36.5° > 30°, and the gait
+    constraints of the ranking (step ≥ 3 r, lift ≥ r/2) re-measured by assur.gait_metrics."""
+    w = widest_window(foot_law(atlas_leg))
+    assert w.window == pytest.approx(0.830, abs=1e-3)
+    assert w.at_target.worst == "pressure_angle" and w.stopped_by_pressure
+    assert math.degrees(w.pressure_bound) == pytest.approx(36.5, abs=0.05)
+    g = assur.gait_metrics(atlas_leg)
+    assert g.step_length >= 0.3 and g.lift >= 0.05
+    assert g.step_length * 1000 == pytest.approx(301.5, abs=0.05) and g.sag * 1000 == pytest.approx(59.7, abs=0.05)
+
+
+@pytest.mark.slow
+def test_the_published_atlas_leg_gets_gears_at_081_and_none_at_082(atlas_leg):
+    """The co-design of docs/codesign.md on that leg (centre distance 120 mm, the command's default seed 1): at
+    window 0.81 with a 1.2 mm module every gear check passes and the foot's |v_x| spreads 4.4–4.9 % over the
+    central 90 % (law and engine); at 0.82 the search finds no pair (the centrode pressure angle exceeds 30°)."""
+    from assur.codesign import optimize_transfer
+    ok = optimize_transfer(atlas_leg, 0.81, centre_distance=0.12, module=0.0012, seed=1)
+    assert ok.checks.ok and ok.checks.teeth == 97
+    assert 0.04 < ok.vx_spread["0.9"] < 0.05 and ok.vx_spread["0.8"] < 1e-9
+    bad = optimize_transfer(atlas_leg, 0.82, centre_distance=0.12, module=0.0015, seed=1, measure=False)
+    assert not bad.checks.ok and bad.checks.max_pressure_angle > math.radians(30.0)

@@ -81,7 +81,7 @@ def main(argv=None) -> int:
         text = (args.ranking / best["file"]).read_text(encoding="utf-8")
         head = (f"# The widest constant-speed window of the {data['links']}-link atlas ranking (docs/codesign.md, "
                 f"\"The widest window in the atlas\"):\n# {best['name']}, {best['key']}, widest screened window "
-                f"{best['metrics']['window']:.4f}; made by assur atlas --walking-legs --links {data['links']} "
+                f"{best['metrics']['window']:.4f};\n# made by assur atlas --walking-legs --links {data['links']} "
                 f"--budget {s['budget']} --rank window (seed {s['seed']}).\n")
         args.copy.write_text(head + text, encoding="utf-8")
         print(f"\nwrote {args.copy}")
