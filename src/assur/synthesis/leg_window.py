@@ -6,11 +6,12 @@ under a uniform crank; a co-designed gear drive needs something else of the leg:
 window law g = k·x′ gives convex pitch curves with a small pressure angle out to the widest window
 (:mod:`assur.codesign.screen`). :func:`widen_window` starts from the gait search's best design and runs a seeded
 differential evolution (scipy) on the same variables, bounds and gait constraints (step, lift, the foot under the
-body, transmission angle, a full crank turn: the problem's own :class:`~assur.synthesis.evaluate.Evaluator`) and
-one more, the support's sag no larger than the start's (a window bought with a sagging stride is no leg), maximising the screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law
-is sampled at :data:`SAMPLES` crank angles and screened on :data:`POINTS` window samples and :data:`KS` values of k
-(a coarse screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window`).
-The result is the start itself unless a design with a wider exact window is found.
+body, transmission angle, a full crank turn: the problem's own :class:`~assur.synthesis.evaluate.Evaluator`) and one
+more, the support's sag no larger than the start's (a window bought with a sagging stride is no leg), maximising the
+screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law is sampled at
+:data:`SAMPLES` crank angles and screened on :data:`POINTS` window samples and :data:`KS` values of k (a coarse
+screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window`). The result
+is the start itself unless a design with a wider exact window is found.
 """
 from __future__ import annotations
 
@@ -39,11 +40,12 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     """Search the leg ``problem``'s variables from the design ``x0`` (n_vars,) SI (feasible) for a wider window.
 
     Differential evolution (``budget`` designs in all, population 15 or the variables' count if larger, started
-    around ``x0``: ``x0`` itself and Gaussian steps of ``spread`` times each variable's range), minimising minus
-    the coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs (a gait
-    constraint broken, or a sampled sag above ``x0``'s) at :data:`INFEASIBLE` + their violation. Returns ``x`` (n_vars,) SI (``x0`` unless a design with a wider exact
-    window was found), ``window`` (its exact widest window, None if none), ``start_window`` (``x0``'s), ``push``,
-    ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag, mm)."""
+    around ``x0``: ``x0`` itself and Gaussian steps of ``spread`` times each variable's range), minimising minus the
+    coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs (a gait
+    constraint broken, or a sampled sag above ``x0``'s) at :data:`INFEASIBLE` + their violation. Returns ``x``
+    (n_vars,) SI (``x0`` unless a design with a wider exact window was found), ``window`` (its exact widest window,
+    None if none), ``start_window`` (``x0``'s), ``push``, ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag,
+    mm)."""
     from scipy.optimize import differential_evolution
 
     from ..codesign.law import foot_law
