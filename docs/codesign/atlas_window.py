@@ -3,10 +3,12 @@
     assur atlas --walking-legs --links 6 --budget 4000 --rank window -o out/legs6w    # the ranking (see the page)
     .venv/bin/python docs/codesign/atlas_window.py out/legs6w                         # the tables, from its files
     .venv/bin/python docs/codesign/atlas_window.py out/legs6w --copy docs/codesign/widest_leg6.toml
+    .venv/bin/python docs/codesign/atlas_window.py out/legs6w --widen 3000 --widen-top 3   # longer widening
 
 Every number is re-measured here from the ranking's mechanism files (``assur.codesign.widest.widest_window`` of the
 file's foot law, ``assur.gait_metrics``) and compared with what the ranking recorded; the shipped legs' windows are
-measured the same way for comparison. ``--copy`` writes the widest leg's file (with a comment naming its source).
+measured the same way for comparison. ``--widen N`` runs the ranking's widening search again on the ``--widen-top``
+widest legs with N designs (``assur.synthesis.leg_window.widen_window``, from each entry's design). ``--copy`` writes the widest leg's file (with a comment naming its source).
 """
 from __future__ import annotations
 
@@ -42,11 +44,42 @@ def measure(plan) -> dict:
             "spread90": g.vx_spread["0.9"]}
 
 
+def longer(data: dict, entries: list, budget: int) -> None:
+    """The widening search again with ``budget`` designs from each entry's design: its window before and after,
+    the sampled sag it keeps, the bound at 0.9 after."""
+    import numpy as np
+
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.legs import candidate_seed, leg_candidates, leg_problem
+    from assur.synthesis.leg_window import widen_window
+    by_key = {c.key: c for c in leg_candidates(data["links"])}
+    print(f"\n| leg | widest window: ranking → {budget} more designs | μ bound at 0.9 (°) | sag (mm) |\n"
+          f"|---|---|---:|---:|")
+    for e in entries:
+        problem = leg_problem(by_key[e["key"]], data["settings"])
+        x0 = problem.to_si(np.array([e["variables"][n] for n in problem.names]))
+        w = widen_window(problem, x0, budget=budget, seed=candidate_seed(data["settings"]["seed"] + 2, e["key"]))
+        plan = problem.plan
+        m = measure_params(plan, Evaluator(problem).params(w["x"][None])[0])
+        print(f"| {e['name']} | {w['start_window']:.3f} → {m['window']:.3f} | {_g(m['bound'])} | {m['sag']:.1f} |")
+
+
+def measure_params(plan, params) -> dict:
+    """:func:`measure` of a plan at other parameters."""
+    from assur.analysis.study import Study
+    w = widest_window(foot_law(plan, params))
+    g = Study(plan, params).gait
+    return {"window": w.window, "bound": None if w.pressure_bound is None else math.degrees(w.pressure_bound),
+            "sag": g.sag * 1000}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("ranking", type=Path, help="the output directory of assur atlas --walking-legs --rank window")
     ap.add_argument("--top", type=int, default=10, help="rows of the ranking's table")
     ap.add_argument("--copy", type=Path, default=None, help="write the widest leg's mechanism file there")
+    ap.add_argument("--widen", type=int, default=0, metavar="N", help="a longer widening search of N designs")
+    ap.add_argument("--widen-top", type=int, default=3, metavar="K", help="on the K widest legs")
     args = ap.parse_args(argv)
     data = json.loads((args.ranking / "ranking.json").read_text(encoding="utf-8"))
     if data["settings"].get("rank") != "window":
@@ -76,6 +109,8 @@ def main(argv=None) -> int:
     for name, file in SHIPPED.items():
         m = measure(assur.compile(assur.load(ROOT / "examples" / file)))
         print(f"| {name} | {m['window']:.3f} | {m['worst']} | {_g(m['bound'])} |")
+    if args.widen > 0:
+        longer(data, entries[:args.widen_top], args.widen)
     if args.copy is not None and entries:
         best = entries[0]
         text = (args.ranking / best["file"]).read_text(encoding="utf-8")
