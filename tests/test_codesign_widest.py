@@ -149,3 +149,14 @@ def test_the_published_atlas_leg_gets_gears_at_081_and_none_at_082(atlas_leg):
     assert 0.04 < ok.vx_spread["0.9"] < 0.05 and ok.vx_spread["0.8"] < 1e-9
     bad = optimize_transfer(atlas_leg, 0.82, centre_distance=0.12, module=0.0015, seed=1, measure=False)
     assert not bad.checks.ok and bad.checks.max_pressure_angle > math.radians(30.0)
+
+
+def test_the_ranking_table_gains_the_window_columns_only_when_ranked_by_window():
+    from assur.report.legs import HEAD, WINDOW_HEAD, leg_rows
+    entry = {"rank": 1, "name": "leg", "feasible": True, "objective": 1.0, "skipped": None,
+             "metrics": {"step": 300.0, "lift": 50.0, "sag": 5.0, "vx_spread_80": 0.4, "vx_spread_90": 0.6,
+                         "transmission_min": 40.0}}
+    assert len(leg_rows([entry])[0]) == len(HEAD)
+    entry["metrics"] |= {"window": 0.8302, "window_target_worst": "pressure_angle", "window_pressure_bound": 36.54}
+    row = leg_rows([entry])[0]
+    assert len(row) == len(HEAD) + len(WINDOW_HEAD) and row[-3:] == ["0.83", "pressure_angle", "36.5"]
