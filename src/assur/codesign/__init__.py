@@ -10,7 +10,8 @@ mechanism, a C² transfer that closes the turn), one set of gear checks and one 
 - :mod:`~assur.codesign.margins`: the same checks as fast margins on fixed samples, and the search's objective;
 - :mod:`~assur.codesign.transfer`: the leg's transfer search (:func:`optimize_transfer`, :func:`codesign`,
   :func:`tradeoff`); :mod:`~assur.codesign.joint`: the leg's dimensions and its law together
-  (:func:`optimize_codesign`); :mod:`~assur.codesign.screen`: a necessary condition on the leg alone;
+  (:func:`optimize_codesign`); :mod:`~assur.codesign.screen`: a necessary condition on the leg alone, and
+  :mod:`~assur.codesign.widest`: the widest window it allows and what stops the target one;
 - :mod:`~assur.codesign.torque`: the motor torque the drive asks for, its limit, the before/after cost;
 - :mod:`~assur.codesign.wheelstep_law` and :mod:`~assur.codesign.wheelstep`: the wheel-step drive redesigned.
 
@@ -25,8 +26,9 @@ from .torque import drive_cost, peak_torque
 from .transfer import (CodesignProblem, CodesignResult, TransferDesign, codesign, optimize_transfer, tradeoff,
                        window_pressure_bound)
 from .wheelstep import WheelStepCodesign, paper_pair, wheelstep_codesign
+from .widest import WidestWindow, widest_window
 
 __all__ = ["CodesignLaw", "CodesignProblem", "CodesignResult", "FootLaw", "GearChecks", "JointDesign",
-           "TransferDesign", "WheelStepCodesign", "codesign", "critical_fraction", "drive_cost", "foot_law",
+           "TransferDesign", "WheelStepCodesign", "WidestWindow", "codesign", "critical_fraction", "drive_cost", "foot_law",
            "gear_checks", "geared_vx_spread", "optimize_codesign", "optimize_transfer", "paper_pair",
-           "peak_torque", "tradeoff", "wheelstep_codesign", "window_pressure_bound", "window_screen"]
+           "peak_torque", "tradeoff", "wheelstep_codesign", "widest_window", "window_pressure_bound", "window_screen"]
