@@ -70,7 +70,7 @@ def test_printed_designs_reproduce(block, entry):
     t = p.targets
     x9, angles, branch = canonical(block, x)
     theta = t.inputs if t.timing == "prescribed" else angles
-    assert closed_form_f(x9, t.xy, theta, branch) == pytest.approx(f, rel=1e-9, abs=tiny)   # the independent form
+    assert closed_form_f(x9, t.xy, theta, branch) == pytest.approx(f, rel=1e-9, abs=tiny)   # independent form
     inner = load_problem(path)
     if inner.targets.timing == "free" and entry["feasible"]:
         fi = Evaluator(inner)(x[None, :]).objective[0]
@@ -119,7 +119,8 @@ def test_morgan_wampler_design_solves_its_equations():
     evaluator puts the coupler point on all five points (explicit timing at the pins' crank angles)."""
     d = np.array([[0.50, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43], [0.22, 0.78]])
     rot = [0.0, 1.44734213756, 0.928413708131, 0.751699211109, 0.387116282208]
-    x, y, a = np.array([-0.0877960434509, -0.851386907516]), np.array([0.235837391307, -1.41899202704]), np.array([1.0, 0])
+    x, y = np.array([-0.0877960434509, -0.851386907516]), np.array([0.235837391307, -1.41899202704])
+    a = np.array([1.0, 0])
     R = [np.array([[np.cos(g), -np.sin(g)], [np.sin(g), np.cos(g)]]) for g in rot]
     crank = [np.linalg.norm(R[j] @ x + d[j]) for j in range(5)]
     rocker = [np.linalg.norm(R[j] @ y + d[j] - a) for j in range(5)]
