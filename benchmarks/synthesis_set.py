@@ -11,6 +11,8 @@ median evaluations and wall / CPU seconds per run; per run the evaluations at wh
     .venv/bin/python benchmarks/synthesis_set.py --seeds 5 --workers 2          # writes benchmarks/synthesis_set.json
     .venv/bin/python benchmarks/synthesis_set.py --table                       # the Markdown table from the JSON
     .venv/bin/python benchmarks/synthesis_set.py --table --write-docs          # … into docs/synthesis.md
+    .venv/bin/python benchmarks/synthesis_set.py --method lshade --only hcdj4_six_points_arc   # another method, the
+                                                        # same runs otherwise (benchmarks/synthesis_set_lshade.json)
 
 Results are appended run by run to the JSON file (``--out``), so an interrupted sweep keeps what it ran and
 ``--resume`` runs only what is missing.
@@ -60,12 +62,13 @@ def problems():
 
 
 def one_run(job):
-    """One seeded default run in a worker process → a JSON-able record."""
-    file, seed, target = job
+    """One seeded run in a worker process (the default command, or ``method`` with every other setting as the
+    default command's) → a JSON-able record."""
+    file, seed, target, method = job
     from assur.synthesis import load_problem, synthesize
     problem = load_problem(EXAMPLES / file)
     w0, c0 = time.perf_counter(), time.process_time()
-    r = synthesize(problem, seed=seed)
+    r = synthesize(problem, method, seed=seed)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     hit = next((e for e, _, F in r.history if F <= target), None)
     return {"file": file, "seed": seed, "objective": r.objective, "feasible": bool(r.feasible),
@@ -81,10 +84,14 @@ def load(path):
 def run(args):
     data = load(args.out) if args.resume else {"runs": []}
     done = {(r["file"], r["seed"]) for r in data["runs"]}
-    jobs = [(f, s, t) for f, _, t, _ in problems() if not args.only or Path(f).stem in args.only
+    jobs = [(f, s, t, args.method) for f, _, t, _ in problems() if not args.only or Path(f).stem in args.only
             for s in range(args.seeds) if (f, s) not in done]
     jobs.sort(key=lambda j: j[0].startswith("c1_"))          # the longest runs (C1: 2 000 000 evaluations) last
-    data.update(started=data.get("started", time.strftime("%Y-%m-%dT%H:%M:%S%z")), command=" ".join(sys.argv))
+    data.setdefault("started", time.strftime("%Y-%m-%dT%H:%M:%S%z"))
+    if args.resume and "command" in data:                # a resumed sweep keeps the first command and adds its own
+        data.setdefault("resumed", []).append(" ".join(sys.argv[1:]))
+    else:
+        data["command"] = " ".join(sys.argv)
     with ProcessPoolExecutor(args.workers, mp_context=multiprocessing.get_context("spawn")) as pool:
         futures = {pool.submit(one_run, j): j for j in jobs}
         for fut in as_completed(futures):
@@ -99,16 +106,18 @@ def fmt(v):
     return "–" if v is None else f"{v:.6g}"
 
 
-def table(data) -> str:
-    """The Markdown table of docs/synthesis.md from the recorded runs."""
-    rows = ["| problem | best published f (source) | default median / best f | hit rate | evaluations (median) "
-            "| wall / CPU s per run (median) |", "|---|---|---:|---:|---:|---:|"]
+def table(data, method=None) -> str:
+    """The Markdown table of docs/synthesis.md from the recorded runs (of the default command, or of ``method``:
+    then only the problems it was run on)."""
+    rows = [f"| problem | best published f (source) | {method or 'default'} median / best f | hit rate "
+            "| evaluations (median) | wall / CPU s per run (median) |", "|---|---|---:|---:|---:|---:|"]
     met = 0
     counted = 0
     for file, label, target, source in problems():
         runs = [r for r in data["runs"] if r["file"] == file]
         if not runs:
-            rows.append(f"| {label} (`{file}`) | {target:.7g} ({source}) | not run | | | |")
+            if method is None:
+                rows.append(f"| {label} (`{file}`) | {target:.7g} ({source}) | not run | | | |")
             continue
         fs = [r["objective"] if r["feasible"] else float("inf") for r in runs]
         hits = sum(r["feasible"] and r["objective"] <= target for r in runs)
@@ -119,8 +128,10 @@ def table(data) -> str:
                     f"| {statistics.median(r['wall'] for r in runs):.1f} / "
                     f"{statistics.median(r['cpu'] for r in runs):.1f} |")
     rows.append("")
-    rows.append(f"Problems whose best published objective the defaults meet in at least 4 of 5 runs: {met} of "
-                f"{counted}. Runs: {data.get('command', '')} (started {data.get('started', '?')}).")
+    who = f"`--method {method}`" if method else "the defaults"
+    rows.append(f"Problems whose best published objective {who} meet in at least 4 of 5 runs: {met} of "
+                f"{counted}. Runs: `{data.get('command', '')}` (started {data.get('started', '?')})"
+                + "".join(f"; then `{r}`" for r in data.get("resumed", [])) + ".")
     return "\n".join(rows) + "\n"
 
 
@@ -169,19 +180,23 @@ def main(argv=None):
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--only", nargs="*", help="problem file stems to run (default: all)")
     ap.add_argument("--resume", action="store_true", help="keep the runs already in --out, run the rest")
-    ap.add_argument("--out", default=str(HERE / "synthesis_set.json"))
+    ap.add_argument("--method", help="run this method instead of the default command's (its runs go to "
+                    "benchmarks/synthesis_set_METHOD.json unless --out is given; no --write-docs)")
+    ap.add_argument("--out", help="the runs' JSON file (default benchmarks/synthesis_set.json)")
     ap.add_argument("--table", action="store_true", help="print the table from --out instead of running")
     ap.add_argument("--write-docs", action="store_true", help="with --table: write it into docs/synthesis.md")
     ap.add_argument("--readme", action="store_true", help="with --table: the README's table of the shipped files")
     args = ap.parse_args(argv)
+    if args.out is None:
+        args.out = str(HERE / (f"synthesis_set_{args.method}.json" if args.method else "synthesis_set.json"))
     if args.table:
-        text = readme_table(load(args.out)) if args.readme else table(load(args.out))
+        text = readme_table(load(args.out)) if args.readme else table(load(args.out), args.method)
         print(text)
-        if args.write_docs:
+        if args.write_docs and not args.method:
             write_docs(text)
         return 0
     run(args)
-    print(table(load(args.out)))
+    print(table(load(args.out), args.method))
     return 0
 
 

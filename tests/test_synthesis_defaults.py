@@ -176,7 +176,8 @@ def test_a_best_design_on_a_bound_is_warned_in_the_output_and_the_json(tmp_path,
 #: The wider set (docs/papers/synthesis_benchmarks.md §4: H4 1.2162211, the lowest feasible printed design of the HCDJ
 #: code's case 4; H5 4.019923e-4, its case 5's "WYLin" design) and C3's lower value 9.0289e-3 (found once by a long DE
 #: run, README): the defaults do not reach them in 4 of 5 seeds yet (docs/synthesis.md, "The defaults on a wider set");
-#: strict expected failures, so that a default that does is noticed.
+#: strict expected failures, so that a default that does is noticed. The set's other problems (P14, MW7) run only in
+#: benchmarks/synthesis_set.py (3 to 8 min a run on the shared machine: too long for the suite's time budget).
 _OPEN = "the defaults do not reach it in 4 of 5 seeds yet (docs/synthesis.md, the defaults on a wider set)"
 THRESHOLDS = [("paper000_six_points.toml", 99.85), ("c1_six_points_line.toml", 1e-20),
               ("c2_five_points_timed.toml", 1.284000e-6), ("c3_eighteen_points_closed.toml", 1.607768e-2),
