@@ -153,9 +153,11 @@ class _Foot:
         dP = s.dpos_dq[..., self.i, :, 0]
         d2P = s.d2pos_dq2[..., self.i, :, 0, 0]
         norm = np.hypot(dP[..., 0], dP[..., 1])
+        with np.errstate(invalid="ignore", divide="ignore"):   # NaN where unassembled or the foot stands still
+            dspeed = np.sum(dP * d2P, axis=-1) / norm
         return {"valid": s.valid, "x": P @ self.g, "v": P @ self.u, "dx": dP @ self.g, "dv": dP @ self.u,
                 "d2x": d2P @ self.g, "d2v": d2P @ self.u, "speed": norm,
-                "dspeed": np.sum(dP * d2P, axis=-1) / norm, "absdx": np.abs(dP @ self.g),
+                "dspeed": dspeed, "absdx": np.abs(dP @ self.g),
                 "dabsdx": np.sign(dP @ self.g) * (d2P @ self.g)}
 
     def scalar(self, key):

@@ -68,8 +68,11 @@ def cmd_walking_legs(args) -> int:
     print(f"{len(candidates)} walking-leg candidates of {args.links} links", file=sys.stderr)
 
     def progress(done, total):
-        print(f"\r  {done}/{total} candidates dimensioned", end="" if done < total else "\n", file=sys.stderr,
-              flush=True)
+        # on a terminal one line counts up; elsewhere (a log, a pipe) each count is its own line, so that other
+        # notes (a kernel being compiled) never run into it
+        live = sys.stderr.isatty() and done < total
+        print(f"\r  {done}/{total} candidates dimensioned" if live else f"  {done}/{total} candidates dimensioned",
+              end="" if live else "\n", file=sys.stderr, flush=True)
 
     executor = make_executor(args.workers, args.dask)
     try:

@@ -18,6 +18,18 @@ TINY = 1e-300
 
 
 def _out(lo, hi):
+    """The interval [lo, hi] widened outward by PAD of its magnitude and TINY. ``lo`` and ``hi`` are the operation's
+    own new arrays, so the widening is written into them (the same numbers as ``lo - w``, ``hi + w``, without the
+    temporaries that dominate the cost on large cell arrays)."""
+    if (type(lo) is np.ndarray and type(hi) is np.ndarray and lo is not hi and lo.shape == hi.shape
+            and lo.dtype == hi.dtype == np.float64 and lo.flags.writeable and hi.flags.writeable):
+        w = np.abs(lo)
+        np.maximum(w, np.abs(hi), out=w)
+        w *= PAD
+        w += TINY
+        np.subtract(lo, w, out=lo)
+        np.add(hi, w, out=hi)
+        return Interval(lo, hi)
     m = np.maximum(np.abs(lo), np.abs(hi))
     w = PAD * m + TINY
     return Interval(lo - w, hi + w)

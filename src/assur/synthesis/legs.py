@@ -227,7 +227,8 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     """Dimension one candidate (a task of :func:`rank_legs`; picklable arguments, a plain dict back):
     ``key``, ``objective`` (None when no design was feasible), ``feasible``, ``violation``, ``variables`` (file units), ``starts`` (each start's
     penalised best), ``evaluations``, ``seconds``, ``metrics`` (the exact gait of the best design, None when it
-    cannot walk) and ``mechanism`` (its file text)."""
+    cannot walk) and ``mechanism`` (its file text; for a candidate with no feasible design whose best does not
+    assemble at its sketch, the candidate's own start, so that every written file loads)."""
     from ..analysis.study import Study
     from ..errors import AssurError
     from ..io.mechanism_writer import dumps
@@ -260,6 +261,12 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     if metrics is not None and q.get("transmission.min") is not None:
         metrics["transmission_min"] = float(q["transmission.min"])
     mech = res.mechanism()
+    if not res.feasible:
+        from ..engine import compile as compile_plan
+        try:
+            compile_plan(mech)
+        except AssurError:      # the search's best does not even assemble at its sketch: the file is the start's
+            mech = problem.plan.mechanism
     objective = None if res.objective is None or not np.isfinite(res.objective) else float(res.objective)
     return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible),
             "violation": float(res.violation), "variables": res.variables,
