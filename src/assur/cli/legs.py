@@ -71,8 +71,8 @@ def cmd_walking_legs(args) -> int:
         # on a terminal one line counts up; elsewhere (a log, a pipe) each count is its own line, so that other
         # notes (a kernel being compiled) never run into it
         live = sys.stderr.isatty() and done < total
-        print(f"\r  {done}/{total} candidates dimensioned" if live else f"  {done}/{total} candidates dimensioned",
-              end="" if live else "\n", file=sys.stderr, flush=True)
+        line = f"  {done}/{total} candidates dimensioned"
+        print("\r" + line if live else line, end="" if live else "\n", file=sys.stderr, flush=True)
 
     executor = make_executor(args.workers, args.dask)
     try:
