@@ -56,7 +56,7 @@ def walking_fourbar_plan():
 
 @pytest.fixture(scope="session")
 def slider_crank_plan():
-    """An offset slider-crank with masses and a load (examples/slider_crank.toml)."""
+    """An offset slider-crank without masses or loads (examples/slider_crank.toml; slider_crank_motor.toml has them)."""
     return compiled_example(CANONICAL["slider_crank"])
 
 
