@@ -34,3 +34,18 @@ def test_a_triad_six_bar_path_is_found_again(triad_sixbar_plan):
     path = found.pos[:, plan.point_index("D")] * 1e3
     gap = np.min(np.linalg.norm(path[:, None, :] - targets[None, :, :], axis=-1), axis=0)
     assert np.all(gap < 3.0), gap
+
+
+def test_transmission_limit_on_a_mechanism_without_a_dyad_is_refused(triad_sixbar_plan):
+    """The triad six-bar (a crank and one class III group) has no transmission angle: a limit on
+    ``transmission.min`` could never hold, so the problem is refused where it stands, not searched to 'infeasible'."""
+    from assur.errors import SpecError
+    plan = triad_sixbar_plan
+    assert {st.kind for st in plan.steps} & {"RRR", "RRP", "RPR", "PRP", "PPR"} == set()
+    data = {"format": "assur-synth/1", "name": "triad transmission",
+            "variables": {"r2.length": [120, 160]},
+            "objective": {"deviation": "none", "terms": [{"quantity": "unbuildable", "weight": 1.0}]},
+            "constraints": {"use": ["buildable"], "limits": [{"quantity": "transmission.min", "min": 30}]}}
+    with pytest.raises(SpecError) as err:
+        problem_from_dict(data, mechanism=plan)
+    assert "constraints.limits[0].quantity" in str(err.value) and "no dyad" in str(err.value)

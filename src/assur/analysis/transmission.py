@@ -33,6 +33,15 @@ def _acute(a, b):
     return np.minimum(t, math.pi - t)
 
 
+#: the closed-form dyads that have a transmission angle (a group solved by Newton iterations has none)
+TRANSMISSION_KINDS = ("RRR", "RRP", "RPR", "PRP", "PPR")
+
+
+def has_transmission(plan) -> bool:
+    """Whether any group of the plan is a dyad with a transmission angle (:data:`TRANSMISSION_KINDS`)."""
+    return any(st.kind in TRANSMISSION_KINDS for st in plan.steps)
+
+
 def transmission_angles(plan, state, params=None) -> dict[str, np.ndarray]:
     """μ (rad) of each closed-form dyad, keyed by the point the dyad solves; arrays of state.shape."""
     require_plan(plan)

@@ -174,6 +174,7 @@ def settings_of(settings: dict | None) -> dict:
 
 def leg_problem(candidate: LegCandidate, settings: dict | None = None):
     """The dimensional-synthesis :class:`~assur.synthesis.problem.Problem` of a candidate (module docstring)."""
+    from ..analysis.transmission import has_transmission
     from ..engine import compile as compile_plan
     from ..io.mechanism_file import from_dict
     from .problem import problem_from_dict
@@ -211,8 +212,9 @@ def leg_problem(candidate: LegCandidate, settings: dict | None = None):
         "constraints": {"use": ["buildable"],
                         "limits": [{"quantity": "gait.step", "min": step},
                                    {"quantity": "gait.lift", "min": s["lift"] * CRANK},
-                                   {"quantity": "gait.top", "max": py - s["below"] * CRANK},
-                                   {"quantity": "transmission.min", "min": s["transmission"]}]},
+                                   {"quantity": "gait.top", "max": py - s["below"] * CRANK}]
+                                  + ([{"quantity": "transmission.min", "min": s["transmission"]}]
+                                     if has_transmission(plan) else [])},
         "options": {"cycle_samples": int(s["cycle_samples"])},
     }
     return problem_from_dict(data, mechanism=plan)
@@ -245,10 +247,20 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     if s["rank"] == "window" and res.feasible and s["window_budget"] > 0:
         widened = _widen(problem, res, s, candidate)
         res = widened.pop("result")
-    metrics = None
-    params = res.params()
+    # the metrics are those of the file written: the design re-sketched in its own assembly (every command reads
+    # that). The template's plan at the new numbers would continue the template's sketch to them, which a design
+    # far from it (a Newton-solved group) need not reach along a straight path
+    from ..engine import compile as compile_plan
+    mech = res.mechanism()
     try:
-        g = Study(problem.plan, params).gait
+        plan = compile_plan(mech)
+    except AssurError:      # the search's best does not even assemble at its sketch: the file is the start's
+        plan = None
+        if not res.feasible:
+            mech = problem.plan.mechanism
+    metrics = None
+    try:
+        g = None if plan is None else Study(plan).gait
     except AssurError:
         g = None
     if g is not None:
@@ -256,17 +268,10 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
                    "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
                    "speed_spread": (g.support_speed.max - g.support_speed.min) / g.support_speed.mean}
     if metrics is not None and s["rank"] == "window":
-        metrics.update(window_metrics(problem.plan, params))
+        metrics.update(window_metrics(plan, plan.defaults))
     q = res.details.get("quantities", {})
     if metrics is not None and q.get("transmission.min") is not None:
         metrics["transmission_min"] = float(q["transmission.min"])
-    mech = res.mechanism()
-    if not res.feasible:
-        from ..engine import compile as compile_plan
-        try:
-            compile_plan(mech)
-        except AssurError:      # the search's best does not even assemble at its sketch: the file is the start's
-            mech = problem.plan.mechanism
     objective = None if res.objective is None or not np.isfinite(res.objective) else float(res.objective)
     return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible),
             "violation": float(res.violation), "variables": res.variables,

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis.transmission import has_transmission
 from ..dynamics.quantities import DYNAMICS_QUANTITIES, check_dynamics
 from ..engine import PARAM_KINDS
 from ..engine import compile as compile_
@@ -489,6 +490,9 @@ def _check_quantities(mechanism, plan, obj, con, samples, P) -> None:
         q = t.get("quantity") if isinstance(t, dict) else None
         if why is not None and isinstance(q, str) and q in DYNAMICS_QUANTITIES:
             P.add(f"{where}.quantity", f"{q} {why}")
+        if q == "transmission.min" and not has_transmission(plan):
+            P.add(f"{where}.quantity", "transmission.min: the mechanism has no dyad with a transmission angle (its "
+                                       "groups: " + ", ".join(dict.fromkeys(st.kind for st in plan.steps)) + ")")
 
 
 def _settle_free_timing(data, P, plan, targets, mapping, terms, limits, fourbar):
