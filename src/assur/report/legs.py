@@ -88,7 +88,7 @@ def _page(ranking, drawings: dict) -> str:
             f"{escape(ranking.executor)}, {ranking.seconds:.0f} s")
     desc = (f"Each candidate is an atlas mechanism, a crank at its frame and a foot point on one of its links, "
             f"dimensioned by a short gait synthesis: step ≥ {s['step']:g} r, lift ≥ {s['lift']:g} r, "
-            f"the foot path ≥ {s['below']:g} r under the crank's axis, transmission angle ≥ {s['transmission']:g}°, "
+            f"the foot path ≥ {s['below']:g} r under the crank's axis, transmission angle ≥ {s['transmission']:g}° wherever a dyad has one, "
             f"the crank turning fully; objective = sag / "
             f"({s['step']:g} r / 10) + spread of |vx| over the central 80 % of the stride. Metrics: the exact gait "
             f"of each best design (720 crank angles). Ground: the x axis, up: +y.")
