@@ -267,3 +267,37 @@ def test_the_triads_setting_is_deprecated_and_ignored(six):
     with pytest.warns(DeprecationWarning, match="every candidate is dimensioned"):
         s = settings_of({"triads": True, "budget": 10})
     assert "triads" not in s and s["budget"] == 10
+
+
+#: a design of 'Stephenson II, crank L1, foot on L4' (a class IV group) that the six-link ranking found (default
+#: settings, seed 0), in file units (mm, degrees): input data, far from the candidate's sketch
+FAR_CLASS_IV = {"J1.x": -62.6574833226064, "J1.y": -231.8758787332542, "L2.length": 497.69371267741616,
+                "L3.length": 725.1887087323719, "L4.length": 749.720439628425, "L4.J3.distance": 616.8899038469768,
+                "L4.J3.angle": 241.81855524695297, "L4.F.distance": 408.0601446102763,
+                "L4.F.angle": 172.8195762166967, "L5.length": 314.50937539232746,
+                "L5.J4.distance": 194.09121877428564, "L5.J4.angle": 92.46652425163718}
+
+
+def test_a_far_newton_design_is_studied_in_its_own_assembly(six):
+    """The search sweeps each design through the turn from its own assembly at the sketch's angle; the template's
+    plan continued to a design this far from its sketch loses its way on part of the turn. The result's Study is
+    that of the file it writes (the design sketched in its own assembly): the whole turn, the sweep's positions."""
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.optimize import SynthesisResult
+    c = next(c for c in six if c.key == "K6-0f8373df6ffa/f0/c1/foot4")
+    problem = leg_problem(c)
+    x = problem.to_si(np.array([[FAR_CLASS_IV[n] for n in problem.names]]))[0]
+    ev = Evaluator(problem, backend="numpy")(x[None, :], True)
+    assert ev.feasible[0] and ev.quantities["unbuildable"][0] == 0
+    res = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de", 0)
+    template = assur.Study(problem.plan, res.params())
+    assert not np.all(template.state.valid)                      # the template's continuation: part of the turn
+    own = res.study()
+    assert np.all(own.state.valid)
+    # the sweep of the search, from the template at the design's numbers, solves the same positions
+    plan = res.design_plan()
+    turn = plan.sketch_inputs[0] + np.linspace(0, 2 * np.pi, 90, endpoint=False)
+    swept = assur.solve(problem.plan, res.params(), turn, order=0, sweep=True, backend="numpy")
+    mine = assur.solve(plan, None, turn, order=0, backend="numpy")
+    assert np.all(swept.valid) and np.all(mine.valid)
+    assert np.max(np.abs(swept.pos - mine.pos)) < 1e-9 * plan.length_scale

@@ -247,17 +247,11 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     if s["rank"] == "window" and res.feasible and s["window_budget"] > 0:
         widened = _widen(problem, res, s, candidate)
         res = widened.pop("result")
-    # the metrics are those of the file written: the design re-sketched in its own assembly (every command reads
-    # that). The template's plan at the new numbers would continue the template's sketch to them, which a design
-    # far from it (a Newton-solved group) need not reach along a straight path
-    from ..engine import compile as compile_plan
+    # the metrics are those of the file written (SynthesisResult.design_plan)
     mech = res.mechanism()
-    try:
-        plan = compile_plan(mech)
-    except AssurError:      # the search's best does not even assemble at its sketch: the file is the start's
-        plan = None
-        if not res.feasible:
-            mech = problem.plan.mechanism
+    plan = res.design_plan()
+    if plan is None and not res.feasible:   # the search's best does not even assemble at its sketch: the file is
+        mech = problem.plan.mechanism       # the start's
     metrics = None
     try:
         g = None if plan is None else Study(plan).gait

@@ -151,10 +151,23 @@ class SynthesisResult:
         return mechanism_with_params(self.problem.plan, self.params(), name=f"{base.name} (synthesised)",
                                      description=(base.description.rstrip() + "\n\n" + note).lstrip())
 
+    def design_plan(self):
+        """The best design's own plan: :meth:`mechanism` (the design sketched in its own assembly) compiled, what
+        every command reads from the file it writes; None when it does not assemble at its sketch."""
+        from ..engine import compile as compile_plan
+        from ..errors import AssurError
+        try:
+            return compile_plan(self.mechanism())
+        except AssurError:
+            return None
+
     def study(self):
-        """The :class:`~assur.analysis.study.Study` of the best design (one turn, solved on first use)."""
+        """The :class:`~assur.analysis.study.Study` of the best design (one turn, solved on first use): of
+        :meth:`design_plan`, else of the template's plan at the design's numbers. (The template continued to a
+        design far from it, a Newton-solved group's assembly, need not reach it along a straight path.)"""
         from ..analysis.study import Study
-        return Study(self.problem.plan, self.params())
+        plan = self.design_plan()
+        return Study(self.problem.plan, self.params()) if plan is None else Study(plan)
 
     def gait(self):
         """Exact gait metrics of the best design (None if the template has no [gait] or it cannot walk)."""
