@@ -326,3 +326,21 @@ def test_the_former_expressions_module_warns_and_serves_the_same_names():
              and (any(use in (text := p.read_text(encoding="utf-8")) for use in shim_uses)
                   or "from .expressions" in text and p.parent.name == "synthesis")]
     assert not users, users
+
+
+def test_cli_synth_writes_no_file_that_would_not_load(tmp_path, capsys):
+    """No design in the box assembles (a crank 20–30 times the other links): the run ends without a feasible design
+    (exit 3) and, since the best design's mechanism file would not load, writes none and says so."""
+    text = C2.read_text(encoding="utf-8")
+    text = text.replace('mechanism = "fourbar_benchmark.toml"',
+                        f'mechanism = {json.dumps(str(SYN / "fourbar_benchmark.toml"))}')
+    for name, bounds in (("r1", "[1, 2]"), ("r2", "[40, 50]"), ("r3", "[1, 2]"), ("r4", "[1, 2]")):
+        text = text.replace(f"{name} = [0, 50]", f"{name} = {bounds}")
+    problem_file = tmp_path / "never.toml"
+    problem_file.write_text(text, encoding="utf-8")
+    out = tmp_path / "best.toml"
+    assert main(["synth", str(problem_file), "--seed", "1", "--budget", "300", "--polish", "none",
+                 "-o", str(out)]) == 3
+    printed = capsys.readouterr().out
+    assert "no feasible design found" in printed and f"not written: {out}" in printed
+    assert not out.exists() and list(tmp_path.iterdir()) == [problem_file]

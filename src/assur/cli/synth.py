@@ -167,8 +167,12 @@ def cmd_synth(args) -> int:
     result.seconds = time.monotonic() - started      # the real wall time: loading, workers' start and stop included
     if args.time is not None:
         result.settings["time"] = args.time
-    written = None
-    if args.output is not None:
+    written = unwritten = None
+    if args.output is not None and result.design_plan() is None:
+        # a file assur would refuse to load is no answer: nothing is written (the design is reported)
+        unwritten = (f"not written: {args.output} (the best design does not assemble at its sketch, so its "
+                     f"mechanism file would not load)")
+    elif args.output is not None:
         text = dumps(result.mechanism(), clean=True)
         with atomic_file(args.output) as tmp:
             tmp.write_text(text, encoding="utf-8")
@@ -188,6 +192,8 @@ def cmd_synth(args) -> int:
         d = result.as_dict()
         d["written"] = written
         d["plot"] = plotted
+        if unwritten:
+            d["not_written"] = unwritten
         print(json_text(d))
         return _status(result, written)
     u = problem.length_unit
@@ -230,6 +236,8 @@ def cmd_synth(args) -> int:
               f"{format_number(g.support_speed.min * s)}…{format_number(g.support_speed.max * s)} {u}/s")
     if written:
         print(f"wrote {written}")
+    if unwritten:
+        print(unwritten)
     if plotted:
         print(f"wrote {plotted}")
     return _status(result, written)
