@@ -306,12 +306,14 @@ def window_metrics(plan, params) -> dict:
     try:
         w = widest_window(foot_law(plan, params)).as_dict()
     except AssurError:
-        w = dict.fromkeys(("window", "window_k", "target", "target_slack", "target_worst", "pressure_bound_deg",
-                           "stopped_by_pressure"))
-    return {"window": w["window"], "window_k": w["window_k"], "window_target": w["target"],
-            "window_target_slack": w["target_slack"], "window_target_worst": w["target_worst"],
-            "window_pressure_bound": w["pressure_bound_deg"],
-            "window_stopped_by_pressure": w["stopped_by_pressure"]}
+        w = {}
+    return {name: w.get(key) for key, name in WINDOW_METRICS.items()}
+
+
+#: the metrics of :func:`window_metrics`: WidestWindow.as_dict's key → the metric's name
+WINDOW_METRICS = {"window": "window", "window_k": "window_k", "target": "window_target",
+                  "target_slack": "window_target_slack", "target_worst": "window_target_worst",
+                  "pressure_bound_deg": "window_pressure_bound", "stopped_by_pressure": "window_stopped_by_pressure"}
 
 
 @dataclass
