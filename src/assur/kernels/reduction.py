@@ -95,18 +95,47 @@ def sign_vectors(n_dyads: int) -> np.ndarray:
     return np.where((idx >> np.arange(n)[None, :]) & 1, -1.0, 1.0) if n else np.ones((1, 0))
 
 
+#: live cells one sample may hold (over its branch vectors) before its enclosures count as not tightening
+SAMPLE_CELLS = 65_536
+
+
 def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float = 1e-9, start_cells: int = 64,
-            max_cells: int = 2_000_000):
+            max_cells: int = 2_000_000, sample_cells: int = SAMPLE_CELLS):
     """The clusters holding every root of every g_s, for ``n_samples`` samples at once (module docstring).
 
     known : {slot: complex (n_samples,)} (or scalars).
 
-    Returns a list of clusters ``(sample, sign index, φ_lo, φ_hi, sign_change)``: arrays, one entry per cluster;
-    ``sign_change`` where g has opposite signs at the cluster's ends (a root certainly inside). Raises
-    RuntimeError when the cells exceed ``max_cells`` (enclosures that do not tighten)."""
+    Returns ``(sample, sign index, φ_lo, φ_hi, sign_change, untightened)``: the clusters as arrays, one entry per
+    cluster, ``sign_change`` where g has opposite signs at the cluster's ends (a root certainly inside); and
+    ``untightened (n_samples,)``: the samples given up because their enclosures do not tighten (more than
+    ``sample_cells`` live cells: a continuum of assemblies, or a position too singular for the grid), which have
+    no cluster. A batch whose cells exceed ``max_cells`` is bracketed in halves."""
+    known = {k: np.broadcast_to(np.asarray(v, dtype=complex), (n_samples,)) for k, v in known.items()}
+    try:
+        return _bracket(program, n_dyads, known, n_samples, width, start_cells, max_cells, sample_cells)
+    except _TooMany:
+        if n_samples < 2:
+            raise RuntimeError("the reduction's enclosures do not tighten") from None
+    half = n_samples // 2
+    parts = [(np.arange(half), bracket(program, n_dyads, {k: v[:half] for k, v in known.items()}, half,
+                                       width=width, start_cells=start_cells, max_cells=max_cells,
+                                       sample_cells=sample_cells)),
+             (np.arange(half, n_samples), bracket(program, n_dyads, {k: v[half:] for k, v in known.items()},
+                                                  n_samples - half, width=width, start_cells=start_cells,
+                                                  max_cells=max_cells, sample_cells=sample_cells))]
+    out = [np.concatenate([idx[r[0]] for idx, r in parts])]
+    out += [np.concatenate([r[i] for _, r in parts]) for i in range(1, 6)]
+    return tuple(out)
+
+
+class _TooMany(Exception):
+    """More live cells than the batch may hold, none of its samples over its own limit."""
+
+
+def _bracket(program, n_dyads, known, n_samples, width, start_cells, max_cells, sample_cells):
     signs = sign_vectors(n_dyads)
     n_s = len(signs)
-    known = {k: np.broadcast_to(np.asarray(v, dtype=complex), (n_samples,)) for k, v in known.items()}
+    untightened = np.zeros(n_samples, dtype=bool)
     h = 2 * np.pi / start_cells
     sample = np.repeat(np.arange(n_samples), n_s * start_cells)
     sgn = np.tile(np.repeat(np.arange(n_s), start_cells), n_samples)
@@ -114,8 +143,14 @@ def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float 
     hi = lo + h
     done_s, done_g, done_lo, done_hi = [], [], [], []
     while len(lo):
-        if len(lo) > max_cells:
-            raise RuntimeError(f"the reduction's enclosures do not tighten ({len(lo)} cells)")
+        if len(lo) > min(sample_cells, max_cells):
+            over = np.bincount(sample, minlength=n_samples) > sample_cells
+            if over.any():                       # give those samples up, keep on with the others
+                untightened |= over
+                keep = ~over[sample]
+                sample, sgn, lo, hi = sample[keep], sgn[keep], lo[keep], hi[keep]
+            if len(lo) > max_cells:
+                raise _TooMany
         c, s = cos_sin(lo, hi)
         cells_known = {k: v[sample] for k, v in known.items()}
         _, rads, g = evaluate(program, cells_known, c, s, signs[sgn])
@@ -134,8 +169,10 @@ def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float 
         lo, hi = np.stack([lo, mid], -1).ravel(), np.stack([mid, hi], -1).ravel()
     sample, sgn, lo, hi = (np.concatenate(x) if x else np.zeros(0) for x in (done_s, done_g, done_lo, done_hi))
     sample, sgn = sample.astype(int), sgn.astype(int)
+    keep = ~untightened[sample]                  # a sample given up has no cluster, not some of them
+    sample, sgn, lo, hi = sample[keep], sgn[keep], lo[keep], hi[keep]
     if len(lo) == 0:
-        return sample, sgn, lo, hi, np.zeros(0, dtype=bool)
+        return sample, sgn, lo, hi, np.zeros(0, dtype=bool), untightened
     order = np.lexsort((lo, sgn, sample))
     sample, sgn, lo, hi = sample[order], sgn[order], lo[order], hi[order]
     # adjacent cells of one sample and branch vector make one cluster (the turn is closed: 2π touches 0)
@@ -151,7 +188,7 @@ def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float 
         keep[last] = False
     c_sample, c_sgn, c_lo, c_hi = c_sample[keep], c_sgn[keep], c_lo[keep], c_hi[keep]
     change = _sign_change(program, known, signs, c_sample, c_sgn, c_lo, c_hi)
-    return c_sample, c_sgn, c_lo, c_hi, change
+    return c_sample, c_sgn, c_lo, c_hi, change, untightened
 
 
 def _wraps(sample, sgn, lo, hi):

@@ -14,7 +14,7 @@ import numpy as np
 
 from ...kernels.jet import Jet, expi
 from ..plan import BRANCHED
-from ...errors import StructureError
+from ...errors import StructureError, UnbuildableError
 from .group_assemblies import group_assemblies, group_method, take_rows
 from .steps import EXECUTORS, Context
 
@@ -70,7 +70,12 @@ def enumerate_assemblies(plan, params, inputs, tol, solved=None) -> list[Assembl
                     names = ", ".join(plan.body_names[b] for b in st.bodies)
                     raise StructureError(f"the assemblies of the group {names} are not enumerated: it has a prismatic "
                                          "pair, or no single cut link leaves a chain of dyads (docs/assemblies.md)")
-                poses, found, sign, cert = group_assemblies(c, st, n, tol)
+                poses, found, sign, cert, enumerated = group_assemblies(c, st, n, tol)
+                if not enumerated.all():
+                    names = ", ".join(plan.body_names[b] for b in st.bodies)
+                    raise UnbuildableError(f"the assemblies of the group {names} cannot be enumerated at this input: "
+                                           "the certified grid's enclosures do not tighten (a continuum of "
+                                           "assemblies, or a position too singular for it; docs/assemblies.md)")
                 rows, k = np.nonzero(found)
                 c = take_rows(c, rows, n)
                 x = poses[rows, k]

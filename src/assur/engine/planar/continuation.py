@@ -282,8 +282,9 @@ def separate(plan, steps, c, method, tol, shape, x):
             second = np.full(m, np.inf)
             if len(near) and np.ndim(flat.params) <= 1:
                 sub = take_rows(flat, near, m)
-                poses, found, _, _ = group_assemblies(sub, st, len(near), tol)
+                poses, found, _, _, enumerated = group_assemblies(sub, st, len(near), tol)
                 second[near] = assembly_distances(sub, st, xs[near], poses, found)[1]
+                second[near[~enumerated]] = 0.0      # its other assemblies unknown: not certified, unbuildable
         valid[rows[second <= sep]] = False
     c.valid = valid.reshape(shape)
     return c

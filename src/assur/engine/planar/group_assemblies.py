@@ -266,16 +266,17 @@ def _slots(ops, pivot):
 
 
 def _reduction_estimates(c, st, n):
-    """(rows (C,), x (C, 3k), φ (C,), certified (n,)): candidates from the certified grid; ``certified`` False for
-    a row where some cluster of the grid has no sign change (two roots closer than the cell width, a root at a
-    dyad's own toggle)."""
+    """(rows (C,), x (C, 3k), φ (C,), certified (n,), enumerated (n,)): candidates from the certified grid;
+    ``certified`` False for a row where some cluster of the grid has no sign change (two roots closer than the cell
+    width, a root at a dyad's own toggle) or that is not ``enumerated`` (the grid gave it up: its enclosures do not
+    tighten, a continuum of assemblies or a position too singular for the grid; no candidate)."""
     layout = reduction_layout(c.plan, st)
     if np.ndim(c.params) > 1:
         raise ValueError("the reduction enumerates one design at a time")
     b0, pivot, cut, ops = layout
     prog, n_dyads, known = _reduction_program(c, layout, n)
-    sample, sgn, lo, hi, change = bracket(prog, n_dyads, known, n, width=CELL_WIDTH)
-    certified = np.ones(n, dtype=bool)
+    sample, sgn, lo, hi, change, untightened = bracket(prog, n_dyads, known, n, width=CELL_WIDTH)
+    certified = ~untightened
     certified[sample[~change]] = False
     phi = 0.5 * (lo + hi)
     signs = sign_vectors(n_dyads)[sgn]
@@ -286,25 +287,26 @@ def _reduction_estimates(c, st, n):
         pts = c.plan.structure.graph.bodies[b].points
         poses[b] = _pose_from_two(pos[pts[0]], pos[pts[1]], _at(c.w[(b, pts[0])], sample, n),
                                   _at(c.w[(b, pts[1])], sample, n))
-    return sample, _stack_poses(st, poses, len(sample)), np.mod(phi, 2 * np.pi), certified
+    return sample, _stack_poses(st, poses, len(sample)), np.mod(phi, 2 * np.pi), certified, ~untightened
 
 
 def group_assemblies(c, st, n: int, tol):
     """Every assembly of the group ``st`` at each of the ``n`` samples of the context ``c`` (a 1-D batch).
 
-    Returns ``(poses (n, K, 3k), found (n, K), det_sign (n, K), certified (n,))``: the bodies' (x, y, θ) in the
-    order of ``st.bodies``, K the largest count, NaN and False past each sample's own count; assemblies of a
-    sample sorted by the angle of the method's parameter body; ``certified`` False where the enumeration cannot
-    tell two assemblies apart (a group at or next to a singular position). Raises ValueError where the group has no
-    enumeration (:func:`group_method`)."""
+    Returns ``(poses (n, K, 3k), found (n, K), det_sign (n, K), certified (n,), enumerated (n,))``: the bodies'
+    (x, y, θ) in the order of ``st.bodies``, K the largest count, NaN and False past each sample's own count;
+    assemblies of a sample sorted by the angle of the method's parameter body; ``certified`` False where the
+    enumeration cannot tell two assemblies apart (a group at or next to a singular position); ``enumerated`` False
+    where it gave the sample up (no assembly listed: :func:`_reduction_estimates`). Raises ValueError where the
+    group has no enumeration (:func:`group_method`)."""
     method = group_method(c.plan, st)
     if method is None:
         raise ValueError("no enumeration of the assemblies of a group with a prismatic pair")
     if method == "triad":
         rows, x, key = _triad_estimates(c, st, n)
-        certified = np.ones(n, dtype=bool)
+        certified, enumerated = np.ones(n, dtype=bool), np.ones(n, dtype=bool)
     else:
-        rows, x, key, certified = _reduction_estimates(c, st, n)
+        rows, x, key, certified, enumerated = _reduction_estimates(c, st, n)
     scale = c.plan.length_scale
     k = len(rows)
     if k:
@@ -334,7 +336,7 @@ def group_assemblies(c, st, n: int, tol):
         for slot, i in enumerate(kept):
             poses[r, slot], found[r, slot], sign[r, slot] = x[i], True, int(np.sign(det[i]))
     K = int(found.sum(axis=1).max()) if n and K else 0
-    return poses[:, :K], found[:, :K], sign[:, :K], certified
+    return poses[:, :K], found[:, :K], sign[:, :K], certified, enumerated
 
 
 def group_points(c, st, x, rows, n: int):
