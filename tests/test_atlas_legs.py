@@ -301,3 +301,30 @@ def test_a_far_newton_design_is_studied_in_its_own_assembly(six):
     mine = assur.solve(plan, None, turn, order=0, backend="numpy")
     assert np.all(swept.valid) and np.all(mine.valid)
     assert np.max(np.abs(swept.pos - mine.pos)) < 1e-9 * plan.length_scale
+
+
+@pytest.mark.slow
+def test_a_candidate_failing_inside_assur_does_not_lose_the_others(six, monkeypatch, tmp_path, capsys):
+    """A long ranking keeps going past one candidate that fails inside assur (here made to by a stand-in
+    run_candidate): that candidate comes last, undimensioned, with the failure; its file is its start and loads;
+    the CLI warns of it by name."""
+    from assur.synthesis import legs
+    real = legs.run_candidate
+    bad_key = six[1].key
+
+    def flaky(c, s=None):
+        if c.key == bad_key:
+            raise ValueError("The function value at x=1.9 is NaN")
+        return real(c, s)
+    monkeypatch.setattr(legs, "run_candidate", flaky)
+    ranking = rank_legs(6, settings={"budget": 150, "starts": 1, "backend": "numpy"}, candidates=six[:3])
+    last = ranking.entries[-1]
+    assert last["key"] == bad_key and last["skipped"] == "failed: ValueError: The function value at x=1.9 is NaN"
+    assert all(e["skipped"] is None for e in ranking.entries[:-1])
+    assur.compile(assur.loads(last["mechanism"]))
+    monkeypatch.setattr(legs, "leg_candidates", lambda links: six[:3])
+    assert main(["atlas", "--walking-legs", "--links", "6", "--budget", "150", "--starts", "1",
+                 "-o", str(tmp_path / "legs")]) == 0
+    err = capsys.readouterr().err
+    assert f"warning: {six[1].name} ({bad_key}) failed inside assur" in err
+    assert (tmp_path / "legs" / "ranking.json").exists()

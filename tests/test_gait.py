@@ -267,3 +267,28 @@ def test_population_gait_samples_the_exact_metrics(plan):
     assert out["duty"][0] == pytest.approx(g.duty_factor, abs=2 / 720)
     assert out["speed_mean"][0] == pytest.approx(g.support_speed.mean, rel=5e-3)   # sample mean vs time mean
     assert all(np.isnan(v[1]) for v in out.values())
+
+
+def test_an_extreme_refined_across_an_unplaced_position_keeps_the_grid_sample():
+    """The exact extreme is a root of the derivative between two grid samples; where the foot is not placed
+    somewhere inside that bracket (a position the solver could not certify: NaN), the grid's sample stands instead
+    of the refinement failing (it ended an eight-link leg ranking with scipy's 'function value is NaN')."""
+    from assur.analysis.gait import _extreme_location, _extremes
+
+    class Foot:             # x(q) = 1 − (q − 1)², placed everywhere but on (0.99, 1.01)
+        @staticmethod
+        def eval(q):
+            q = np.atleast_1d(np.asarray(q, dtype=float))
+            off = (q > 0.99) & (q < 1.01)
+            return {"x": np.where(off, np.nan, 1 - (q - 1) ** 2), "dx": np.where(off, np.nan, -2 * (q - 1))}
+
+        def scalar(self, key):
+            return lambda q: float(self.eval(q)[key][0])
+
+    q = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    vals = Foot.eval(q)
+    i = int(np.argmax(vals["x"]))
+    assert _extreme_location(Foot(), "x", "dx", q, vals, "max") == (float(q[i]), float(vals["x"][i]))
+    lo, hi = _extremes(Foot(), "x", "dx", q, vals, 0.5, 1.5)
+    # the ends (x = 0.75) and the refined root's neighbourhood: the root itself is not placed, so it is left out
+    assert np.isfinite(lo) and np.isfinite(hi) and lo == pytest.approx(0.75) and hi < 1.0

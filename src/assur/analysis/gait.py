@@ -174,8 +174,8 @@ def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, ext
         idx = np.nonzero(np.sign(dv[:-1]) * np.sign(dv[1:]) < 0)[0]
         cands += list(roots_between(lambda t, k=k: F.eval(t)[k], qq[idx], qq[idx + 1]))
         cands += list(qq[np.nonzero(dv == 0)[0]])
-    values = F.eval(np.array(cands))[key]
-    return float(np.min(values)), float(np.max(values))
+    values = F.eval(np.array(cands))[key]     # a refined root where the foot is not placed is NaN: left out
+    return float(np.nanmin(values)), float(np.nanmax(values))
 
 
 def _extreme_location(F: _Foot, key: str, dkey: str, q, vals, which: str) -> tuple[float, float]:
@@ -188,7 +188,10 @@ def _extreme_location(F: _Foot, key: str, dkey: str, q, vals, which: str) -> tup
         b = a + step
         fa, fb = f(a), f(b)
         if np.isfinite(fa) and np.isfinite(fb) and fa * fb <= 0:
-            r = brentq(f, a, b, xtol=1e-14, rtol=1e-14) if fa * fb < 0 else (a if fa == 0 else b)
+            try:
+                r = brentq(f, a, b, xtol=1e-14, rtol=1e-14) if fa * fb < 0 else (a if fa == 0 else b)
+            except ValueError:      # the foot is not placed somewhere inside (an uncertified position): the grid's
+                continue            # sample stands
             val = float(F.eval(r)[key][0])
             if (which == "min" and val <= best[1]) or (which == "max" and val >= best[1]):
                 best = (float(r) % TWO_PI, val)

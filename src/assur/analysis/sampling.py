@@ -206,12 +206,15 @@ def sign_changes(q, values):
 
 def root_between(f, a, b):
     """A root of the scalar function ``f`` on [a, b] (rad) to :attr:`~assur.tolerances.Tolerances.root_angle`
-    (Brent's method), or the midpoint when f has no sign change there."""
+    (Brent's method), or the midpoint when f has no sign change there or is not defined inside (NaN)."""
     fa, fb = f(a), f(b)
     if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0:
         return 0.5 * (a + b)
     from scipy.optimize import brentq   # imported on first use: scipy.optimize takes ~1 s to import
-    return brentq(f, a, b, xtol=TOL.root_angle)
+    try:
+        return brentq(f, a, b, xtol=TOL.root_angle)
+    except ValueError:                  # f is NaN somewhere inside (the mechanism not placed there)
+        return 0.5 * (a + b)
 
 
 def roots_between(f, a, b, xtol: float = 1e-14, rtol: float = 1e-14, max_iterations: int = 200):

@@ -83,6 +83,10 @@ def cmd_walking_legs(args) -> int:
     if args.output is not None:
         from ..report.legs import write_leg_ranking
         write_leg_ranking(ranking, args.output, candidates)
+    failed = [e for e in ranking.entries if (e.get("skipped") or "").startswith("failed:")]
+    for e in failed:
+        print(f"warning: {e['name']} ({e['key']}) failed inside assur and is listed undimensioned: "
+              f"{e['skipped'][len('failed: '):]} (please report it)", file=sys.stderr)
     if args.json:
         from ..io.output import json_text
         data = ranking.as_dict()

@@ -335,7 +335,28 @@ class LegRanking:
                 "entries": [{k: v for k, v in e.items() if k not in drop} for e in self.entries]}
 
 
+def run_candidate_guarded(candidate: LegCandidate, settings: dict | None = None) -> dict:
+    """:func:`run_candidate`, except that a failure inside assur on one candidate does not lose the others' work:
+    that candidate comes back undimensioned, its ``skipped`` the failure (``failed: TYPE: message``) and its file
+    the candidate's start. (Bad settings still raise: they are every candidate's.)"""
+    from ..errors import SpecError
+    from ..io.mechanism_file import from_dict
+    from ..io.mechanism_writer import dumps
+    t0 = time.monotonic()
+    try:
+        return run_candidate(candidate, settings)
+    except SpecError:
+        raise
+    except Exception as exc:                     # noqa: BLE001 — an internal failure, reported with the candidate
+        return {"key": candidate.key, "objective": None, "feasible": False, "violation": 0.0, "variables": {},
+                "starts": [], "evaluations": 0, "seconds": time.monotonic() - t0, "metrics": None,
+                "skipped": f"failed: {type(exc).__name__}: {exc}",
+                "mechanism": dumps(from_dict(candidate.document, candidate.key))}
+
+
 def _order(entry: dict, rank: str = "gait"):
+    if entry.get("skipped"):                     # after every dimensioned candidate
+        return (2, 0.0, 0.0, entry["key"])
     bad = not entry["feasible"] or entry["metrics"] is None
     if rank == "window" and not bad:      # the widest window first; legs without one after, by objective
         window = entry["metrics"].get("window")
@@ -357,11 +378,11 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
     if type(executor) is InProcess:          # a subclass (local processes, Dask) maps the candidates as tasks
         results = []
         for i, c in enumerate(todo):
-            results.append(run_candidate(c, s))
+            results.append(run_candidate_guarded(c, s))
             if progress is not None:
                 progress(i + 1, len(todo))
     else:
-        results = list(executor.map_starts(run_candidate, [(c, s) for c in todo])) if todo else []
+        results = list(executor.map_starts(run_candidate_guarded, [(c, s) for c in todo])) if todo else []
     by_key = {c.key: c for c in cands}
     entries = []
     for r in results:
