@@ -392,3 +392,43 @@ def test_prepare_newton_loads_the_kernel_and_says_whether_it_compiled(triad, mon
     assert numba_backend.prepare_newton(triad) is True and loaded == [triad, triad]    # compiled
     assert numba_backend.prepare_newton(assur.compile(assur.load(EXAMPLES / "jansen.toml"))) is False
     assert loaded == [triad, triad]
+
+
+@pytest.mark.slow            # compiles this structure's kernels
+@pytest.mark.parametrize("sweep", [False, True])
+def test_a_newton_group_after_a_dyad(sweep):
+    """A crank, a dyad, then a Newton-solved group that reads the dyad's point (an eight-link atlas leg,
+    tests/data/dyad_then_newton_eightbar.toml): the group's iterations start only where the dyad closes, so the
+    kernel reads the dyad's validity first (its generated source once read it before computing it and did not
+    compile). The same valid samples and numbers as numpy."""
+    plan = assur.compile(assur.load(Path(__file__).parent / "data" / "dyad_then_newton_eightbar.toml"))
+    assert [st.kind for st in plan.steps] == ["frame", "crank", "RRR", "newton"]
+    a, b = both(plan, q=np.linspace(0.0, 2 * np.pi, 72, endpoint=False), sweep=sweep)
+    assert a.valid.any()
+    same(a, b, scale=plan.length_scale)
+
+
+@pytest.mark.slow            # compiles the cycle kernel of that leg
+def test_the_gait_cycle_kernel_of_a_newton_group_after_a_dyad():
+    """The compiled cycle reduction of the walking-leg problem on that leg (what the atlas ranking evaluates) gives
+    the numpy route's gait quantities."""
+    import tomllib
+
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.legs import LegCandidate, leg_problem
+    doc = tomllib.loads((Path(__file__).parent / "data" / "dyad_then_newton_eightbar.toml").read_text("utf-8"))
+    c = LegCandidate("K8-f84c3d8e3fa6/f2/c4/foot3", "leg", "K8-f84c3d8e3fa6/f2", None, 4, 3, "L4", "L3", doc,
+                     newton=True)
+    problem = leg_problem(c)
+    plan = problem.plan
+    start = dict(zip(plan.param_names, plan.defaults))
+    x = np.array([start[n] for n in problem.names])
+    X = x * (1 + 0.02 * np.random.default_rng(3).standard_normal((6, len(x))))
+    fast = Evaluator(problem, backend="numba")(np.vstack([x, X]), True)
+    slow = Evaluator(problem, backend="numpy")(np.vstack([x, X]), True)
+    assert np.array_equal(fast.feasible, slow.feasible)
+    for k in ("unbuildable", "gait.step", "gait.lift", "gait.sag", "gait.top"):
+        a, b = slow.quantities[k], fast.quantities[k]
+        assert np.array_equal(np.isnan(a), np.isnan(b)), k
+        ok = np.isfinite(a)
+        assert np.allclose(a[ok], b[ok], rtol=1e-9, atol=1e-9), k

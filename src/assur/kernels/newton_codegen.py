@@ -78,7 +78,8 @@ def _group_block(em: _Emitter, g: int, grp) -> list[str]:
     n = len(grp.x)
     x = [f"x{g}_{i}" for i in range(n)]
     sg = f"sg{g}"
-    pre = em.take(grp.F + grp.update + [grp.converged, grp.finite], outside=grp.bit)
+    # the groups solved before it (a dyad's radicand: ``upstream``) are read before the iterations start
+    pre = em.take([grp.upstream] + grp.F + grp.update + [grp.converged, grp.finite], outside=grp.bit)
     check = em.take(grp.F + [grp.converged, grp.finite], inside=grp.bit)
     step = em.take(grp.update, inside=grp.bit)
     accept = em.take([grp.ok, grp.certificate] + grp.solved)
