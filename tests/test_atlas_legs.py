@@ -127,18 +127,23 @@ def test_a_candidate_does_not_depend_on_its_neighbours(six):
 
 @pytest.mark.slow
 def test_executors_give_the_same_ranking(six):
-    """In-process, two local processes and a real Dask LocalCluster: the same ranking, number for number."""
+    """In-process, two local processes and a real Dask LocalCluster: the same ranking, number for number, and each
+    reports its progress as the candidates' results come in (one call per candidate, counting up to all)."""
     from distributed import Client, LocalCluster
     subset = six[:3]
-    ref = rank_legs(6, settings=SMALL, candidates=subset)
+    seen = {"in": [], "local": [], "dask": []}
+    ref = rank_legs(6, settings=SMALL, candidates=subset, progress=lambda d, t: seen["in"].append((d, t)))
     with LocalProcesses(2) as ex:
-        local = rank_legs(6, settings=SMALL, candidates=subset, executor=ex)
+        local = rank_legs(6, settings=SMALL, candidates=subset, executor=ex,
+                          progress=lambda d, t: seen["local"].append((d, t)))
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
-        on_dask = rank_legs(6, settings=SMALL, candidates=subset, executor=DaskCluster(client=client))
+        on_dask = rank_legs(6, settings=SMALL, candidates=subset, executor=DaskCluster(client=client),
+                            progress=lambda d, t: seen["dask"].append((d, t)))
     assert ref.executor == "in-process"
     assert local.executor == "local processes" and on_dask.executor == "dask"
     assert local.as_dict(timings=False) == ref.as_dict(timings=False) == on_dask.as_dict(timings=False)
+    assert seen["in"] == seen["local"] == seen["dask"] == [(1, 3), (2, 3), (3, 3)]
 
 
 @pytest.mark.slow

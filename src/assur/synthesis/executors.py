@@ -27,8 +27,14 @@ class InProcess:
     def evaluate(self, evaluator: Evaluator, X, detail: bool = False) -> Evaluation:
         return evaluator(X, detail)
 
-    def map_starts(self, func, args_list):
-        return [func(*a) for a in args_list]
+    def map_starts(self, func, args_list, progress=None):
+        """``[func(*args) for args in args_list]``, in order; ``progress(done, total)`` after each result."""
+        out = []
+        for a in args_list:
+            out.append(func(*a))
+            if progress is not None:
+                progress(len(out), len(args_list))
+        return out
 
     def close(self):
         pass
@@ -81,14 +87,19 @@ class LocalProcesses(InProcess):
         chunks = _chunks(X, evaluator.chunk)
         return Evaluation.concatenate(list(pool.map(_evaluate_in_worker, chunks, [detail] * len(chunks))))
 
-    def map_starts(self, func, args_list):
-        """Whole starts as tasks; returns once every result is in, without waiting for the worker processes to
-        exit (a second under load: a run's time limit does not wait for it; they end in the background)."""
-        from concurrent.futures import ProcessPoolExecutor
+    def map_starts(self, func, args_list, progress=None):
+        """Whole starts as tasks, the results in order (``progress(done, total)`` as each comes in); returns once
+        every result is in, without waiting for the worker processes to exit (a second under load: a run's time
+        limit does not wait for it; they end in the background)."""
+        from concurrent.futures import ProcessPoolExecutor, as_completed
         import multiprocessing as mp
         pool = ProcessPoolExecutor(self.workers, mp_context=mp.get_context("spawn"))
         try:
-            return list(pool.map(func, *zip(*args_list)))
+            futures = [pool.submit(func, *a) for a in args_list]
+            if progress is not None:
+                for done, _ in enumerate(as_completed(futures), 1):
+                    progress(done, len(futures))
+            return [f.result() for f in futures]
         finally:
             pool.shutdown(wait=False, cancel_futures=True)
 
@@ -126,8 +137,12 @@ class DaskCluster(InProcess):
                                   pure=False)
         return Evaluation.concatenate(self.client.gather(futures))
 
-    def map_starts(self, func, args_list):
+    def map_starts(self, func, args_list, progress=None):
         futures = self.client.map(func, *zip(*args_list), pure=False)
+        if progress is not None:
+            from distributed import as_completed
+            for done, _ in enumerate(as_completed(futures), 1):
+                progress(done, len(futures))
         return self.client.gather(futures)
 
     def close(self):

@@ -368,21 +368,14 @@ def rank_legs(links: int, *, settings: dict | None = None, executor=None, candid
               progress=None) -> LegRanking:
     """Rank the walking legs of ``links`` links (module docstring). ``candidates``: a subset of
     :func:`leg_candidates` (default all of them); ``executor``: where the candidates run (default in-process);
-    ``progress(done, total)`` after each candidate when run in-process."""
+    ``progress(done, total)`` as each candidate's result comes in, whatever the executor."""
     from .executors import InProcess
     s = settings_of(settings)
     cands = leg_candidates(links) if candidates is None else list(candidates)
     executor = executor or InProcess()
     t0 = time.monotonic()
     todo = cands
-    if type(executor) is InProcess:          # a subclass (local processes, Dask) maps the candidates as tasks
-        results = []
-        for i, c in enumerate(todo):
-            results.append(run_candidate_guarded(c, s))
-            if progress is not None:
-                progress(i + 1, len(todo))
-    else:
-        results = list(executor.map_starts(run_candidate_guarded, [(c, s) for c in todo])) if todo else []
+    results = executor.map_starts(run_candidate_guarded, [(c, s) for c in todo], progress=progress) if todo else []
     by_key = {c.key: c for c in cands}
     entries = []
     for r in results:
