@@ -45,7 +45,7 @@ def cmd_walking_legs(args) -> int:
     """``assur atlas --walking-legs --links 6|8 ...``."""
     from ..errors import require
     from ..synthesis.executors import DASK_INSTALL, make_executor
-    from ..synthesis.legs import leg_candidates, rank_legs
+    from ..synthesis.legs import FAILED, leg_candidates, rank_legs
     if args.links not in (6, 8):
         raise _bad("--links", f"walking legs are ranked for 6 or 8 links: {args.links}")
     if args.dof not in (None, 1):
@@ -83,10 +83,10 @@ def cmd_walking_legs(args) -> int:
     if args.output is not None:
         from ..report.legs import write_leg_ranking
         write_leg_ranking(ranking, args.output, candidates)
-    failed = [e for e in ranking.entries if (e.get("skipped") or "").startswith("failed:")]
-    for e in failed:
-        print(f"warning: {e['name']} ({e['key']}) failed inside assur and is listed undimensioned: "
-              f"{e['skipped'][len('failed: '):]} (please report it)", file=sys.stderr)
+    for e in ranking.entries:
+        if (e.get("skipped") or "").startswith(FAILED):
+            print(f"warning: {e['name']} ({e['key']}) failed inside assur and is listed undimensioned: "
+                  f"{e['skipped'][len(FAILED):]} (please report it)", file=sys.stderr)
     if args.json:
         from ..io.output import json_text
         data = ranking.as_dict()

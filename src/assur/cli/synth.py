@@ -168,12 +168,13 @@ def cmd_synth(args) -> int:
     if args.time is not None:
         result.settings["time"] = args.time
     written = unwritten = None
-    if args.output is not None and result.design_plan() is None:
+    best = None if args.output is None else result.mechanism()
+    if best is not None and result.design_plan(best) is None:
         # a file assur would refuse to load is no answer: nothing is written (the design is reported)
         unwritten = (f"not written: {args.output} (the best design does not assemble at its sketch, so its "
                      f"mechanism file would not load)")
-    elif args.output is not None:
-        text = dumps(result.mechanism(), clean=True)
+    elif best is not None:
+        text = dumps(best, clean=True)
         with atomic_file(args.output) as tmp:
             tmp.write_text(text, encoding="utf-8")
         written = str(args.output)

@@ -117,15 +117,11 @@ def bracket(program, n_dyads: int, known: dict, n_samples: int, *, width: float 
         if n_samples < 2:
             raise RuntimeError("the reduction's enclosures do not tighten") from None
     half = n_samples // 2
-    parts = [(np.arange(half), bracket(program, n_dyads, {k: v[:half] for k, v in known.items()}, half,
-                                       width=width, start_cells=start_cells, max_cells=max_cells,
-                                       sample_cells=sample_cells)),
-             (np.arange(half, n_samples), bracket(program, n_dyads, {k: v[half:] for k, v in known.items()},
-                                                  n_samples - half, width=width, start_cells=start_cells,
-                                                  max_cells=max_cells, sample_cells=sample_cells))]
-    out = [np.concatenate([idx[r[0]] for idx, r in parts])]
-    out += [np.concatenate([r[i] for _, r in parts]) for i in range(1, 6)]
-    return tuple(out)
+    parts = [(first, bracket(program, n_dyads, {k: v[first:last] for k, v in known.items()}, last - first,
+                             width=width, start_cells=start_cells, max_cells=max_cells, sample_cells=sample_cells))
+             for first, last in ((0, half), (half, n_samples))]
+    sample = np.concatenate([first + r[0] for first, r in parts])       # the halves' samples renumbered
+    return (sample, *(np.concatenate([r[i] for _, r in parts]) for i in range(1, 6)))
 
 
 class _TooMany(Exception):

@@ -249,7 +249,7 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
         res = widened.pop("result")
     # the metrics are those of the file written (SynthesisResult.design_plan)
     mech = res.mechanism()
-    plan = res.design_plan()
+    plan = res.design_plan(mech)
     if plan is None and not res.feasible:   # the search's best does not even assemble at its sketch: the file is
         mech = problem.plan.mechanism       # the start's
     metrics = None
@@ -335,6 +335,10 @@ class LegRanking:
                 "entries": [{k: v for k, v in e.items() if k not in drop} for e in self.entries]}
 
 
+#: how the ``skipped`` reason of a candidate that failed inside assur begins
+FAILED = "failed: "
+
+
 def run_candidate_guarded(candidate: LegCandidate, settings: dict | None = None) -> dict:
     """:func:`run_candidate`, except that a failure inside assur on one candidate does not lose the others' work:
     that candidate comes back undimensioned, its ``skipped`` the failure (``failed: TYPE: message``) and its file
@@ -350,7 +354,7 @@ def run_candidate_guarded(candidate: LegCandidate, settings: dict | None = None)
     except Exception as exc:                     # noqa: BLE001 — an internal failure, reported with the candidate
         return {"key": candidate.key, "objective": None, "feasible": False, "violation": 0.0, "variables": {},
                 "starts": [], "evaluations": 0, "seconds": time.monotonic() - t0, "metrics": None,
-                "skipped": f"failed: {type(exc).__name__}: {exc}",
+                "skipped": f"{FAILED}{type(exc).__name__}: {exc}",
                 "mechanism": dumps(from_dict(candidate.document, candidate.key))}
 
 

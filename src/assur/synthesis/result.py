@@ -56,13 +56,14 @@ class SynthesisResult:
         return mechanism_with_params(self.problem.plan, self.params(), name=f"{base.name} (synthesised)",
                                      description=(base.description.rstrip() + "\n\n" + note).lstrip())
 
-    def design_plan(self):
-        """The best design's own plan: :meth:`mechanism` (the design sketched in its own assembly) compiled, what
-        every command reads from the file it writes; None when it does not assemble at its sketch."""
+    def design_plan(self, mechanism=None):
+        """The best design's own plan: :meth:`mechanism` (the design sketched in its own assembly; pass it when it
+        is made already) compiled, what every command reads from the file it writes; None when it does not
+        assemble at its sketch."""
         from ..engine import compile as compile_plan
         from ..errors import AssurError
         try:
-            return compile_plan(self.mechanism())
+            return compile_plan(self.mechanism() if mechanism is None else mechanism)
         except AssurError:
             return None
 
