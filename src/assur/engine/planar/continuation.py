@@ -36,7 +36,7 @@ from ...kernels.jet import Jet
 from ...tolerances import DEFAULT
 from .group_assemblies import (assembly_distances, before_group, group_assemblies, group_method, group_points,
                                take_rows, triad_layout, triad_root_poses)
-from .newton_group import _residual_and_jacobian, certificate_det
+from .newton_group import _residual_and_jacobian, alone_within, certificate_det
 from .steps import Context, _run
 
 #: the factors a step's length changes by after a failed or passed certificate
@@ -259,9 +259,10 @@ def separate(plan, steps, c, method, tol, shape, x):
     """Flag the samples whose Newton-solved groups are closer to another of their assemblies than
     ``tolerances.assembly_separation`` of the length scale (module docstring). A triad's assemblies are its
     polynomial's roots, at every sample; another group's (the certified reduction, costlier) are enumerated where
-    its dimensionless determinant is below :data:`SEPARATION_GATE`: two assemblies that close meet at a singular
-    position, where the determinant vanishes about as fast as their distance. Groups without an enumeration are
-    left to the determinant's certificate."""
+    its dimensionless determinant is below :data:`SEPARATION_GATE` (two assemblies that close meet at a singular
+    position, where the determinant vanishes about as fast as their distance) and the uniqueness ball of
+    :func:`.newton_group.alone_within` does not prove the sample alone. Groups without an enumeration are left to
+    the determinant's certificate."""
     n = int(np.prod(shape))
     valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape).ravel().copy()
     sep = tol.assembly_separation * plan.length_scale
@@ -277,8 +278,9 @@ def separate(plan, steps, c, method, tol, shape, x):
             roots, joints = _triad_joints(flat, st, m)
             second = np.sort(_distances(roots, joints(xs)), axis=-1)[:, 1]
         else:
-            det = certificate_det(flat, st, _residual_and_jacobian(flat, st, xs, (m,))[1])
-            near = np.flatnonzero(np.abs(det) < SEPARATION_GATE)
+            F, J = _residual_and_jacobian(flat, st, xs, (m,))
+            gated = np.abs(certificate_det(flat, st, J)) < SEPARATION_GATE
+            near = np.flatnonzero(gated & ~alone_within(flat, st, xs, F, J, sep))
             second = np.full(m, np.inf)
             if len(near) and np.ndim(flat.params) <= 1:
                 sub = take_rows(flat, near, m)

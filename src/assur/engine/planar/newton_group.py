@@ -125,6 +125,61 @@ def certificate_det(c, st, J):
     return _equilibrated_det(J * cols[..., None, :])
 
 
+def ball_constants(c, st, m: int):
+    """The constants of :func:`alone_within`'s uniqueness ball for the group ``st`` at ``m`` samples of the context
+    ``c`` (a group of revolutes): ``(gamma (m,), cols (m, 3k), reach (m,), smallest (m,))``. In the unknowns
+    u = x·cols (x, y and s·θ per body; s: :func:`body_scales`), ‖J(u) − J(v)‖₂·cols ≤ gamma·‖u − v‖₂ everywhere;
+    any poses whose points of the group's bodies are all within d ≤ ``smallest`` (the least body scale) of another
+    poses' lie within ``reach``·d of them (each body's angle turned the short way)."""
+    g = c.g
+    gi = {b: i for i, b in enumerate(st.bodies)}
+    scales = [np.broadcast_to(s, (m,)) for s in body_scales(c, st)]
+
+    def offset(b, p):
+        return np.broadcast_to(np.abs(np.asarray(c.w[(b, p)])), (m,))
+
+    lipschitz = [np.zeros(m) for _ in st.bodies]
+    for point, at in g.joints:
+        gb = [b for b in at if b in gi]
+        if not gb:
+            continue
+        pairs = [[b] for b in gb] if any(b in c.pose and b not in gi for b in at) else [[gb[0], b] for b in gb[1:]]
+        for pair in pairs:              # a residual pair: the joint's two components
+            for b in pair:
+                lipschitz[gi[b]] = lipschitz[gi[b]] + len(pair) * (offset(b, point) / scales[gi[b]] ** 2) ** 2
+    cols = np.ones((m, 3 * len(st.bodies)))
+    spread = np.zeros(m)
+    for i, b in enumerate(st.bodies):
+        cols[:, 3 * i + 2] = scales[i]
+        nearest = np.min([offset(b, p) for p in g.bodies[b].points], axis=0)
+        spread += (1.0 + math.pi * nearest / scales[i]) ** 2 + math.pi ** 2
+    return np.sqrt(np.max(lipschitz, axis=0)), cols, np.sqrt(spread), np.min(scales, axis=0)
+
+
+def alone_within(c, st, x, F, J, distance):
+    """(m,) True where the group's poses ``x (m, 3k)`` are proven to be the only assembly of the group within
+    ``distance`` (m; the largest displacement of a point of its bodies, as :func:`.group_assemblies.assembly_distances`
+    measures assemblies apart), from the loop equations' residual ``F (m, 3k)`` and Jacobian ``J (m, 3k, 3k)`` there.
+
+    A uniqueness ball (docs/assemblies.md), in the unknowns u of :func:`ball_constants`, whose Jacobian changes by at
+    most γ‖u − v‖ (only a body's angle column turns, with the body): two roots y ≠ z within R of x̂ would give
+    0 = F(y) − F(z) = (J̃(x̂) + E)(y − z) with ‖E‖ ≤ γR, impossible while γR < σ (σ: the smallest singular value of
+    J̃(x̂)). The sample's own root lies within 2η of x̂ (η = ‖F‖/σ; Kantorovich, where γη ≤ σ/4), another assembly
+    whose points are all within d of x̂'s within reach·d: both inside R = max(2η, reach·d) with γR ≤ σ/2 cannot be.
+    Groups with a prismatic pair (other second derivatives) are never proven here."""
+    x = np.asarray(x, dtype=float)
+    m = x.shape[0]
+    if any(guide in st.bodies or slider in st.bodies for _, _, guide, slider, *_ in c.plan.lines):
+        return np.zeros(m, dtype=bool)
+    gamma, cols, reach, smallest = ball_constants(c, st, m)
+    with np.errstate(all="ignore"):
+        sigma = np.linalg.svd(np.asarray(J) / cols[:, None, :], compute_uv=False)[:, -1]
+        eta = np.linalg.norm(F, axis=-1) / sigma
+        radius = np.maximum(2.0 * eta, reach * distance)
+        return ((distance <= smallest) & (gamma * eta <= 0.25 * sigma) & (gamma * radius <= 0.5 * sigma)
+                & np.isfinite(radius))
+
+
 def sketch_misfit(c, st, poses):
     """How far the drawn sketch is from closing the group's loop equations.
 
