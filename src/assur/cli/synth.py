@@ -169,7 +169,8 @@ def cmd_synth(args) -> int:
         result.settings["time"] = args.time
     written = unwritten = None
     best = None if args.output is None else result.mechanism()
-    if best is not None and result.design_plan(best) is None:
+    design = None if best is None else result.design_plan(best)
+    if best is not None and design is None:
         # a file assur would refuse to load is no answer: nothing is written (the design is reported)
         unwritten = (f"not written: {args.output} (the best design does not assemble at its sketch, so its "
                      f"mechanism file would not load)")
@@ -229,7 +230,7 @@ def cmd_synth(args) -> int:
     bad = {k: v for k, v in result.details["violations"].items() if v}
     if bad:
         print("violated: " + ", ".join(f"{k} {v:.4g}" for k, v in bad.items()))
-    g = result.gait()
+    g = result.gait(design)
     if g is not None:
         s = problem.length_scale
         print(f"gait (exact): step {format_number(g.step_length * s)} {u}, lift {format_number(g.lift * s)} {u}, "

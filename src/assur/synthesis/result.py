@@ -67,21 +67,23 @@ class SynthesisResult:
         except AssurError:
             return None
 
-    def study(self):
+    def study(self, plan=None):
         """The :class:`~assur.analysis.study.Study` of the best design (one turn, solved on first use): of
-        :meth:`design_plan`, else of the template's plan at the design's numbers. (The template continued to a
-        design far from it, a Newton-solved group's assembly, need not reach it along a straight path.)"""
+        :meth:`design_plan` (``plan``, when the caller has made it already), else of the template's plan at the
+        design's numbers. (The template continued to a design far from it, a Newton-solved group's assembly, need
+        not reach it along a straight path.)"""
         from ..analysis.study import Study
-        plan = self.design_plan()
+        plan = self.design_plan() if plan is None else plan
         return Study(self.problem.plan, self.params()) if plan is None else Study(plan)
 
-    def gait(self):
-        """Exact gait metrics of the best design (None if the template has no [gait] or it cannot walk)."""
+    def gait(self, plan=None):
+        """Exact gait metrics of the best design (None if the template has no [gait] or it cannot walk); ``plan``:
+        its :meth:`design_plan` when made already."""
         from ..errors import AssurError
         if self.problem.plan.mechanism.gait is None:
             return None
         try:
-            return self.study().gait
+            return self.study(plan).gait
         except AssurError:
             return None
 
