@@ -37,6 +37,17 @@ def _automorphisms(n, edges):
     return list(nx.algorithms.isomorphism.GraphMatcher(g, g).isomorphisms_iter())
 
 
+def test_one_candidate_by_its_key_is_the_one_in_the_list(six):
+    """leg_candidates(links, key) makes only that candidate: the same key, name, links, template document and solver
+    kind as the full enumeration's; an unknown key gives none."""
+    for c in six[::5]:
+        one, = leg_candidates(6, c.key)
+        assert (one.key, one.name, one.crank, one.foot_link, one.newton) == (c.key, c.name, c.crank, c.foot_link,
+                                                                             c.newton)
+        assert one.document == c.document
+    assert leg_candidates(6, "K6-none/f0/c1/foot2") == []
+
+
 def test_six_link_candidates_are_every_frame_crank_and_foot_once(six):
     """Independent: for each six-link chain (Watt, Stephenson), every (frame, crank hinged to it, foot on another
     moving link) triple, grouped into classes by the chain's automorphisms (networkx). Each class is one candidate,

@@ -10,8 +10,9 @@ body, transmission angle, a full crank turn: the problem's own :class:`~assur.sy
 more, the support's sag no larger than the start's (a window bought with a sagging stride is no leg), maximising the
 screen's slack at a fraction ``push`` just beyond the start's widest window. Each design's foot law is sampled at
 :data:`SAMPLES` crank angles and screened on :data:`POINTS` window samples and :data:`KS` values of k (a coarse
-screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window`). The result
-is the start itself unless a design with a wider exact window is found.
+screen for the search; the result is judged by the exact :func:`~assur.codesign.widest.widest_window` of each design
+as it is written, on its own plan, the plan the ranking measures). The result is the start itself unless a design
+with a wider exact window is found.
 """
 from __future__ import annotations
 
@@ -44,13 +45,16 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     coarse screen's slack at ``push`` = min(0.95, widest window of ``x0`` + 0.03), infeasible designs (a gait
     constraint broken, or a sampled sag above ``x0``'s) at :data:`INFEASIBLE` + their violation. Returns ``x``
     (n_vars,) SI (``x0`` unless a design with a wider exact window was found), ``window`` (its exact widest window,
-    None if none), ``start_window`` (``x0``'s), ``push``, ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag,
+    None if none; each design's measured on its own plan, :func:`~assur.synthesis.design.mechanism_with_params`
+    compiled, as the ranking measures the file it writes), ``start_window`` (``x0``'s), ``push``, ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag,
     mm)."""
     from scipy.optimize import differential_evolution
 
     from ..codesign.law import foot_law
     from ..codesign.widest import widest_window
+    from ..engine import compile as compile_plan
     from ..errors import AssurError
+    from .design import mechanism_with_params
     from .evaluate import Evaluator
 
     evaluator = Evaluator(problem)
@@ -59,8 +63,11 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     sag_limit = float(evaluator(x0[None]).quantities["gait.sag"][0])     # the search's own sampled sag (mm)
 
     def exact(x):
+        """The exact widest window of the design x as written: its own plan, sketched in its own assembly (for a
+        Newton-solved group, continuing the template's plan to x's parameters may reach another assembly or none)."""
         try:
-            return widest_window(foot_law(plan, evaluator.params(x[None])[0])).window
+            own = compile_plan(mechanism_with_params(plan, evaluator.params(x[None])[0]))
+            return widest_window(foot_law(own)).window
         except AssurError:
             return None
 

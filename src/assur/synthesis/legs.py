@@ -99,9 +99,10 @@ class LegCandidate:
     newton: bool = False      # a group without a closed form (a class III triad): solved by Newton iterations
 
 
-def leg_candidates(links: int) -> list[LegCandidate]:
+def leg_candidates(links: int, key: str | None = None) -> list[LegCandidate]:
     """The leg candidates of the 1-DOF atlas of ``links`` links (6 or 8), in the atlas's order: chains,
-    inversions, crank placements, foot links."""
+    inversions, crank placements, foot links; with ``key``, only that candidate (a list of one, or empty when no
+    candidate has that key), made without drawing the others."""
     from ..engine import compile as compile_plan
     from ..io.atlas import mechanism_entry
     from ..io.mechanism_file import from_dict
@@ -114,6 +115,8 @@ def leg_candidates(links: int) -> list[LegCandidate]:
     out = []
     for chain in chains(links, 1):
         for inv in inversions(chain.graph):
+            if key is not None and not key.startswith(f"{inv.id}/c"):
+                continue
             g, names = inv.chain, link_names(inv)
             for place in driver_placements(inv):
                 crank = place.link
@@ -121,6 +124,8 @@ def leg_candidates(links: int) -> list[LegCandidate]:
                 orbits = automorphism_orbits(g.n, g.edges, colours=[[inv.frame], [crank], others])
                 entry = None
                 for foot in sorted({orbits[v] for v in others}):
+                    if key is not None and key != f"{inv.id}/c{crank}/foot{foot}":
+                        continue
                     entry = entry or mechanism_entry(inv, crank)
                     doc = _template(entry.document, names[crank], names[foot])
                     newton = any(st.kind == "newton" for st in compile_plan(from_dict(doc, "leg")).steps)
