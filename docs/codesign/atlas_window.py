@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT / "src"))
 
 import assur  # noqa: E402
 from assur.codesign.law import foot_law  # noqa: E402
-from assur.codesign.widest import widest_window  # noqa: E402
+from assur.codesign.widest import LOWEST, widest_window  # noqa: E402
 
 SHIPPED = {"four-bar (004)": "walker_fourbar.toml", "six-bar (004)": "walker_sixbar.toml", "Jansen": "jansen.toml",
            "Klann": "klann.toml", "crank–slider (000)": "walker_crank_slider.toml"}
@@ -144,7 +144,7 @@ def screen(args, data: dict) -> int:
                 print(f"  {n} / {len(jobs)} measured", flush=True)
     ranked = sorted((e for e in entries if kept[e["key"]].get("window")),
                     key=lambda e: (-kept[e["key"]]["window"], e["rank"]))
-    print(f"\n{len(ranked)} of the {len(entries)} feasible legs pass the screen at {0.5} or wider\n")
+    print(f"\n{len(ranked)} of the {len(entries)} feasible legs pass the screen at {LOWEST} or wider\n")
     header = ("| rank | leg (gait rank) | widest window | worst margin at 0.9 | μ bound at 0.9 (°) | step (mm) | "
               "lift (mm) | sag (mm) | clearance (mm) | vx spread 90 % (uniform crank) |\n"
               "|---:|---|---:|---|---:|---:|---:|---:|---:|---:|")
@@ -189,6 +189,9 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     data = json.loads((args.ranking / "ranking.json").read_text(encoding="utf-8"))
     if args.screen is not None:
+        if args.copy is not None:
+            raise SystemExit("error: --copy writes the widest leg of a ranking by window; with --screen, copy the "
+                             "widened leg's \"mechanism\" from FILE")
         return screen(args, data)
     if data["settings"].get("rank") != "window":
         raise SystemExit("error: that ranking is not by window (run assur atlas --walking-legs --rank window)")

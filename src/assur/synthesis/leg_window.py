@@ -46,8 +46,8 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     constraint broken, or a sampled sag above ``x0``'s) at :data:`INFEASIBLE` + their violation. Returns ``x``
     (n_vars,) SI (``x0`` unless a design with a wider exact window was found), ``window`` (its exact widest window,
     None if none; each design's measured on its own plan, :func:`~assur.synthesis.design.mechanism_with_params`
-    compiled, as the ranking measures the file it writes), ``start_window`` (``x0``'s), ``push``, ``evaluations`` and ``sag_limit`` (``x0``'s sampled sag,
-    mm)."""
+    compiled, as the ranking measures the file it writes), ``start_window`` (``x0``'s), ``push``, ``evaluations``
+    and ``sag_limit`` (``x0``'s sampled sag, mm)."""
     from scipy.optimize import differential_evolution
 
     from ..codesign.law import foot_law
