@@ -239,3 +239,51 @@ def test_seeded_runs_reach_the_thresholds(case, settings, threshold):
     assert r.feasible and r.objective <= threshold
     assert all(v == 0 for v in r.details["violations"].values())
     _recheck(case, r)
+
+
+def _rocker_error_f30(a, b, samples):
+    """The F30 objective (docs/papers/synthesis_benchmarks.md §4.5) in closed form, written here: crank 1, frame 5,
+    coupler a, rocker b; φ0 from the triangle A–C–D with crank and coupler stretched in line, ψ the rocker angle
+    from the triangles A–B–D and B–C–D (the "+" branch: C clockwise of D → B), the desired ψ − ψ0 = 2(φ − φ0)²/(3π)
+    at φ_i = φ0 + (π/2)·i/samples, i = 1 … samples; returns Σ of the squared errors (rad²)."""
+    cos_phi0 = ((1 + a) ** 2 - b ** 2 + 25) / (10 * (1 + a))
+    phi0, psi0 = np.arccos(cos_phi0), np.arccos(((1 + a) ** 2 - b ** 2 - 25) / (10 * b))
+    phi = phi0 + 0.5 * np.pi * np.arange(1, samples + 1) / samples
+    B = np.stack([np.cos(phi), np.sin(phi)], axis=-1)                 # crank pin
+    DB = B - np.array([5.0, 0.0])
+    r = np.linalg.norm(DB, axis=-1)
+    alpha = np.arccos((r ** 2 + b ** 2 - a ** 2) / (2 * r * b))        # at D, between D → B and the rocker
+    psi = np.arctan2(DB[:, 1], DB[:, 0]) - alpha
+    return float(np.sum((psi0 + 2 * (phi - phi0) ** 2 / (3 * np.pi) - psi) ** 2))
+
+
+def test_function_generator_f30_reproduces_the_published_designs():
+    """F30 (docs/papers/synthesis_benchmarks.md §4.5): the designs of Table 14-1 of the slides of "MATLAB优化算法案例
+    分析与应用", chapter 14 (github.com/codes-books/matlab-optimization, 课件PPT/第14章 基于PSO的机构优化.ppt),
+    re-evaluated through examples/synthesis/benchmarks/crank_rocker_quadratic_function.toml, agree with the closed
+    form above with the 30 samples of 工具箱/jfg_f.m; the PSO design as its program prints it gives the published
+    best 0.0076 and misses the second transmission-angle constraint (工具箱/cdj_g.m) by printing precision; the
+    fmincon and complex-method rows' published values are those of the 50 samples of pso/fitness2.m."""
+    path = ROOT / "examples" / "synthesis" / "benchmarks" / "crank_rocker_quadratic_function.toml"
+    ev = Evaluator(load_problem(path))
+    X = np.array([[4.1327, 2.3180],     # PSO, printed by its program on the slides ("Solution = 4.1327 2.3180")
+                  [4.1236, 2.3283],     # fmincon, Table 14-1
+                  [4.1350, 2.2625],     # complex method, Table 14-1
+                  [4.1054, 2.4147],     # random directions, Table 14-1
+                  [4.1327, 2.3810]])    # PSO as Table 14-1 prints it (the b digits transposed)
+    e = ev(X, detail=True)
+    f = (e.quantities["distances"] ** 2).sum(axis=1)
+    for (a, b), fi in zip(X, f):
+        assert fi == pytest.approx(_rocker_error_f30(a, b, 30), rel=1e-9)
+    # Table 14-1, PSO: 0.0076 (to the digits printed)
+    assert round(f[0], 4) == 0.0076 and f[0] == pytest.approx(7.5977405e-3, rel=1e-7)
+    assert not e.feasible[0]
+    g2 = e.violations["limit[1] expression:a**2 + b**2 + 2*a*b*cos(pi/4) - 36"]
+    assert g2[0] == pytest.approx(6.84478e-5, rel=1e-4)
+    assert e.feasible[1] and e.objective[1] == pytest.approx(7.6034633e-3, rel=1e-7)   # the target of §4.5
+    # Table 14-1, fmincon 0.0120 and complex method 0.0140: with the 50 samples of pso/fitness2.m
+    assert round(_rocker_error_f30(4.1236, 2.3283, 50), 4) == 0.0120
+    assert round(_rocker_error_f30(4.1350, 2.2625, 50), 4) == 0.0140
+    assert not e.feasible[2]                        # the complex-method design leaves [45°, 135°] (g2 = 0.55)
+    # Table 14-1, random directions 0.0142: reproduced by neither sampling (1.0664e-2 and 1.6478e-2)
+    assert round(f[3], 4) != 0.0142 and round(_rocker_error_f30(4.1054, 2.4147, 50), 4) != 0.0142
