@@ -12,8 +12,9 @@ away from the ground side); the height is ``h = v − min v``.
 - support speed |v| = ω·|dP/dq| over the contact arc: max, min, time-mean and midrange;
   the same for the absolute horizontal component |v_x|; the horizontal acceleration range;
 - the horizontal-speed spread ``vx_spread[f]`` for the central fractions f = 0.8, 0.9 of the stride: (max − min)/mean
-  of |v_x| over the contact-arc samples whose foot x lies in the central fraction f of the stride
-  ``[x_min, x_max]`` (:func:`central_vx_spread`); 0 for a foot that carries the body at constant speed;
+  of |v_x| over the inputs of the contact arc where the foot x lies in the central fraction f of the stride
+  ``[x_min, x_max]``, with the window's exact ends (:func:`window_vx_spread`; :func:`central_vx_spread` is the
+  same on samples alone, what synthesis screens vectorise); 0 for a foot that carries the body at constant speed;
 - the frame pivot's absolute path while the foot is planted (paper 004, Fig. 6 b–c):
   with the foot fixed, the body moves by the negative of the foot's relative displacement.
 
@@ -116,6 +117,50 @@ def central_vx_spread(x, vx, contact, fraction: float, x_min, x_max):
 
 def _vx_spreads(x, vx, contact, x_min, x_max) -> dict:
     return {f"{f:g}": float(central_vx_spread(x, vx, contact, f, x_min, x_max)) for f in VX_FRACTIONS}
+
+
+def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction: float) -> float:
+    """(max − min)/mean of |v_x| over the inputs of the contact arc sampled at ``qq`` (n,) (increasing, every sample
+    in contact; ``vals``: F's values there) where the foot lies in the central ``fraction`` of the stride
+    ``[x_min, x_max]``, refined: the window's ends are the exact inputs where x(q) crosses
+    ``centre ± fraction·(x_max − x_min)/2`` (roots between the samples), the extremes of |v_x| are taken at those
+    ends and at the exact roots of its derivative inside, and the mean is the time mean (Simpson's rule over the
+    samples and the exact ends). The sampled form (:func:`central_vx_spread`) misses the window's ends by up to one
+    sample, where |v_x| changes fastest, so it underestimates the spread by a term of the order of the sample
+    spacing; here only the mean's quadrature error is left. NaN if no sample lies in the window."""
+    centre, half = 0.5 * (x_min + x_max), 0.5 * fraction * (x_max - x_min)
+    d = vals["x"] - centre
+    inside = np.abs(d) <= half
+    idx = np.flatnonzero(inside)
+    if idx.size == 0:
+        return math.nan
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+    # the outside neighbour of each run's first and last sample, where there is one: a bracket of the window's end
+    brackets = [(r[0] - 1, r[0]) for r in runs if r[0] > 0] + [(r[-1], r[-1] + 1) for r in runs if r[-1] + 1 < len(qq)]
+    ends = {}
+    for sign in (-1.0, 1.0):
+        pairs = [p for p in brackets if np.sign(d[p[0] if not inside[p[0]] else p[1]]) == sign]
+        if pairs:
+            bound = centre + sign * half
+            a, b = qq[[p[0] for p in pairs]], qq[[p[1] for p in pairs]]
+            for p, r in zip(pairs, roots_between(lambda t, bound=bound: F.eval(t)["x"] - bound, a, b)):
+                ends[p] = float(r)
+    total, duration, lo_vx, hi_vx = 0.0, 0.0, math.inf, -math.inf
+    for r in runs:
+        q = [qq[r]]
+        if r[0] > 0:
+            q.insert(0, [ends[(r[0] - 1, r[0])]])
+        if r[-1] + 1 < len(qq):
+            q.append([ends[(r[-1], r[-1] + 1)]])
+        q = np.concatenate(q)
+        sub = F.eval(q)
+        absdx = np.abs(sub["dx"])
+        total += float(simpson(absdx, x=q)) if len(q) > 2 else float(np.trapezoid(absdx, q))
+        duration += float(q[-1] - q[0])
+        low, high = _extremes(F, "absdx", "dabsdx", q, sub, float(q[0]), float(q[-1]), extra_roots="dx")
+        lo_vx, hi_vx = min(lo_vx, low), max(hi_vx, high)
+    mean = total / duration if duration > 0 else float(np.mean(np.abs(vals["dx"][idx])))
+    return (hi_vx - lo_vx) / mean
 
 
 @dataclass(frozen=True)
@@ -303,7 +348,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                               Stats.of(w * av["speed"], qq, w * spmax, w * spmin),
                               Stats.of(w * av["absdx"], qq, w * vxmax, w * vxmin),
                               (float(ax.min()), float(ax.max())), steps,
-                              _vx_spreads(av["x"], w * av["dx"], np.ones(len(qq), bool), xa, xb))
+                              {f"{f:g}": window_vx_spread(F, qq, av, xa, xb, f) for f in VX_FRACTIONS})
         contact = ((q - start) % TWO_PI) <= width
         body_q = qq
         xs, vs = av["x"], av["v"]

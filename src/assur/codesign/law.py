@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.gait import VX_FRACTIONS, central_vx_spread, gait_metrics, resolve_gait
+from ..analysis.gait import VX_FRACTIONS, gait_metrics, resolve_gait, window_vx_spread
 from ..engine import solve
 from ..errors import GearError, SpecError, UnbuildableError
 from ..kernels.runs import runs
@@ -458,29 +458,45 @@ class CodesignTransmission(TransmissionLaw):
         return 1.0 / self.law.g(self.law.crank_angle(u))
 
 
+class _GearedFoot:
+    """The geared leg's foot by the motor angle τ: its stride coordinate x and the derivatives dx/dτ and d|x|'/dτ,
+    solved through the engine (the evaluator :func:`~assur.analysis.gait.window_vx_spread` refines with)."""
+
+    def __init__(self, law: CodesignLaw, omega: float):
+        self.law, self.omega = law, omega
+        self.i = law.foot.plan.point_index(law.foot.foot)
+        self.ground = np.asarray(law.foot.ground, dtype=float)
+
+    def eval(self, tau) -> dict:
+        """tau (n,) motor angles → {"x", "dx", "absdx", "dabsdx"} (n,) each: m, m/rad, m/rad, m/rad²."""
+        law, omega = self.law, self.omega
+        q = law.crank_angle(np.atleast_1d(np.asarray(tau, dtype=float)))
+        g, dg = law.g(q), law.dg(q)
+        state = solve(law.foot.plan, law.foot.params, q[:, None], speeds=(law.sense * omega / g)[:, None],
+                      accels=(-(omega ** 2) * dg / g ** 3)[:, None], order=2)
+        dx = state.vel[:, self.i, :] @ self.ground / omega
+        d2x = state.acc[:, self.i, :] @ self.ground / omega ** 2
+        return {"x": state.pos[:, self.i, :] @ self.ground, "dx": dx, "absdx": np.abs(dx),
+                "dabsdx": np.sign(dx) * d2x}
+
+
 def geared_vx_spread(law: CodesignLaw, *, samples: int = 4096, fractions=None) -> dict:
     """The foot's horizontal-speed spread of the geared leg in motor time, measured through the engine.
 
     The motor turns uniformly (ω = driving_turns·|crank speed| of the plan, so the crank's mean speed is the plan's):
-    the leg is solved at q(τ) for ``samples`` uniform τ over one crank turn with speeds dq/dt = σω/g and accelerations
-    d²q/dt² = −ω²g′/g³, and :func:`~assur.analysis.gait.central_vx_spread` is taken over the samples in the contact
-    arc. Returns {"0.8": …, "0.9": …} and the law's own fraction (keys ``f"{f:g}"``)."""
+    the leg is solved at q(τ) for ``samples`` uniform motor angles τ over its contact arc with speeds dq/dt = σω/g
+    and accelerations d²q/dt² = −ω²g′/g³, and the spread is :func:`~assur.analysis.gait.window_vx_spread` of those
+    samples (the window's ends and the extremes of |v_x| refined to round-off, the mean over motor time). Returns
+    {"0.8": …, "0.9": …} and the law's own fraction (keys ``f"{f:g}"``)."""
     foot = law.foot
     if foot.plan is None:
         raise SpecError([("foot", "the foot law has no plan to solve (built from samples)")])
-    omega = law.driving_turns * (foot.omega if foot.omega > 0 else 1.0)
-    tau = np.linspace(0.0, TWO_PI * law.driving_turns, int(samples), endpoint=False)
-    q = law.crank_angle(tau)
-    g, dg = law.g(q), law.dg(q)
-    speeds = (law.sense * omega / g)[:, None]
-    accels = (-(omega ** 2) * dg / g ** 3)[:, None]
-    state = solve(foot.plan, foot.params, q[:, None], speeds=speeds, accels=accels, order=2)
-    i = foot.plan.point_index(foot.foot)
-    ground = np.asarray(foot.ground, dtype=float)
-    x, vx = state.pos[:, i, :] @ ground, state.vel[:, i, :] @ ground
-    contact = np.mod(q - foot.contact_start, TWO_PI) <= foot.contact_end - foot.contact_start
+    evaluator = _GearedFoot(law, law.driving_turns * (foot.omega if foot.omega > 0 else 1.0))
+    ends = sorted(float(t) for t in law.motor_angle(np.array([foot.contact_start, foot.contact_end])))
+    tau = np.linspace(ends[0], ends[1], int(samples))
+    values = evaluator.eval(tau)
     keys = sorted(set(VX_FRACTIONS if fractions is None else fractions) | {law.fraction})
-    return {f"{f:g}": float(central_vx_spread(x, vx, contact, f, foot.x_min, foot.x_max)) for f in keys}
+    return {f"{f:g}": float(window_vx_spread(evaluator, tau, values, foot.x_min, foot.x_max, f)) for f in keys}
 
 
 __all__ = ["CodesignLaw", "CodesignTransmission", "FootLaw", "TransferBasis", "bump_polynomials", "check_fraction",
