@@ -38,6 +38,7 @@ CHANGES = [
      "issue 26 §6: the spread over a central fraction of the stride is taken between the window's exact ends (on the "
      "samples alone it stopped up to a sample short of them: the geared four-bar's 0.037 over 90 % is 0.041; "
      "tests/test_gait.py checks the closed form to 1e-9)"),
+    ("*", "gait.clearance", "issue 26 §6: how far the foot rises above its support in the swing (lift − sag), new"),
 ]
 
 #: relative and absolute tolerance of a number (the old numbers were computed with other operation orders in places:

@@ -344,3 +344,47 @@ def test_a_candidate_failing_inside_assur_does_not_lose_the_others(six, monkeypa
     err = capsys.readouterr().err
     assert f"warning: {six[1].name} ({bad_key}) failed inside assur" in err
     assert (tmp_path / "legs" / "ranking.json").exists()
+
+
+# -- the swing's clearance above the support (lift − sag) ---------------------------------------------------------
+def test_bad_clearance_settings_are_named(six):
+    for bad in (-0.1, "1", True, math.inf):
+        with pytest.raises(assur.SpecError, match="clearance"):
+            leg_problem(six[0], {"clearance": bad})
+
+
+def test_the_clearance_quantity_is_lift_less_sag_on_both_routes(six):
+    """gait.clearance = gait.lift − gait.sag on the compiled cycle reduction and on the general numpy route, for the
+    same designs (a population around the candidate's sketch)."""
+    from assur.synthesis.evaluate import Evaluator
+    c = next(c for c in six if c.inversion_name == "Watt I" and c.foot_name == "L3")
+    problem = leg_problem(c, {"clearance": 0.3})
+    limit, = [lim for lim in problem.limits if lim.quantity == "gait.clearance"]
+    assert limit.low == pytest.approx(0.3 * CRANK) and limit.high is None     # the file unit, mm
+    assert not any(lim.quantity == "gait.clearance" for lim in leg_problem(c).limits)   # none by default
+    rng = np.random.default_rng(3)
+    lo, hi = problem.bounds.T
+    X = lo + (hi - lo) * rng.random((40, problem.n_vars))
+    for backend in ("numpy", "numba"):
+        q = Evaluator(problem, backend=backend)(X).quantities
+        ok = np.isfinite(q["gait.lift"])
+        assert ok.any()
+        np.testing.assert_allclose(q["gait.clearance"][ok], (q["gait.lift"] - q["gait.sag"])[ok], rtol=0, atol=1e-12)
+
+
+def test_a_foot_on_a_rocker_cannot_lift_clear_of_its_support(six):
+    """A point of a link hinged to the frame moves on a circle about the hinge: the swing retraces the support arc,
+    so lift = sag for every design (clearance 0), and a clearance limit leaves no feasible design."""
+    c = next(c for c in six if c.inversion_name == "Watt I" and c.crank_name == "L4" and c.foot_name == "L1")
+    r = run_candidate(c, {**SMALL, "clearance": 0.1})
+    assert not r["feasible"] and r["violation"] > 0
+
+
+def test_a_clearance_limit_makes_the_foot_lift_off(six):
+    """With a clearance of 0.3 r the best design's foot rises above its support in the swing: the limit holds on
+    the search's own samples and the exact gait of the written file shows a swing above the support."""
+    c = next(c for c in six if c.inversion_name == "Watt I" and c.foot_name == "L3")
+    r = run_candidate(c, {"budget": 3000, "starts": 2, "backend": "numpy", "clearance": 0.3})
+    assert r["feasible"]
+    again = _recomputed(r)
+    assert again["lift"] - again["sag"] > 0.2 * CRANK

@@ -76,6 +76,12 @@ class GaitMetrics:
     vx_spread: dict = field(default_factory=dict)   # {"0.8": …, "0.9": …}: central_vx_spread of the contact arc
 
     @property
+    def clearance(self) -> float:
+        """How far the foot rises above the highest point of its support in the swing (m): lift − sag. Zero for a
+        foot that retraces its support (a foot on a link hinged to the frame swings back along its own arc)."""
+        return max(self.lift - self.sag, 0.0)      # lift ≥ sag: below zero only by round-off
+
+    @property
     def contact_ratio(self) -> float:
         """Contact/transfer time ratio = duty / (1 − duty)."""
         return self.duty_factor / (1.0 - self.duty_factor) if self.duty_factor < 1 else math.inf
@@ -84,13 +90,15 @@ class GaitMetrics:
         d = asdict(self)
         d["support_ax"] = {"min": self.support_ax[0], "max": self.support_ax[1]}
         d["contact_ratio"] = self.contact_ratio
+        d["clearance"] = self.clearance
         return d
 
     def _repr_html_(self) -> str:
         from ..model.display import html_table
         units = {"omega": "rad/s", "contact_start": "rad", "contact_end": "rad", "step_length": "m", "lift": "m",
-                 "sag": "m", "support_speed": "m/s", "support_vx": "m/s", "support_ax": "m/s²"}
-        rows = [(k, getattr(self, k)) for k in self.__dataclass_fields__] + [("contact_ratio", self.contact_ratio)]
+                 "sag": "m", "clearance": "m", "support_speed": "m/s", "support_vx": "m/s", "support_ax": "m/s²"}
+        rows = [(k, getattr(self, k)) for k in self.__dataclass_fields__] + [("contact_ratio", self.contact_ratio),
+                                                                             ("clearance", self.clearance)]
         return html_table(f"Gait metrics of {self.foot}", rows, units=units)
 
 
@@ -396,7 +404,9 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
     pos: (n, M, 2) foot positions at M uniform inputs over one turn; valid: (n, M) bool; dpos_dq: (n, M, 2) their
     derivatives by the input, or None; ground, up: (2,) directions; omega: the input speed magnitude (rad/s);
     scale: a factor on every length (e.g. SI → the file's unit).
-    Returns ``{"step", "lift", "sag", "duty", "top"}`` (top: the path's largest height ``P·up``, a coordinate) and, with ``dpos_dq``, ``{"speed_mean", "speed_spread",
+    Returns ``{"step", "lift", "sag", "duty", "top", "clearance"}`` (top: the path's largest height ``P·up``, a
+    coordinate; clearance: lift − sag, how far the foot rises above its support in the swing) and, with ``dpos_dq``,
+    ``{"speed_mean", "speed_spread",
     "vx_spread", "vx_spread_90"}`` (the last two: :func:`central_vx_spread` at the fractions 0.8 and 0.9 of the
     sampled stride), each (n,) in ``scale`` units (speeds per second; duty a fraction), NaN for a design with an
     invalid sample."""
@@ -410,6 +420,7 @@ def population_gait(pos, valid, dpos_dq=None, *, ground, up, omega: float = 1.0,
            "sag": np.where(contact, v, -np.inf).max(axis=1) - np.where(contact, v, np.inf).min(axis=1),
            "duty": np.count_nonzero(contact, axis=1) / M,
            "top": np.max(v, axis=1)}
+    out["clearance"] = out["lift"] - out["sag"]
     if dpos_dq is not None:
         speed = np.linalg.norm(dpos_dq, axis=-1) * omega * scale
         smax = np.where(contact, speed, -np.inf).max(axis=1)

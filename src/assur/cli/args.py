@@ -27,15 +27,26 @@ def positive(minimum: int = 1):
     return parse
 
 
-def positive_float(text):
-    """An argparse type: a positive finite number."""
+def _finite_number(text, zero: bool) -> float:
+    """``text`` as a finite number > 0 (≥ 0 with ``zero``), else argparse's error."""
     try:
         v = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a number: {text!r}") from None
-    if not (v > 0 and math.isfinite(v)):
-        raise argparse.ArgumentTypeError(f"must be a positive number: {text!r}")
+    if not ((v >= 0 if zero else v > 0) and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"must be a number ≥ 0: {text!r}" if zero else
+                                         f"must be a positive number: {text!r}")
     return v
+
+
+def positive_float(text):
+    """An argparse type: a positive finite number."""
+    return _finite_number(text, zero=False)
+
+
+def nonnegative_float(text):
+    """An argparse type: a finite number ≥ 0."""
+    return _finite_number(text, zero=True)
 
 
 def path_arg(text) -> Path:

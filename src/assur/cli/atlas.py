@@ -62,7 +62,8 @@ def cmd_atlas(args) -> int:
             raise _bad("--walking-legs", "give either --walking-legs or --assur-groups")
         from .legs import cmd_walking_legs
         return cmd_walking_legs(args)
-    for option in ("budget", "starts", "seed", "limit", "workers", "dask", "triads", "rank", "window_budget"):
+    for option in ("budget", "starts", "seed", "limit", "workers", "dask", "triads", "rank", "window_budget",
+                   "clearance"):
         if getattr(args, option) not in (None, False):
             raise _bad(f"--{option.replace('_', '-')}", "only with --walking-legs")
     if args.assur_groups:

@@ -14,7 +14,7 @@ import sys
 
 def add_arguments(sp) -> None:
     """The walking-leg options of ``assur atlas``."""
-    from .args import positive
+    from .args import nonnegative_float, positive
     g = sp.add_argument_group("walking legs (with --walking-legs)")
     g.add_argument("--budget", type=positive(1), default=None, metavar="N",
                    help="objective evaluations per candidate, over its starts (default 8000)")
@@ -23,6 +23,9 @@ def add_arguments(sp) -> None:
     g.add_argument("--rank", choices=("gait", "window"), default=None,
                    help="rank by the search's gait objective (default) or by the widest constant-speed window the "
                         "co-design screen passes (docs/codesign.md)")
+    g.add_argument("--clearance", type=nonnegative_float, default=None, metavar="R",
+                   help="the foot must rise at least R crank lengths above its support in the swing (lift − sag; "
+                        "default 0: no limit, a foot may retrace its support)")
     g.add_argument("--window-budget", type=positive(0), default=None, metavar="N",
                    help="with --rank window: designs of the window-widening search per candidate (default 450; 0: "
                         "rank the gait search's designs as they are)")
@@ -55,7 +58,7 @@ def cmd_walking_legs(args) -> int:
     if args.output is not None:
         from ..io.output import check_output_directory
         check_output_directory(args.output)
-    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed", "rank", "window_budget")
+    settings = {k: getattr(args, k) for k in ("budget", "starts", "seed", "rank", "window_budget", "clearance")
                 if getattr(args, k) is not None}
     if args.window_budget is not None and args.rank != "window":
         raise _bad("--window-budget", "only with --rank window")

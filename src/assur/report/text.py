@@ -242,6 +242,8 @@ def gait_rows(g: dict, length_factor: float = 1.0, length_unit: str = "m") -> li
         ("step length", n(g["step_length"] / length_factor, 5), length_unit),
         ("lift (path height)", n(g["lift"] / length_factor, 5), length_unit),
         ("sag (support height variation)", n(g["sag"] / length_factor, 5), length_unit),
+        ("clearance (swing above the support)",
+         n(g.get("clearance", g["lift"] - g["sag"]) / length_factor, 5), length_unit),
         ("duty factor", f"{g['duty_factor']:.4f}", ""),
         ("contact ratio (support / transfer)", n(g["contact_ratio"], 5), ""),
     ]

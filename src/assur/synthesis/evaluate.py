@@ -391,6 +391,7 @@ class Evaluator:
             speeds = any(_speed_term(k) for k in gait)
             Q.update({k: r[:, i] for i, k in enumerate(CYCLE_COLUMNS)
                       if k.startswith("gait.") and (speeds or not _speed_term(k))})
+            Q["gait.clearance"] = Q["gait.lift"] - Q["gait.sag"]
         if "transmission.min" in self._quantities:
             from ..io.units import ANGLE
             Q["transmission.min"] = np.where(finite, r[:, 2], np.nan) / ANGLE[prob.angle_unit]

@@ -15,7 +15,9 @@ Every candidate is dimensioned by the same problem (:func:`leg_problem`), in uni
   length and point distance (``r/2 … reach·r``; the foot's ``0 … reach·r``), every point angle (a full turn);
 * constraints: the crank turns fully (``buildable``), a step of at least ``step·r``, a lift of at least
   ``lift·r``, the whole foot path at least ``below·r`` under the crank's axis (the foot under the body:
-  ``gait.top``), a transmission angle of at least ``transmission`` degrees wherever a dyad has one;
+  ``gait.top``), a transmission angle of at least ``transmission`` degrees wherever a dyad has one; with
+  ``clearance`` > 0, a swing that rises at least ``clearance·r`` above the support's highest point
+  (``gait.clearance`` = lift − sag: without it a foot may retrace its own support arc in the swing);
 * objective: ``sag / (step·r / 10) + vx_spread``: the support phase's height variation (1 % of the smallest
   step counts as 0.1) plus the spread of the foot's horizontal speed over the central 80 % of the stride
   (``gait.vx_spread``, the body's surge).
@@ -43,6 +45,7 @@ first.
 from __future__ import annotations
 
 import copy
+import math
 import time
 import zlib
 from dataclasses import dataclass, field
@@ -65,6 +68,7 @@ DEFAULTS = {
     "cycle_samples": 90,     # crank angles per evaluated design
     "step": 3.0,             # smallest step, in r
     "lift": 0.5,             # smallest lift, in r
+    "clearance": 0.0,        # smallest rise of the foot above its support in the swing (lift − sag), in r; 0: none
     "transmission": 30.0,    # smallest transmission angle, degrees
     "reach": 8.0,            # longest link / farthest frame pivot, in r
     "below": 1.0,            # the whole foot path at least this far below the crank's axis, in r
@@ -174,6 +178,9 @@ def settings_of(settings: dict | None) -> dict:
     for k in ("step", "lift", "reach", "below"):
         if not (isinstance(s[k], (int, float)) and s[k] > 0):
             raise SpecError([(k, f"must be positive: {s[k]!r}")])
+    if not (isinstance(s["clearance"], (int, float)) and not isinstance(s["clearance"], bool)
+            and 0 <= s["clearance"] < math.inf):
+        raise SpecError([("clearance", f"must be a number ≥ 0 (crank lengths): {s['clearance']!r}")])
     return s
 
 
@@ -218,6 +225,8 @@ def leg_problem(candidate: LegCandidate, settings: dict | None = None):
                         "limits": [{"quantity": "gait.step", "min": step},
                                    {"quantity": "gait.lift", "min": s["lift"] * CRANK},
                                    {"quantity": "gait.top", "max": py - s["below"] * CRANK}]
+                                  + ([{"quantity": "gait.clearance", "min": s["clearance"] * CRANK}]
+                                     if s["clearance"] > 0 else [])
                                   + ([{"quantity": "transmission.min", "min": s["transmission"]}]
                                      if has_transmission(plan) else [])},
         "options": {"cycle_samples": int(s["cycle_samples"])},

@@ -66,6 +66,8 @@ QUANTITIES = {
     "gait.step": "step length (x-range of the contact arc)",
     "gait.lift": "foot lift (range of the height over the cycle)",
     "gait.sag": "height range over the contact arc",
+    "gait.clearance": "how far the foot rises above its support in the swing: lift − sag (0 for a foot that "
+                      "retraces its support)",
     "gait.duty": "contact share of the cycle",
     "gait.speed_spread": "(max − min)/mean of the foot speed over the contact arc",
     "gait.speed_mean": "mean foot speed over the contact arc (length unit per second)",
