@@ -287,3 +287,114 @@ def test_function_generator_f30_reproduces_the_published_designs():
     assert not e.feasible[2]                        # the complex-method design leaves [45°, 135°] (g2 = 0.55)
     # Table 14-1, random directions 0.0142: reproduced by neither sampling (1.0664e-2 and 1.6478e-2)
     assert round(f[3], 4) != 0.0142 and round(_rocker_error_f30(4.1054, 2.4147, 50), 4) != 0.0142
+
+
+MS6_TASKS = np.array([[43.9, -325, 1511], [20.0, -432, 1562], [0.0, -559, 1588], [-15.9, -689, 1542],
+                      [-29.1, -751, 1473]])        # Table 6.1 of McCarthy & Soh (2011), section 6.3: (φ °, x, y mm)
+MS6_C1 = np.array([-153.0, 1241.0])                # the 3R chain's base pivot; a12 = a23 = 274 mm, H = (−133, 0)
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _rot(v, t):
+    c, s = np.cos(t), np.sin(t)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _ang(v):
+    return np.arctan2(v[1], v[0])
+
+
+def _ms6_chain():
+    """The 3R chain at the five tasks of Table 6.1 (written here): C3 = M + 133 mm along φ, C2 on the elbow that
+    Table 6.2 prints at task 1 as (6.6, 1463.7) (the right of C1 → C3)."""
+    phi = np.radians(MS6_TASKS[:, 0])
+    M = MS6_TASKS[:, 1:]
+    C3 = M + 133 * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+    v = C3 - MS6_C1
+    d = np.linalg.norm(v, axis=-1, keepdims=True)
+    h = np.sqrt(274.0 ** 2 - (d / 2) ** 2)
+    C2 = (MS6_C1 + C3) / 2 + h * np.stack([v[:, 1], -v[:, 0]], axis=-1) / d
+    return phi, M, C2, C3
+
+
+def _dyad(A, rA, B, rB, side):
+    """The point at distances rA from A and rB from B on the ``side`` (+1 left, −1 right) of A → B."""
+    v = B - A
+    d = np.hypot(*v)
+    a = (rA ** 2 - rB ** 2 + d ** 2) / (2 * d)
+    h = np.sqrt(rA ** 2 - a ** 2)
+    u = v / d
+    return A + a * u + side * h * np.array([-u[1], u[0]])
+
+
+def _watt1a_poses(design, theta1, sides=(1, 1)):
+    """The Watt Ia six-bar of MS6 (docs/papers/synthesis_benchmarks.md §4.6) in closed form, written here: the pivots
+    G1, W1, G2, W2 (mm, at task 1) and the crank angles θ1 (°, from the ground line C1 → G1, as Table 6.3) → the
+    distance of each task, |ΔM| + w·|Δφ| (w the largest distance between two task positions, mm per rad). Each dyad
+    is solved on its ``sides`` (W1 of C2 → G1, W2 of C3 → G2)."""
+    phi, M, C2, C3 = _ms6_chain()
+    G1, W1, G2, W2 = np.asarray(design, dtype=float).reshape(4, 2)
+    M1, C21, C31 = M[0], C2[0], C3[0]
+    w = max(np.hypot(*(a - b)) for a in M for b in M)
+    out = []
+    for th, ph, Mt in zip(np.radians(theta1), phi, M):
+        c2 = MS6_C1 + 274 * np.array([np.cos(th + _ang(G1 - MS6_C1)), np.sin(th + _ang(G1 - MS6_C1))])
+        w1 = _dyad(c2, np.hypot(*(W1 - C21)), G1, np.hypot(*(W1 - G1)), sides[0])
+        c3 = c2 + _rot(C31 - C21, _ang(w1 - c2) - _ang(W1 - C21))
+        g2 = G1 + _rot(G2 - G1, _ang(w1 - G1) - _ang(W1 - G1))
+        w2 = _dyad(c3, np.hypot(*(W2 - C31)), g2, np.hypot(*(W2 - G2)), sides[1])
+        turn = _ang(w2 - c3) - _ang(W2 - C31)
+        m = c3 + _rot(M1 - C31, turn)
+        dphi = (phi[0] + turn - ph + np.pi) % (2 * np.pi) - np.pi
+        out.append(np.hypot(*(m - Mt)) + w * abs(dphi))
+    return np.array(out)
+
+
+def test_watt_six_bar_ms6_reproduces_the_printed_designs():
+    """MS6 (docs/papers/synthesis_benchmarks.md §4.6): the steering linkage of McCarthy & Soh, Geometric Design of
+    Linkages (2011), section 6.3, as its text is extracted in github.com/haijunsu-osu/gdl_llm_reproduction
+    (ch6/Ch6_GDL.txt). Table 6.2's pivots and Table 6.3's θ1 re-evaluated through
+    examples/synthesis/benchmarks/mccarthy_soh_steering_five_poses.toml agree with the closed form above; the printed
+    RR chains solve the five-position problem to the printing precision (0.1 mm), θ1 are the tasks' crank angles, and
+    the template's sketch holds the 3R chain of Table 6.1 at task 1."""
+    import tomllib
+    phi, M, C2, C3 = _ms6_chain()
+    base = ROOT / "examples" / "synthesis" / "benchmarks"
+    sketch = tomllib.loads((base / "watt1a_steering.toml").read_text(encoding="utf-8"))["points"]
+    assert np.allclose(sketch["C2"], C2[0], atol=1e-9) and np.allclose(sketch["C3"], C3[0], atol=1e-9)
+    assert np.allclose(C2[0], [6.6, 1463.7], atol=0.05)                  # Table 6.2, Step 1 (printed C2)
+    G1, W1 = np.array([-84.3, 1294.9]), np.array([150.7, 1570.3])        # Table 6.2, Step 2 row 3
+    step3 = [((424.6, 962.0), (-244.2, 1668.3)), ((-148.9, 1442.1), (-198.2, 1735.8)),
+             ((-221.7, 1794.7), (-197.7, 1669.5))]                       # Table 6.2, Step 3 rows 2, 1, 3
+    theta1 = np.array([16.26, 31.19, 53.76, 81.50, 101.28])             # Table 6.3
+    # the crank angles of the five tasks, from the ground line C1 → G1, are Table 6.3's θ1 to its 0.01°
+    crank = np.degrees(np.arctan2(C2[:, 1] - MS6_C1[1], C2[:, 0] - MS6_C1[0]) - _ang(G1 - MS6_C1))
+    assert np.abs(crank - theta1).max() < 0.015
+    # the printed chains keep their lengths over the five tasks (the link C2–C3 carries W1; G1–W1 carries G2)
+    turn2 = np.arctan2(*(C3 - C2)[:, ::-1].T) - _ang(C3[0] - C2[0])
+    W1s = np.array([c + _rot(W1 - C2[0], t) for c, t in zip(C2, turn2)])
+    assert np.ptp(np.linalg.norm(W1s - G1, axis=1)) < 0.05
+    turn4 = np.arctan2(*(W1s - G1)[:, ::-1].T) - _ang(W1 - G1)
+    sides = []
+    for G2, W2 in step3:
+        G2s = np.array([G1 + _rot(np.subtract(G2, G1), t) for t in turn4])
+        W2s = np.array([m + _rot(np.subtract(W2, M[0]), p - phi[0]) for m, p in zip(M, phi)])
+        assert np.ptp(np.linalg.norm(W2s - G2s, axis=1)) < 0.1
+        sides.append(np.sign(_cross(G2s - C3, W2s - C3)))
+    assert (sides[0] == 1).all() and (sides[1] == 1).all()               # one branch through the five tasks …
+    assert list(sides[2]) == [-1, -1, -1, 1, 1]                          # … the third changes it after task 3
+    # the problem file (SI vectors: mm / 1000, θ1 in radians) against the closed form on the template's branches
+    p = load_problem(base / "mccarthy_soh_steering_five_poses.toml")
+    X = np.array([[*G1, *W1, *G2, *W2, *theta1] for G2, W2 in step3])
+    XS = np.concatenate([X[:, :8] / 1000, np.radians(X[:, 8:])], axis=1)
+    e = Evaluator(p)(XS, detail=True)
+    for x, d in zip(X, e.quantities["distances"]):
+        assert d == pytest.approx(_watt1a_poses(x[:8], x[8:]), rel=1e-7, abs=1e-9)
+    f = (e.quantities["distances"] ** 2).sum(axis=1)
+    assert f[0] == pytest.approx(0.60684463, rel=1e-7) and f[1] == pytest.approx(0.86838039, rel=1e-7)
+    assert e.quantities["distances"][:2].max() < 0.7                    # every task within 0.7 mm (printing)
+    assert list(e.feasible) == [True, True, False]                       # the third: a branch defect
+    assert e.objective[0] == pytest.approx(0.60684463, rel=1e-7)         # the target of §4.6

@@ -19,9 +19,10 @@ ENTRIES = [(b, e) for b in BLOCKS for e in b["published"]]
 
 
 def explicit(path):
-    """The problem file with free timing as design variables (a printed vector carries its own angles)."""
+    """The problem file with free timing as design variables (a printed vector carries its own angles; function and
+    pose targets always search their free timing explicitly)."""
     data = tomllib.loads(path.read_text(encoding="utf-8"))
-    if data["targets"].get("timing") == "free":
+    if data["targets"].get("timing") == "free" and data["targets"].get("kind", "points") == "points":
         data["targets"]["free_timing"] = "explicit"
     return problem_from_dict(data, base_dir=path.parent, source=str(path))
 
@@ -148,7 +149,7 @@ def test_each_problem_file_runs_with_assur_synth(block, capsys):
     d = json.loads(capsys.readouterr().out)
     assert 0 < d["evaluations"] <= 120 + 40 * 23
     p = load_problem(path)
-    x = np.array([d["variables"][v.name] for v in p.variables])
+    x = p.to_si(np.array([d["variables"][v.name] for v in p.variables]))    # printed in the file's units
     e = Evaluator(p)(x[None, :])
     assert d["feasible"] and e.feasible[0]
     assert e.objective[0] == pytest.approx(d["objective"], rel=1e-6)
