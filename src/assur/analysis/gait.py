@@ -127,7 +127,7 @@ def _vx_spreads(x, vx, contact, x_min, x_max) -> dict:
     return {f"{f:g}": float(central_vx_spread(x, vx, contact, f, x_min, x_max)) for f in VX_FRACTIONS}
 
 
-def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction: float) -> float:
+def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction: float, critical=None) -> float:
     """(max − min)/mean of |v_x| over the inputs of the contact arc sampled at ``qq`` (n,) (increasing, every sample
     in contact; ``vals``: F's values there) where the foot lies in the central ``fraction`` of the stride
     ``[x_min, x_max]``, refined: the window's ends are the exact inputs where x(q) crosses
@@ -135,7 +135,11 @@ def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction:
     ends and at the exact roots of its derivative inside, and the mean is the time mean (Simpson's rule over the
     samples and the exact ends). The sampled form (:func:`central_vx_spread`) misses the window's ends by up to one
     sample, where |v_x| changes fastest, so it underestimates the spread by a term of the order of the sample
-    spacing; here only the mean's quadrature error is left. NaN if no sample lies in the window."""
+    spacing; here only the mean's quadrature error is left. NaN if no sample lies in the window.
+
+    F: an evaluator, ``F.eval(q (k,))`` → {"x", "dx", "absdx", "dabsdx"} (k,) each (x, its derivative by the
+    sampling parameter, |dx| and its derivative); critical: (q (m,), |dx| (m,)) the roots of d|dx| and of dx on the
+    arc with their values, when the caller has them (else they are found here)."""
     centre, half = 0.5 * (x_min + x_max), 0.5 * fraction * (x_max - x_min)
     d = vals["x"] - centre
     inside = np.abs(d) <= half
@@ -153,20 +157,29 @@ def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction:
             a, b = qq[[p[0] for p in pairs]], qq[[p[1] for p in pairs]]
             for p, r in zip(pairs, roots_between(lambda t, bound=bound: F.eval(t)["x"] - bound, a, b)):
                 ends[p] = float(r)
+    # the ends' values in one solve; the samples' are the caller's
+    keys = list(ends)
+    slot = {k: j for j, k in enumerate(keys)}
+    end_q = np.array([ends[k] for k in keys])
+    names = ("x", "dx", "absdx", "dabsdx")
+    end_values = F.eval(end_q) if keys else {k: np.empty(0) for k in names}
+    if critical is None:
+        crit_q = critical_points(F, ("dabsdx", "dx"), qq, vals)
+        crit_v = F.eval(crit_q)["absdx"] if crit_q.size else np.empty(0)
+    else:
+        crit_q, crit_v = (np.asarray(c, dtype=float) for c in critical)
     total, duration, lo_vx, hi_vx = 0.0, 0.0, math.inf, -math.inf
     for r in runs:
-        q = [qq[r]]
-        if r[0] > 0:
-            q.insert(0, [ends[(r[0] - 1, r[0])]])
-        if r[-1] + 1 < len(qq):
-            q.append([ends[(r[-1], r[-1] + 1)]])
-        q = np.concatenate(q)
-        sub = F.eval(q)
+        head = [slot[(r[0] - 1, r[0])]] if r[0] > 0 else []
+        tail = [slot[(r[-1], r[-1] + 1)]] if r[-1] + 1 < len(qq) else []
+        q = np.concatenate([end_q[head], qq[r], end_q[tail]])
+        sub = {k: np.concatenate([end_values[k][head], vals[k][r], end_values[k][tail]]) for k in names}
         absdx = np.abs(sub["dx"])
         total += float(simpson(absdx, x=q)) if len(q) > 2 else float(np.trapezoid(absdx, q))
         duration += float(q[-1] - q[0])
-        low, high = _extremes(F, "absdx", "dabsdx", q, sub, float(q[0]), float(q[-1]), extra_roots="dx")
-        lo_vx, hi_vx = min(lo_vx, low), max(hi_vx, high)
+        within = crit_v[(crit_q > q[0]) & (crit_q < q[-1])]
+        candidates = np.concatenate([sub["absdx"][[0, -1]], within])   # |v_x| at the window's ends and inside
+        lo_vx, hi_vx = min(lo_vx, float(np.nanmin(candidates))), max(hi_vx, float(np.nanmax(candidates)))
     mean = total / duration if duration > 0 else float(np.mean(np.abs(vals["dx"][idx])))
     return (hi_vx - lo_vx) / mean
 
@@ -217,17 +230,23 @@ class _Foot:
         return lambda q: float(self.eval(q)[key][0])
 
 
-def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, extra_roots: str | None = None):
-    """(min, max) of F[key] over [lo, hi]: candidates are the ends and the exact roots of its
-    derivative F[dkey] between the grid samples where it changes sign (all refined together,
-    :func:`~assur.analysis.sampling.roots_between`)."""
-    cands = [lo, hi]
-    for k in (dkey, extra_roots) if extra_roots else (dkey,):
+def critical_points(F, dkeys, qq, vals) -> np.ndarray:
+    """The exact roots of each derivative ``F[dkey]`` (dkeys) between the grid samples ``qq`` where it changes sign,
+    refined together (:func:`~assur.analysis.sampling.roots_between`), and the samples where it is exactly 0."""
+    out = []
+    for k in dkeys:
         dv = vals[k]
         idx = np.nonzero(np.sign(dv[:-1]) * np.sign(dv[1:]) < 0)[0]
-        cands += list(roots_between(lambda t, k=k: F.eval(t)[k], qq[idx], qq[idx + 1]))
-        cands += list(qq[np.nonzero(dv == 0)[0]])
-    values = F.eval(np.array(cands))[key]     # a refined root where the foot is not placed is NaN: left out
+        out += list(roots_between(lambda t, k=k: F.eval(t)[k], qq[idx], qq[idx + 1]))
+        out += list(qq[np.nonzero(dv == 0)[0]])
+    return np.array(out, dtype=float)
+
+
+def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, extra_roots: str | None = None):
+    """(min, max) of F[key] over [lo, hi]: candidates are the ends and the exact roots of its
+    derivative F[dkey] (and of F[extra_roots]) between the grid samples (:func:`critical_points`)."""
+    cands = np.concatenate([[lo, hi], critical_points(F, (dkey, extra_roots) if extra_roots else (dkey,), qq, vals)])
+    values = F.eval(cands)[key]     # a refined root where the foot is not placed is NaN: left out
     return float(np.nanmin(values)), float(np.nanmax(values))
 
 
@@ -349,14 +368,17 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         smin, smax = _extremes(F, "v", "dv", qq, av, lo, hi)
         sag = smax - smin
         spmin, spmax = _extremes(F, "speed", "dspeed", qq, av, lo, hi)
-        vxmin, vxmax = _extremes(F, "absdx", "dabsdx", qq, av, lo, hi, extra_roots="dx")
+        crit_q = critical_points(F, ("dabsdx", "dx"), qq, av)       # |v_x|'s extremes: the arc's and the windows'
+        crit_v = F.eval(np.concatenate([[lo, hi], crit_q]))["absdx"]
+        vxmin, vxmax = float(np.nanmin(crit_v)), float(np.nanmax(crit_v))
         ax = w * w * av["d2x"]
         metrics = GaitMetrics(foot, "arc", F.omega, float(start), float(start + width), float(step_length),
                               float(lift), float(sag), float(width / TWO_PI),
                               Stats.of(w * av["speed"], qq, w * spmax, w * spmin),
                               Stats.of(w * av["absdx"], qq, w * vxmax, w * vxmin),
                               (float(ax.min()), float(ax.max())), steps,
-                              {f"{f:g}": window_vx_spread(F, qq, av, xa, xb, f) for f in VX_FRACTIONS})
+                              {f"{f:g}": window_vx_spread(F, qq, av, xa, xb, f, (crit_q, crit_v[2:]))
+                               for f in VX_FRACTIONS})
         contact = ((q - start) % TWO_PI) <= width
         body_q = qq
         xs, vs = av["x"], av["v"]

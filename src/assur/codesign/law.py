@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.gait import VX_FRACTIONS, gait_metrics, resolve_gait, window_vx_spread
+from ..analysis.gait import VX_FRACTIONS, critical_points, gait_metrics, resolve_gait, window_vx_spread
 from ..engine import solve
 from ..errors import GearError, SpecError, UnbuildableError
 from ..kernels.runs import runs
@@ -495,8 +495,11 @@ def geared_vx_spread(law: CodesignLaw, *, samples: int = 4096, fractions=None) -
     ends = sorted(float(t) for t in law.motor_angle(np.array([foot.contact_start, foot.contact_end])))
     tau = np.linspace(ends[0], ends[1], int(samples))
     values = evaluator.eval(tau)
+    critical = critical_points(evaluator, ("dabsdx", "dx"), tau, values)     # |v_x|'s extremes, once for every window
+    critical = (critical, evaluator.eval(critical)["absdx"] if critical.size else np.empty(0))
     keys = sorted(set(VX_FRACTIONS if fractions is None else fractions) | {law.fraction})
-    return {f"{f:g}": float(window_vx_spread(evaluator, tau, values, foot.x_min, foot.x_max, f)) for f in keys}
+    return {f"{f:g}": float(window_vx_spread(evaluator, tau, values, foot.x_min, foot.x_max, f, critical))
+            for f in keys}
 
 
 __all__ = ["CodesignLaw", "CodesignTransmission", "FootLaw", "TransferBasis", "bump_polynomials", "check_fraction",
