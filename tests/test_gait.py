@@ -297,3 +297,33 @@ def test_an_extreme_refined_across_an_unplaced_position_keeps_the_grid_sample():
     lo, hi = _extremes(Foot(), "x", "dx", q, vals, 0.5, 1.5)
     # the ends (x = 0.75) and the refined root's neighbourhood: the root itself is not placed, so it is left out
     assert np.isfinite(lo) and np.isfinite(hi) and lo == pytest.approx(0.75) and hi < 1.0
+
+
+class _Arc:
+    """A foot whose stride coordinate is x(q) = −cos q on q ∈ [0, π] (dx = sin q), with NaN (an input where the foot is
+    not placed) at the inputs listed in ``holes``: the evaluator :func:`window_vx_spread` takes."""
+
+    def __init__(self, holes=()):
+        self.holes = np.asarray(holes, dtype=float)
+
+    def eval(self, q):
+        q = np.atleast_1d(np.asarray(q, dtype=float))
+        out = {"x": -np.cos(q), "dx": np.sin(q), "absdx": np.abs(np.sin(q)), "dabsdx": np.sign(np.sin(q)) * np.cos(q)}
+        bad = np.isin(q, self.holes)
+        return {k: np.where(bad, np.nan, v) for k, v in out.items()}
+
+
+@pytest.mark.parametrize("fraction", [0.8, 0.9])
+def test_the_window_spread_of_a_closed_form_arc_and_an_unplaced_neighbour(fraction):
+    """x = −cos q, |dx| = sin q on [0, π]: the central fraction f of the stride [−1, 1] is q ∈ [acos f, π − acos f],
+    where sin q runs from √(1 − f²) up to 1 and its mean is 2f / (π − 2 acos f) (independent integral), so the
+    spread is (1 − √(1 − f²))·(π − 2 acos f)/(2f). A sample next to the window's end where the foot is not placed
+    (NaN) leaves that end unrefined (its run ends at its own sample): a finite value, not an error."""
+    from assur.analysis.gait import window_vx_spread
+    exact = (1 - math.sqrt(1 - fraction ** 2)) * (math.pi - 2 * math.acos(fraction)) / (2 * fraction)
+    q = np.linspace(0, math.pi, 181)
+    assert window_vx_spread(_Arc(), q, _Arc().eval(q), -1.0, 1.0, fraction) == pytest.approx(exact, rel=1e-7)
+    first_inside = int(np.argmax(np.abs(np.cos(q)) <= fraction))
+    holed = _Arc(holes=[q[first_inside - 1]])
+    got = window_vx_spread(holed, q, holed.eval(q), -1.0, 1.0, fraction)
+    assert math.isfinite(got) and got < exact       # the lower end stays a sample inside the window: a smaller range

@@ -147,8 +147,11 @@ def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction:
     if idx.size == 0:
         return math.nan
     runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
-    # the outside neighbour of each run's first and last sample, where there is one: a bracket of the window's end
-    brackets = [(r[0] - 1, r[0]) for r in runs if r[0] > 0] + [(r[-1], r[-1] + 1) for r in runs if r[-1] + 1 < len(qq)]
+    # the outside neighbour of each run's first and last sample, where there is one and the foot is placed there (a
+    # resampled input of a Newton-solved leg may not assemble: NaN): a bracket of the window's end
+    brackets = [p for p in [(r[0] - 1, r[0]) for r in runs if r[0] > 0] + [(r[-1], r[-1] + 1) for r in runs
+                                                                           if r[-1] + 1 < len(qq)]
+                if np.isfinite(d[p[0]]) and np.isfinite(d[p[1]])]
     ends = {}
     for sign in (-1.0, 1.0):
         pairs = [p for p in brackets if np.sign(d[p[0] if not inside[p[0]] else p[1]]) == sign]
@@ -157,12 +160,13 @@ def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction:
             a, b = qq[[p[0] for p in pairs]], qq[[p[1] for p in pairs]]
             for p, r in zip(pairs, roots_between(lambda t, bound=bound: F.eval(t)["x"] - bound, a, b)):
                 ends[p] = float(r)
-    # the ends' values in one solve; the samples' are the caller's
+    # the ends' values in one solve; the samples' are the caller's. An end where the foot is not placed is left out:
+    # its run ends at its own sample
     keys = list(ends)
-    slot = {k: j for j, k in enumerate(keys)}
     end_q = np.array([ends[k] for k in keys])
     names = ("x", "dx", "absdx", "dabsdx")
     end_values = F.eval(end_q) if keys else {k: np.empty(0) for k in names}
+    slot = {k: j for j, k in enumerate(keys) if np.isfinite(end_q[j]) and np.isfinite(end_values["absdx"][j])}
     if critical is None:
         crit_q = critical_points(F, ("dabsdx", "dx"), qq, vals)
         crit_v = F.eval(crit_q)["absdx"] if crit_q.size else np.empty(0)
@@ -170,8 +174,8 @@ def window_vx_spread(F: "_Foot", qq, vals, x_min: float, x_max: float, fraction:
         crit_q, crit_v = (np.asarray(c, dtype=float) for c in critical)
     total, duration, lo_vx, hi_vx = 0.0, 0.0, math.inf, -math.inf
     for r in runs:
-        head = [slot[(r[0] - 1, r[0])]] if r[0] > 0 else []
-        tail = [slot[(r[-1], r[-1] + 1)]] if r[-1] + 1 < len(qq) else []
+        head = [slot[(r[0] - 1, r[0])]] if (r[0] - 1, r[0]) in slot else []     # else the run's own sample ends it
+        tail = [slot[(r[-1], r[-1] + 1)]] if (r[-1], r[-1] + 1) in slot else []
         q = np.concatenate([end_q[head], qq[r], end_q[tail]])
         sub = {k: np.concatenate([end_values[k][head], vals[k][r], end_values[k][tail]]) for k in names}
         absdx = np.abs(sub["dx"])
