@@ -73,7 +73,7 @@ class GaitMetrics:
     support_vx: Stats            # |v_x| over the contact arc, m/s
     support_ax: tuple[float, float]   # (min, max) horizontal acceleration over the contact arc, m/s²
     samples: int
-    vx_spread: dict = field(default_factory=dict)   # {"0.8": …, "0.9": …}: central_vx_spread of the contact arc
+    vx_spread: dict = field(default_factory=dict)   # {"0.8": …, "0.9": …}: window_vx_spread of the contact arc
 
     @property
     def clearance(self) -> float:
@@ -246,10 +246,10 @@ def critical_points(F, dkeys, qq, vals) -> np.ndarray:
     return np.array(out, dtype=float)
 
 
-def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float, extra_roots: str | None = None):
+def _extremes(F: _Foot, key: str, dkey: str, qq, vals, lo: float, hi: float):
     """(min, max) of F[key] over [lo, hi]: candidates are the ends and the exact roots of its
-    derivative F[dkey] (and of F[extra_roots]) between the grid samples (:func:`critical_points`)."""
-    cands = np.concatenate([[lo, hi], critical_points(F, (dkey, extra_roots) if extra_roots else (dkey,), qq, vals)])
+    derivative F[dkey] between the grid samples (:func:`critical_points`)."""
+    cands = np.concatenate([[lo, hi], critical_points(F, (dkey,), qq, vals)])
     values = F.eval(cands)[key]     # a refined root where the foot is not placed is NaN: left out
     return float(np.nanmin(values)), float(np.nanmax(values))
 

@@ -458,6 +458,13 @@ class CodesignTransmission(TransmissionLaw):
         return 1.0 / self.law.g(self.law.crank_angle(u))
 
 
+def motor_speed(foot: FootLaw, driving_turns: int = 1) -> float:
+    """ω_m (rad/s) of a uniform motor driving the leg of ``foot`` through a pair of ``driving_turns`` motor turns per
+    crank turn: the plan's crank speed (1 rad/s when it has none) times the turns, so the crank's mean speed is the
+    plan's."""
+    return driving_turns * (foot.omega if foot.omega > 0 else 1.0)
+
+
 class _GearedFoot:
     """The geared leg's foot by the motor angle τ: its stride coordinate x and the derivatives dx/dτ and d|x|'/dτ,
     solved through the engine (the evaluator :func:`~assur.analysis.gait.window_vx_spread` refines with)."""
@@ -491,7 +498,7 @@ def geared_vx_spread(law: CodesignLaw, *, samples: int = 4096, fractions=None) -
     foot = law.foot
     if foot.plan is None:
         raise SpecError([("foot", "the foot law has no plan to solve (built from samples)")])
-    evaluator = _GearedFoot(law, law.driving_turns * (foot.omega if foot.omega > 0 else 1.0))
+    evaluator = _GearedFoot(law, motor_speed(foot, law.driving_turns))
     ends = sorted(float(t) for t in law.motor_angle(np.array([foot.contact_start, foot.contact_end])))
     tau = np.linspace(ends[0], ends[1], int(samples))
     values = evaluator.eval(tau)

@@ -28,6 +28,7 @@ import numpy as np
 from ..errors import SpecError
 from ..kinetostatics.api import forces
 from ..engine import solve
+from .law import motor_speed
 
 TWO_PI = 2.0 * math.pi
 #: crank angles at which the peak of a finished design is looked for, before it is refined
@@ -84,9 +85,8 @@ def motor_torque(terms, g, dg, omega: float, sense: int) -> np.ndarray:
 
 def _motor_speed(law) -> float:
     """ω_m of a leg's law: the plan's crank speed times the motor turns per crank turn (the crank's mean speed is the
-    plan's, as :func:`~assur.codesign.law.geared_vx_spread` has it)."""
-    foot = law.foot
-    return law.driving_turns * (foot.omega if foot.omega > 0 else 1.0)
+    plan's: :func:`~assur.codesign.law.motor_speed`)."""
+    return motor_speed(law.foot, law.driving_turns)
 
 
 def peak_torque(law, *, samples: int = CHECK_SAMPLES) -> tuple[float, float]:

@@ -22,8 +22,8 @@ import numpy as np
 
 from ..errors import SpecError
 from .checks import GearChecks, check_angle, check_bounds, check_bumps, check_length, gear_checks
-from .law import CodesignLaw, FootLaw, check_fraction, foot_law, geared_vx_spread, smooth_coefficients, \
-    support_window, transfer_basis
+from .law import CodesignLaw, FootLaw, check_fraction, foot_law, geared_vx_spread, motor_speed, \
+    smooth_coefficients, support_window, transfer_basis
 from .margins import MARGIN_NAMES, TransferMargins, check_spread, search_transfer
 
 TWO_PI = 2.0 * math.pi
@@ -149,7 +149,7 @@ class CodesignProblem:
             return None
         from .torque import crank_torque_terms, motor_torque
         terms = crank_torque_terms(self.plan, params, q)
-        omega = self.driving_turns * (foot.omega if foot.omega > 0 else 1.0)
+        omega = motor_speed(foot, self.driving_turns)
         return lambda g, dg, d2g: float(np.max(np.abs(motor_torque(terms, g, dg, omega, foot.sense))))
 
     def default_coefficients(self, params=None) -> np.ndarray:
