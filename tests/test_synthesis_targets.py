@@ -135,11 +135,13 @@ def test_a_known_fourbars_own_poses_give_zero_and_the_default_angle_weight():
 
 
 # -- defects ----------------------------------------------------------------------------------------------
-def _poses_free(q, **constraints):
+def _poses_free(q, free_timing="explicit", **constraints):
+    """The template's coupler poses at crank angles q as free-timing targets (the angles searched explicitly unless
+    ``free_timing`` says "inner")."""
     _, _, P, _, phi = fourbar(q)
     names = [f"t{i}" for i in range(len(q))]
     return problem({"kind": "poses", "link": "coupler", "point": "P", "poses": np.c_[P, np.degrees(phi)].tolist(),
-                    "timing": "free", "variables": names},
+                    "timing": "free", "variables": names, "free_timing": free_timing},
                    variables={"crank.length": [10, 60], "rocker.length": [40, 120],
                               **{n: {"bounds": [0, 360], "kind": "angle"} for n in names}}, **constraints)
 
@@ -164,6 +166,10 @@ def test_an_order_defect_is_penalised():
     off = _poses_free(q, constraints={"defects": False})
     assert "defects" not in off.constraints
     assert Evaluator(off)(np.c_[TEMPLATE_X, [swapped]]).feasible[0]
+    # solved per design (the default for poses), the template's own crank angles come back, in order
+    inner = Evaluator(_poses_free(q, free_timing="inner"))(np.c_[TEMPLATE_X, [swapped]])
+    assert inner.feasible[0] and inner.objective[0] < 1e-18
+    assert np.allclose(inner.x[0, -3:], q, atol=1e-9)
 
 
 def test_an_unbuildable_stretch_is_penalised_by_its_share():

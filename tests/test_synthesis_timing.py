@@ -117,8 +117,8 @@ def test_compiled_and_interpreted_assignments_agree():
     valid = rng.random((6, 36)) > 0.1
     xy = rng.normal(size=(7, 2))
     for mode in range(4):
-        a = ordered.compiled()(path, valid, xy, 2, mode)
-        b = ordered._batch(path, valid, xy, 2, mode)
+        a = ordered.compiled()(path, valid, xy, 2, mode, 0.0)
+        b = ordered._batch(path, valid, xy, 2, mode, 0.0)
         assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
 
 
@@ -259,3 +259,119 @@ def test_the_optimiser_searches_the_design_variables_only():
     # the result's angles are the design's own best timing
     e = Evaluator(p)(r.x[None, :])
     assert np.allclose(e.x[0], r.x) and e.objective[0] == pytest.approx(r.objective, rel=1e-12)
+
+
+# -- pose targets (motion generation): the inner solve against a dense search over the crank angle ---------------
+MOTION = ROOT / "examples" / "synthesis" / "motion_three_poses.toml"
+
+
+def motion_problem(use=None, **targets):
+    """The three-pose four-bar problem (examples/synthesis/motion_three_poses.toml), its timing solved per design."""
+    data = tomllib.loads(MOTION.read_text(encoding="utf-8"))
+    data["targets"].update(targets)
+    data.pop("solver", None)
+    if use is not None:
+        data.setdefault("constraints", {})["use"] = use
+    return problem_from_dict(data, base_dir=MOTION.parent, source=str(MOTION))
+
+
+def coupler_pose(x, theta):
+    """P (…, 2) and the coupler line A → B's angle ψ (…) of the template examples/crank_rocker.toml (open assembly:
+    B on the "+" side of A → O4) for SI design vectors x = [x0, y0, r1, crank, coupler, rocker, px, py, …] at crank
+    angles theta (measured from the ground line O2 → O4, along x); NaN where it cannot assemble."""
+    x0, y0, r1, r2, r3, r4, px, py = x[:8]
+    ax, ay = x0 + r2 * np.cos(theta), y0 + r2 * np.sin(theta)
+    dx, dy = x0 + r1 - ax, y0 - ay
+    d = np.hypot(dx, dy)
+    with np.errstate(invalid="ignore"):
+        psi = np.arctan2(dy, dx) + np.arccos((r3 * r3 + d * d - r4 * r4) / (2 * r3 * d))
+    P = np.stack([ax + px * np.cos(psi) - py * np.sin(psi), ay + px * np.sin(psi) + py * np.cos(psi)], axis=-1)
+    return P, psi
+
+
+def dense_nearest_pose(x, pose, w, n=20_000):
+    """The least pose deviation |P − T| + w·|ψ − ψ_T| over the crank angle: a dense grid, then a bounded 1-D
+    minimisation around the best."""
+    def dev(t):
+        P, psi = coupler_pose(x, np.asarray(t, dtype=float))
+        v = np.linalg.norm(P - pose[:2], axis=-1) + w * np.abs(np.angle(np.exp(1j * (psi - pose[2]))))
+        return np.where(np.isfinite(v), v, np.inf)
+    grid = np.linspace(0, TWO_PI, n, endpoint=False)
+    d = dev(grid)
+    k = int(np.argmin(d))
+    h = TWO_PI / n
+    r = minimize_scalar(lambda t: float(dev(t)), bounds=(grid[k] - h, grid[k] + h), method="bounded",
+                        options={"xatol": 1e-13})
+    return min(float(r.fun), float(d[k]))
+
+
+def motion_designs(rng, n):
+    """n Grashof crank-rockers (crank shortest) in SI with a random coupler point and frame position, as the
+    problem's design vectors (the three crank angles left 0: the evaluation solves them)."""
+    out = []
+    while len(out) < n:
+        r1, r2, r3, r4 = rng.uniform([0.1, 0.02, 0.05, 0.05], [0.6, 0.4, 0.6, 0.6])
+        s = np.sort([r1, r2, r3, r4])
+        if not (r2 == s[0] and s[0] + s[3] < s[1] + s[2] - 0.01):
+            continue
+        out.append(np.concatenate([rng.uniform(-0.3, 0.3, 2), [r1, r2, r3, r4], rng.uniform(-0.3, 0.3, 2),
+                                   np.zeros(3)]))
+    return np.array(out)
+
+
+def test_pose_targets_solve_their_free_timing_per_design_by_default():
+    p = load_problem(MOTION)
+    assert p.targets.kind == "poses" and p.targets.free_timing == "inner"
+    assert SearchSpace(p).n_vars == 8                       # the three crank angles leave the search
+    assert motion_problem(free_timing="explicit").targets.free_timing == "explicit"
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_inner_timing_of_poses_is_each_poses_least_deviation(backend):
+    """Without an order constraint each pose gets the crank angle of its least deviation |Δp| + w·|Δψ|: the same
+    value as a dense search over the crank angle on the closed-form four-bar (to 1e-9 of the size), and the angle
+    reported gives it in the closed form."""
+    p = motion_problem(use=["assembly"])
+    ev = Evaluator(p, backend=backend)
+    X = motion_designs(np.random.default_rng(4), 12)
+    e = ev(X, detail=True)
+    ls, w = p.length_scale, p.targets.angle_weight
+    poses = np.column_stack([p.targets.xy, p.targets.angles])
+    assert np.allclose(e.x[:, :8], X[:, :8])
+    for x, th, dist in zip(X, e.x[:, 8:], e.quantities["distances"]):
+        for i, pose in enumerate(poses):
+            ref = dense_nearest_pose(x, pose, w)
+            assert dist[i] / ls == pytest.approx(ref, rel=1e-9, abs=1e-12)
+            P, psi = coupler_pose(x, th[i])
+            mine = np.linalg.norm(P - pose[:2]) + w * abs(np.angle(np.exp(1j * (psi - pose[2]))))
+            assert mine == pytest.approx(ref, rel=1e-9, abs=1e-12)
+
+
+def test_compiled_and_numpy_pose_timing_agree():
+    p = motion_problem()
+    X = motion_designs(np.random.default_rng(8), 40)
+    a = Evaluator(p, backend="numba")(X)
+    b = Evaluator(p, backend="numpy")(X)
+    both = a.feasible & b.feasible
+    assert both.sum() > 10 and np.array_equal(a.feasible, b.feasible)
+    # the golden section compares values: at a smooth minimum the deviation is flat, known to round-off (1e-16
+    # relative), so the angle only to about its square root; at an exact pose (a corner) to round-off
+    assert np.abs(np.angle(np.exp(1j * (a.x[both, 8:] - b.x[both, 8:])))).max() < 1e-6
+    assert np.allclose(a.penalised, b.penalised, rtol=1e-9, atol=1e-15)
+
+
+def test_pose_assignment_costs_on_the_samples():
+    """The ordered assignment's pose cost (kernels.ordered, K = 3) against the same cost written here: each target's
+    nearest sample, compiled and interpreted."""
+    rng = np.random.default_rng(6)
+    path = np.concatenate([rng.normal(size=(5, 40, 2)), rng.uniform(-10, 10, (5, 40, 1))], axis=-1)
+    valid = rng.random((5, 40)) > 0.1
+    poses = np.column_stack([rng.normal(size=(3, 2)), rng.uniform(-4, 4, 3)])
+    w = 0.7
+    d = (np.linalg.norm(path[:, None, :, :2] - poses[None, :, None, :2], axis=-1)
+         + w * np.abs(np.angle(np.exp(1j * (path[:, None, :, 2] - poses[None, :, None, 2])))))
+    ref = np.argmin(np.where(valid[:, None, :], d, np.inf), axis=-1)
+    got = ordered._batch(path, valid, poses, 2, 0, w)[0]
+    assert np.array_equal(got, ref)
+    if ordered.compiled() is not None:
+        assert np.array_equal(ordered.compiled()(path, valid, poses, 2, 0, w)[0], ref)

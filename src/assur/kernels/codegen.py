@@ -395,3 +395,53 @@ def timing_source(tracer, g, g1, g2, ok) -> str:
         f"{I12}out[d, i] = t_best",
     ]
     return module("assur.kernels.codegen.timing_source", "P, th0, h, txy, tol, out", body, fastmath=("contract",))
+
+
+#: golden-section steps at most in :func:`pose_timing_source`: the bracket shrinks by 0.618 a step, from 2·(2π/360) to
+#: round-off in about 70
+GOLDEN_STEPS = 72
+GOLDEN = 0.6180339887498949
+
+
+def pose_timing_source(tracer, c, ok) -> str:
+    """Python source of a numba kernel refining the free timing of pose targets (:mod:`assur.synthesis.timing`).
+
+    ``kernel(P, th0, h, txy, tol, out)``: for every design d of ``P (D, n_params)`` and target i of ``txy (N, 5)``
+    (x, y, cos ψ, sin ψ, weight), a golden-section search on the traced pose deviation c(θ) (which has a corner
+    where it vanishes, so no Newton step) inside the bracket [θ0 − h, θ0 + h] around ``th0 (D, N)``; an unassembled
+    θ counts as infinitely far. ``out (D, N)`` gets the assembled iterate with the least c (θ0 itself when nothing
+    better assembles; an unassembled θ0 is left as it is).
+    """
+    call, design = _design_and_call(tracer, [c, ok])
+    i16, i20 = " " * 16, " " * 20
+    body = [
+        *call, f"{I4}for d in range(P.shape[0]):", *design,
+        f"{I8}for i in range(th0.shape[1]):",
+        f"{I12}t_0 = th0[d, i]", f"{I12}t_a = t_0 - h", f"{I12}t_b = t_0 + h",
+        f"{I12}t_c = t_b - {GOLDEN!r} * (t_b - t_a)", f"{I12}t_d = t_a + {GOLDEN!r} * (t_b - t_a)",
+        f"{I12}f_c = math.inf", f"{I12}f_d = math.inf", f"{I12}side = 0",
+        f"{I12}t_best = t_0", f"{I12}c_best = math.inf",
+        f"{I12}for it in range({GOLDEN_STEPS + 3}):",
+        f"{i16}if it == 0:", f"{i20}t_x = t_0",
+        f"{i16}elif it == 1:", f"{i20}t_x = t_c",
+        f"{i16}elif it == 2:", f"{i20}t_x = t_d",
+        f"{i16}else:",
+        f"{i20}if t_b - t_a <= 4e-16 * max(1.0, abs(t_a)):", f"{i20}    break",
+        f"{i20}if f_c < f_d:",
+        f"{i20}    t_b = t_d", f"{i20}    t_d = t_c", f"{i20}    f_d = f_c",
+        f"{i20}    t_c = t_b - {GOLDEN!r} * (t_b - t_a)", f"{i20}    t_x = t_c", f"{i20}    side = 0",
+        f"{i20}else:",
+        f"{i20}    t_a = t_c", f"{i20}    t_c = t_d", f"{i20}    f_c = f_d",
+        f"{i20}    t_d = t_a + {GOLDEN!r} * (t_b - t_a)", f"{i20}    t_x = t_d", f"{i20}    side = 1",
+        f"{i16}c = math.cos(t_x)", f"{i16}s = math.sin(t_x)",
+        *lines_at(tracer, [c, ok], SAMPLE, i16),
+        f"{i16}t_ok = {source(ok)}",
+        f"{i16}t_v = {source(c)} if t_ok else math.inf",
+        f"{i16}if it == 0 and not t_ok:", f"{i16}    break",
+        f"{i16}if it == 1 or (it > 2 and side == 0):", f"{i16}    f_c = t_v",
+        f"{i16}elif it == 2 or it > 2:", f"{i16}    f_d = t_v",
+        f"{i16}if t_v < c_best:", f"{i16}    c_best = t_v", f"{i16}    t_best = t_x",
+        f"{I12}out[d, i] = t_best",
+    ]
+    return module("assur.kernels.codegen.pose_timing_source", "P, th0, h, txy, tol, out", body,
+                  fastmath=("contract",))

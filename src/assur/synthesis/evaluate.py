@@ -85,14 +85,16 @@ PAYBACK_SECONDS = 10.0
 def numpy_seconds(problem, evaluations: int) -> float:
     """The estimated numpy time (s) of ``evaluations`` evaluations of ``problem``: the solved samples of one (its
     targets, a whole cycle's samples when a term or constraint needs one, and with free timing solved per design
-    the turn it is assigned on and the most refinements of each target, ``timing.MAX_ITERATIONS``) times the plan's
+    the turn it is assigned on and the most refinements of each target, ``timing.MAX_ITERATIONS``, or
+    ``timing.GOLDEN_STEPS`` and three for poses) times the plan's
     steps' cost (:data:`NUMPY_SECONDS_PER_UNIT` a step, :data:`NUMPY_SECONDS_PER_NEWTON_GROUP` a Newton-solved group). A
     deterministic estimate: it depends on the problem, never on the machine."""
     t = problem.targets
     samples = (t.n if t is not None else 0) + (problem.cycle_samples if problem.needs_cycle() else 0)
     if t is not None and t.timing == "free" and t.free_timing == "inner":
-        from .timing import MAX_ITERATIONS      # free timing solved per design: a turn, then each target refined
-        samples += problem.cycle_samples + t.n * MAX_ITERATIONS
+        from .timing import GOLDEN_STEPS, MAX_ITERATIONS   # free timing solved per design: a turn, then each
+        steps = GOLDEN_STEPS + 3 if t.kind == "poses" else MAX_ITERATIONS   # target refined
+        samples += problem.cycle_samples + t.n * steps
     newton = sum(st.kind == "newton" for st in problem.plan.steps)
     per_sample = (len(problem.plan.steps) - newton) * NUMPY_SECONDS_PER_UNIT + newton * NUMPY_SECONDS_PER_NEWTON_GROUP
     return evaluations * max(samples, 1) * per_sample
@@ -194,8 +196,9 @@ class Evaluator:
         from .timing import order_of, solve_timing
         prob = self.problem
         t = prob.targets
+        pose = {"link": t.link, "angles": t.angles, "angle_weight": t.angle_weight} if t.kind == "poses" else {}
         return solve_timing(prob.plan, params, t.point, t.xy, self._cycle_q, order_of(prob.constraints),
-                            1 if prob.deviation == "distance" else 2, self.backend)
+                            1 if prob.deviation == "distance" else 2, self.backend, **pose)
 
     def _params(self, X) -> np.ndarray:
         """params() of already wrapped design vectors."""

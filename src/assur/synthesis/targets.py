@@ -60,7 +60,8 @@ def _did_you_mean(name: str, known) -> str:
 FREE_TIMINGS = ("inner", "explicit")
 _TARGET_KEYS = {"points": ("point", "xy", "timing", "inputs", "variables", "start", "step", "free_timing"),
                 "function": ("link", "pairs", "output", "timing", "variables", "start"),
-                "poses": ("link", "point", "poses", "angle_weight", "timing", "inputs", "variables", "start", "step")}
+                "poses": ("link", "point", "poses", "angle_weight", "timing", "inputs", "variables", "start", "step",
+                          "free_timing")}
 
 
 def _target_link(raw, plan, P) -> str | None:
@@ -176,7 +177,7 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
         if not (isinstance(names, list) and len(names) == n and all(isinstance(s, str) for s in names)):
             P.add("targets.variables", f"free timing needs one design variable name per target ({n})")
             return None
-        ft = raw.get("free_timing", "inner" if kind == "points" else "explicit")
+        ft = raw.get("free_timing", "explicit" if kind == "function" else "inner")
         if ft not in FREE_TIMINGS:
             P.add("targets.free_timing", f"must be one of {', '.join(FREE_TIMINGS)}: {ft!r}")
             return None

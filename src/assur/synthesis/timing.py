@@ -19,6 +19,11 @@ on its own), is solved in two steps:
    engine's exact derivatives): a step past an end of the bracket tries that end, the bracket keeps the side g
    decreases towards, and a position that cannot be assembled (or g″ ≤ 0) bisects it; to round-off; then the order is restored where two neighbouring refinements crossed.
 
+Pose targets (motion generation) take the same two steps on the pose deviation d = |P(θ) − T_i| + w·|ψ(θ) − ψ_i|
+(ψ the link's angle, the difference the short way round; cost d² or d): the samples carry ψ beside the point, and
+since d has a corner where a pose is met exactly (no Newton step there), step 2 is a golden-section search on d inside
+the same bracket (:func:`refine_poses`; compiled: ``numba_backend.pose_timing_refine``), to round-off of d.
+
 The minimum is global over each target's bracket and over the assignment of brackets; a nearer point of the curve
 that falls between samples other than the bracketed ones (two branches of the curve at nearly equal distance, within
 the sampling error) can be missed — raise ``cycle_samples`` for curves with sharp features.
@@ -26,6 +31,8 @@ the sampling error) can be missed — raise ``cycle_samples`` for curves with sh
 from __future__ import annotations
 
 import numpy as np
+
+from ..kernels.codegen import GOLDEN, GOLDEN_STEPS   # the pose refinement's golden section (the kernel's)
 
 TWO_PI = 2.0 * np.pi
 #: Newton iterations at most: a minimum inside the bracket converges in a few; one on a toggle (the edge of the
@@ -62,11 +69,12 @@ def sample_costs(path, valid, xy, power: int):
     return np.where(valid[:, None, :], cost, np.inf)
 
 
-def assign_samples(path, valid, xy, power: int, order: str):
+def assign_samples(path, valid, xy, power: int, order: str, angle_weight: float = 0.0):
     """Unrolled sample indices (n, N) of the best assignment of the targets to the samples under ``order`` (module
-    docstring), and for 'either' whether the clockwise sense won (n,) bool."""
+    docstring), and for 'either' whether the clockwise sense won (n,) bool. path (n, M, 2) and xy (N, 2) for points;
+    (n, M, 3) and (N, 3) for poses, the link's angle third, weighted by ``angle_weight`` (m per rad)."""
     from ..kernels.ordered import assign
-    return assign(path, valid, xy, power, ORDER_CODES[order])
+    return assign(path, valid, xy, power, ORDER_CODES[order], angle_weight)
 
 
 def refine(plan, params, point: str, xy, theta0, h: float, backend: str):
@@ -111,6 +119,55 @@ def refine(plan, params, point: str, xy, theta0, h: float, backend: str):
     return best_x
 
 
+def pose_cost(st, idx: int, body: int, pose, angle_weight: float):
+    """|P − T| + w·|ψ − ψ_T| (the angle difference the short way round) of solved states ``st`` (…) against target
+    poses ``pose`` (…, 3) (m, m, rad); inf where a state is not assembled."""
+    pos = st.pos[..., idx, :]
+    e = np.abs(st.body_angle[..., body] - pose[..., 2]) % TWO_PI
+    d = np.linalg.norm(pos - pose[..., :2], axis=-1) + angle_weight * np.minimum(e, TWO_PI - e)
+    return np.where(st.valid & np.isfinite(d), d, np.inf)
+
+
+def refine_poses(plan, params, point: str, link: str, poses, angle_weight: float, theta0, h: float, backend: str):
+    """Golden-section refinement of each θ (n, N) within [θ0 − h, θ0 + h] on the pose deviation
+    |P(θ) − T| + w·|ψ(θ) − ψ_T| of its target ``poses`` (N, 3), which has a corner where it vanishes (so no Newton
+    step); returns the refined angles (n, N), never worse than θ0. A bracket with one local minimum converges to it
+    (:data:`GOLDEN_STEPS`: to round-off); an unassembled θ counts as infinitely far."""
+    from ..engine import solve
+    idx, body = plan.point_index(point), plan.body_names.index(link)
+    P = params[:, None, :]
+
+    def cost(theta, targets=poses):
+        with np.errstate(all="ignore"):
+            st = solve(plan, P, theta[..., None], order=0, backend=backend)
+            return pose_cost(st, idx, body, targets, angle_weight)
+    a, b = theta0 - h, theta0 + h
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    both = cost(np.concatenate([theta0, c, d], axis=1), np.tile(poses, (3, 1)))
+    N = theta0.shape[1]
+    start, fc, fd = both[:, :N], both[:, N:2 * N], both[:, 2 * N:]
+    best_x, best_g = theta0.copy(), start.copy()
+    for x, g in ((c, fc), (d, fd)):
+        better = g < best_g
+        best_x, best_g = np.where(better, x, best_x), np.where(better, g, best_g)
+    active = np.isfinite(start)                 # an unassembled θ0 is left as it is (the compiled kernel's rule)
+    for _ in range(GOLDEN_STEPS):
+        active &= b - a > 4e-16 * np.maximum(1.0, np.abs(a))
+        if not active.any():
+            break
+        left = fc < fd                          # the minimum lies in [a, d]: drop (d, b]
+        b = np.where(active & left, d, b)
+        a = np.where(active & ~left, c, a)
+        c, d, fc, fd = (np.where(left, b - GOLDEN * (b - a), d), np.where(left, c, a + GOLDEN * (b - a)),
+                        np.where(left, np.nan, fd), np.where(left, fc, np.nan))
+        x = np.where(left, c, d)
+        g = cost(x)
+        fc, fd = np.where(left, g, fc), np.where(left, fd, g)
+        better = active & (g < best_g)
+        best_x, best_g = np.where(better, x, best_x), np.where(better, g, best_g)
+    return best_x
+
+
 def restore_order(theta, order: str, cw):
     """Unrolled angles (n, N) after refinement, put back in order where two neighbours crossed: counter-clockwise
     (and clockwise where ``cw``) within one turn of the first, or ascending in [0, 2π)."""
@@ -131,41 +188,58 @@ def restore_order(theta, order: str, cw):
 SAMPLE_CHUNK = 512
 
 
-def solve_timing(plan, params, point: str, xy, cycle_inputs, order: str, power: int, backend: str, cycle=None):
+def solve_timing(plan, params, point: str, xy, cycle_inputs, order: str, power: int, backend: str, cycle=None,
+                 link: str | None = None, angles=None, angle_weight: float = 0.0):
     """The best input of each target (n, N), wrapped into [0, 2π), for every design of ``params`` (n, n_params).
 
     ``cycle_inputs`` (M,): one uniform turn; ``cycle``: its already solved (path (n, M, 2), valid (n, M)) of the
-    target point, or None to solve it here (:data:`SAMPLE_CHUNK` designs at a time); ``power`` 2 for a squared
-    deviation, 1 for a sum of distances."""
+    target point (path (n, M, 3) for poses, the link's angle third), or None to solve it here (:data:`SAMPLE_CHUNK` designs at a time); ``power`` 2 for a squared
+    deviation, 1 for a sum of distances. Poses: ``link``, its target ``angles`` (N,) rad and ``angle_weight`` (m per
+    rad): each target's cost is the pose deviation |Δp| + w·|Δψ| (then the cycle carries the link's angle as a third
+    column and the refinement is :func:`refine_poses`)."""
     if cycle is None and len(params) > SAMPLE_CHUNK:
         return np.concatenate([solve_timing(plan, params[i:i + SAMPLE_CHUNK], point, xy, cycle_inputs, order, power,
-                                            backend) for i in range(0, len(params), SAMPLE_CHUNK)])
+                                            backend, None, link, angles, angle_weight)
+                               for i in range(0, len(params), SAMPLE_CHUNK)])
     from ..engine import solve
+    poses = None if angles is None else np.column_stack([xy, angles])
     if cycle is None and backend == "numba":      # the compiled kernel's positions without building a State
         from ..engine.planar.numba_backend import solve_compiled
         from ..tolerances import DEFAULT
         r = solve_compiled(plan, params[:, None, :], cycle_inputs[:, None], DEFAULT.radicand, order=0,
-                           shape=(len(params), len(cycle_inputs)))
+                           shape=(len(params), len(cycle_inputs)), with_bodies=poses is not None)
         if r is not None:
-            cycle = (r[1][0][:, :, plan.point_index(point), :], r[2])
+            pos = r[1][0]
+            path = pos[:, :, plan.point_index(point), :]
+            if poses is not None:                 # the link's orientation e = exp(iψ), after the points
+                e = pos[:, :, len(plan.point_names) + plan.body_names.index(link), :]
+                path = np.concatenate([path, np.arctan2(e[..., 1], e[..., 0])[..., None]], axis=-1)
+            cycle = (path, r[2])
     if cycle is None:
         st = solve(plan, params[:, None, :], cycle_inputs[:, None], order=0, backend=backend, sweep=True)
-        cycle = (st.pos[:, :, plan.point_index(point), :], st.valid)
+        path = st.pos[:, :, plan.point_index(point), :]
+        if poses is not None:
+            path = np.concatenate([path, st.body_angle[:, :, plan.body_names.index(link), None]], axis=-1)
+        cycle = (path, st.valid)
     path, valid = cycle
     valid = valid & np.all(np.isfinite(path), axis=-1)
     M = len(cycle_inputs)
     h = TWO_PI / M
-    k, cw = assign_samples(path, valid, xy, power, order)
+    k, cw = assign_samples(path, valid, xy if poses is None else poses, power, order, angle_weight)
     theta0 = cycle_inputs[0] + k * h
     theta = None
     if backend == "numba":
-        from ..engine.planar.numba_backend import timing_refine
+        from ..engine.planar.numba_backend import pose_timing_refine, timing_refine
         from ..tolerances import DEFAULT
-        theta = timing_refine(plan, params, point, theta0, h, xy, DEFAULT.radicand)
+        theta = (timing_refine(plan, params, point, theta0, h, xy, DEFAULT.radicand) if poses is None else
+                 pose_timing_refine(plan, params, point, plan.body_names.index(link), theta0, h, poses, angle_weight,
+                                    DEFAULT.radicand))
     if theta is None:
-        theta = refine(plan, params, point, xy, theta0, h, backend)
+        theta = (refine(plan, params, point, xy, theta0, h, backend) if poses is None else
+                 refine_poses(plan, params, point, link, poses, angle_weight, theta0, h, backend))
     theta = restore_order(theta, order, cw)
     return np.mod(theta, TWO_PI)
 
 
-__all__ = ["ORDERS", "SAMPLE_CHUNK", "assign_samples", "order_of", "refine", "restore_order", "sample_costs", "solve_timing"]
+__all__ = ["ORDERS", "SAMPLE_CHUNK", "assign_samples", "order_of", "pose_cost", "refine", "refine_poses", "restore_order",
+           "sample_costs", "solve_timing"]

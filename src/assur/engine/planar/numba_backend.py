@@ -344,6 +344,37 @@ def timing_source(plan, point: str) -> str:
     return codegen.timing_source(t.tracer, g, g1, g2, t.finite(g, g1, g2))
 
 
+def pose_timing_source(plan, point: str, body: int) -> str:
+    """The source of the plan's free-timing refinement kernel for pose targets
+    (:func:`assur.kernels.codegen.pose_timing_source`): c = |P − T| + w·|ψ − ψ_T| of the point and the body's angle
+    to the target row ``txy[i] = (x, y, cos ψ_T, sin ψ_T, w)`` (the angle difference the short way round, from the
+    traced orientation e = exp(iψ) times exp(−iψ_T)), valid where the groups assemble and c is finite."""
+    t = traced.trace_plan(plan, 0)
+    z, e = t.pos[point].v, t.orient[body].v
+    row = [t.tracer.load(f"txy[i, {k}]", SAMPLE) for k in range(5)]
+    ex, ey = np.real(z) - row[0], np.imag(z) - row[1]
+    re = np.real(e) * row[2] + np.imag(e) * row[3]          # e·exp(−iψ_T) = cos Δψ + i sin Δψ
+    im = np.imag(e) * row[2] - np.real(e) * row[3]
+    c = np.sqrt(ex * ex + ey * ey) + row[4] * np.arctan2(abs(im), re)
+    return codegen.pose_timing_source(t.tracer, c, t.finite(c))
+
+
+def pose_timing_refine(plan, params: np.ndarray, point: str, body: int, theta0: np.ndarray, h: float,
+                       poses: np.ndarray, angle_weight: float, tol: float):
+    """The compiled refinement of free timing for pose targets (:func:`pose_timing_source`); None if the plan is not
+    covered. params (D, n_params), theta0 (D, N), poses (N, 3) (x, y m; ψ rad), angle_weight m per rad → refined
+    inputs (D, N)."""
+    if not covers(plan):
+        return None
+    kern = _load(plan, f"pose_timing_{plan.point_index(point)}_{body}", lambda: pose_timing_source(plan, point, body))
+    rows = np.column_stack([poses[:, :2], np.cos(poses[:, 2]), np.sin(poses[:, 2]),
+                            np.full(len(poses), float(angle_weight))])
+    th0 = _designs(theta0)
+    out = np.empty_like(th0)
+    kern(_designs(params), th0, float(h), _designs(rows), float(tol), out)
+    return out
+
+
 def timing_refine(plan, params: np.ndarray, point: str, theta0: np.ndarray, h: float, target_xy: np.ndarray,
                   tol: float):
     """The compiled refinement of free timing (:func:`assur.kernels.codegen.timing_source`); None if the plan is not
