@@ -33,7 +33,7 @@ from .solver import DE_STRATEGIES, METHODS, POLISHES, resolve
 
 #: a restart of the 'restart' method ends when its best improved by less than RESTART_TOL (relative) over
 #: RESTART_PATIENCE generations (stagnation)
-RESTART_TOL, RESTART_PATIENCE = 1e-3, 30
+RESTART_TOL, RESTART_PATIENCE = 1e-3, 60
 
 
 class _Stop(Exception):
