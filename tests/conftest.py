@@ -135,19 +135,3 @@ def as_from_a_shell():
     import signal
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
-#: the test files that take longest on two cores (`--durations`: from about 25 s to 4 min each, mostly one test each),
-#: in decreasing order. make test gives each worker whole files (``--dist loadfile``, in collection order), so these
-#: go first: a long file collected last would leave one core idle while the other finishes it.
-SLOW_FILES_FIRST = ("test_synthesis_defaults.py", "test_install.py", "test_atlas_legs.py", "test_codesign_widest.py",
-                    "test_parts_make.py", "test_kill_trials.py", "test_codesign_law.py", "test_compiled_newton.py",
-                    "test_codesign_joint.py", "test_codesign_torque.py", "test_reproduction.py",
-                    "test_synthesis_triad.py")
-
-
-def pytest_collection_modifyitems(config, items):
-    """The files of :data:`SLOW_FILES_FIRST` first, in that order; every other test keeps its place after them (a
-    stable sort: only the order in which the workers receive the files changes)."""
-    rank = {name: i for i, name in enumerate(SLOW_FILES_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(SLOW_FILES_FIRST)))
