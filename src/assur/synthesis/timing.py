@@ -120,11 +120,13 @@ def refine(plan, params, point: str, xy, theta0, h: float, backend: str):
 
 
 def pose_cost(st, idx: int, body: int, pose, angle_weight: float):
-    """|P − T| + w·|ψ − ψ_T| (the angle difference the short way round) of solved states ``st`` (…) against target
-    poses ``pose`` (…, 3) (m, m, rad); inf where a state is not assembled."""
+    """|P − T| + w·|ψ − ψ_T| (the angle difference wrapped, as the objective's pose deviation
+    :func:`.targets.target_offsets` takes it) of solved states ``st`` (…) against target poses ``pose`` (…, 3)
+    (m, m, rad); inf where a state is not assembled."""
+    from .targets import wrap_angle
     pos = st.pos[..., idx, :]
-    e = np.abs(st.body_angle[..., body] - pose[..., 2]) % TWO_PI
-    d = np.linalg.norm(pos - pose[..., :2], axis=-1) + angle_weight * np.minimum(e, TWO_PI - e)
+    d = (np.linalg.norm(pos - pose[..., :2], axis=-1)
+         + angle_weight * np.abs(wrap_angle(st.body_angle[..., body] - pose[..., 2])))
     return np.where(st.valid & np.isfinite(d), d, np.inf)
 
 
