@@ -375,3 +375,30 @@ def test_pose_assignment_costs_on_the_samples():
     assert np.array_equal(got, ref)
     if ordered.compiled() is not None:
         assert np.array_equal(ordered.compiled()(path, valid, poses, 2, 0, w)[0], ref)
+
+
+def test_an_unassembled_start_of_the_pose_refinement_is_left_as_it_is_on_both_routes():
+    """A crank that cannot turn fully (crank 0.3 m, coupler 0.2, rocker 0.25, ground 0.4: not Grashof), θ0 just
+    inside a stretch that does not assemble (the closed form above says where it ends), with the golden section's
+    second point past that end: the compiled kernel leaves θ0 as it is, and the numpy route does the same instead of
+    taking the assembled point."""
+    from assur.engine.planar.numba_backend import available, pose_timing_refine
+    from assur.synthesis.timing import refine_poses
+    from assur.tolerances import DEFAULT
+    p = motion_problem(use=["assembly"])
+    x = np.array([0.0, 0.0, 0.4, 0.3, 0.2, 0.25, 0.05, 0.05, 0.0, 0.0, 0.0])
+    params = Evaluator(p, backend="numpy").params(x[None])
+    grid = np.linspace(0, TWO_PI, 3600, endpoint=False)
+    ok = np.isfinite(coupler_pose(x, grid)[1])
+    edge = grid[np.nonzero(ok & ~np.roll(ok, 1))[0][0]]           # the first assembled angle after a dead stretch
+    h = TWO_PI / 120
+    theta0 = np.array([[edge - 0.1 * h]])
+    assert not np.isfinite(coupler_pose(x, theta0[0, 0])[1])                     # θ0 does not assemble …
+    assert np.isfinite(coupler_pose(x, theta0[0, 0] + (2 * 0.6180339887498949 - 1) * h)[1])   # … the second point does
+    poses = np.column_stack([p.targets.xy, p.targets.angles])[:1]
+    body = p.plan.body_names.index("coupler")
+    assert np.array_equal(refine_poses(p.plan, params, "P", "coupler", poses, p.targets.angle_weight, theta0, h,
+                                       "numpy"), theta0)
+    if available():
+        assert np.array_equal(pose_timing_refine(p.plan, params, "P", body, theta0, h, poses, p.targets.angle_weight,
+                                                 DEFAULT.radicand), theta0)

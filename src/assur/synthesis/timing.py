@@ -149,10 +149,10 @@ def refine_poses(plan, params, point: str, link: str, poses, angle_weight: float
     N = theta0.shape[1]
     start, fc, fd = both[:, :N], both[:, N:2 * N], both[:, 2 * N:]
     best_x, best_g = theta0.copy(), start.copy()
-    for x, g in ((c, fc), (d, fd)):
-        better = g < best_g
-        best_x, best_g = np.where(better, x, best_x), np.where(better, g, best_g)
     active = np.isfinite(start)                 # an unassembled θ0 is left as it is (the compiled kernel's rule)
+    for x, g in ((c, fc), (d, fd)):
+        better = active & (g < best_g)
+        best_x, best_g = np.where(better, x, best_x), np.where(better, g, best_g)
     for _ in range(GOLDEN_STEPS):
         active &= b - a > 4e-16 * np.maximum(1.0, np.abs(a))
         if not active.any():
