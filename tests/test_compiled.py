@@ -142,7 +142,8 @@ def test_the_kernel_key_carries_the_generator_digest_and_a_changed_generator_rec
     from assur.kernels import codegen
     folder = Path(codegen.__file__).parent
     digest = hashlib.sha1(b"".join((folder / f).read_bytes()
-                                   for f in ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py"))
+                                   for f in ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py",
+                                             "similarity.py"))
                           ).hexdigest()[:16]
     assert codegen.generator_digest() == digest
     source = "from numba import njit\n\n\n@njit(cache=True)\ndef kernel(x):\n    return x + 1.0\n"

@@ -30,12 +30,15 @@ BLOCKS = blocks()
 PUBLISHED = [(case, entry) for case, b in BLOCKS.items() for entry in b["published"]]
 
 
-def problem(case, constraints=None, free_timing="explicit"):
+def problem(case, constraints=None, free_timing="explicit", placement="explicit"):
     """The shipped problem file of a case; C1's crank angles as design variables (``free_timing = "explicit"``) so
-    that a published vector is evaluated at its own angles, or solved per design (``"inner"``, the file's default)."""
+    that a published vector is evaluated at its own angles, or solved per design (``"inner"``); the placement
+    searched (``placement = "explicit"``) so that it is evaluated where it stands, or solved per design (``"inner"``,
+    the files' default)."""
     import tomllib
     path = ROOT / "examples" / "synthesis" / f"{FILES[case]}.toml"
     data = tomllib.loads(path.read_text(encoding="utf-8"))
+    data["targets"]["placement"] = placement
     if constraints is not None:
         data["constraints"]["use"] = constraints
     if data["targets"].get("timing") == "free":

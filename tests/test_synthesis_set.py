@@ -19,11 +19,13 @@ ENTRIES = [(b, e) for b in BLOCKS for e in b["published"]]
 
 
 def explicit(path):
-    """The problem file with free timing as design variables (a printed vector carries its own angles; function
-    targets always search their free timing explicitly)."""
+    """The problem file with free timing and the placement as design variables (a printed vector carries its own
+    angles and placement; function targets always search their free timing explicitly)."""
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     if data["targets"].get("timing") == "free" and data["targets"].get("kind", "points") in ("points", "poses"):
         data["targets"]["free_timing"] = "explicit"
+    if data["targets"].get("kind", "points") == "points":
+        data["targets"]["placement"] = "explicit"
     return problem_from_dict(data, base_dir=path.parent, source=str(path))
 
 

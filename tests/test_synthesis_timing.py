@@ -253,7 +253,9 @@ def test_the_optimiser_searches_the_design_variables_only():
     p = c1_problem()
     space = SearchSpace(p)
     assert space.names == ("r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "theta0")
-    assert SearchSpace(c1_problem(free_timing="explicit")).n_vars == 15
+    assert SearchSpace(c1_problem(free_timing="explicit", placement="explicit")).n_vars == 15
+    # with explicit timing, the placement (x0, y0, θ0) is solved per design by default (synthesis.placement)
+    assert SearchSpace(c1_problem(free_timing="explicit")).n_vars == 12
     r = synthesize(p, "de", seed=1, budget=3000, popsize=5)
     assert len(r.x) == 15 and r.feasible
     # the result's angles are the design's own best timing

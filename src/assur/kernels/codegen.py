@@ -13,7 +13,8 @@ kernel arguments: ``P (D, n_params)`` the designs' parameters (row d read as the
 the radicand tolerance:
 
 * :func:`solve_source` — positions and derivatives of every point (and body), one output row per traced value;
-* :func:`objective_source` — a path-synthesis objective's sums per design;
+* :func:`objective_source` — a path-synthesis objective's sums per design (:func:`placed_objective_source`: with
+  the design's placement solved);
 * :func:`cycle_source` — the whole-cycle quantities of a design (buildability, transmission, gait, path distances).
 
 The force kernel (:mod:`assur.kinetostatics.compiled`) loops over the samples of a solved state with the same
@@ -36,7 +37,7 @@ STREAMS = 12
 #: not in its disk cache yet (the command line prints it; silent for a library user by default)
 LOG = logging.getLogger("assur.compile")
 #: the modules (beside this one) whose text decides what a generated kernel does: the tracer and the callees
-GENERATOR_FILES = ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py")
+GENERATOR_FILES = ("codegen.py", "newton_codegen.py", "trace.py", "reductions.py", "similarity.py")
 I4, I8, I12, I16 = " " * 4, " " * 8, " " * 12, " " * 16
 
 
@@ -149,6 +150,33 @@ def objective_source(tracer, e2, target_ok, ok, deficit) -> str:
     # sums never depend on the batch it is evaluated in)
     return module("assur.kernels.codegen.objective_source", "P, tc, ts, txy, cq, sq, tol, out", body,
                   fastmath=("contract", "reassoc"))
+
+
+def placed_objective_source(tracer, x, y, target_ok, ok, deficit) -> str:
+    """Python source of :func:`objective_source`'s kernel with the design's placement solved in closed form
+    (:mod:`assur.synthesis.placement`).
+
+    ``kernel(P, tc, ts, txy, cq, sq, tol, lim, rotate, out)``: as :func:`objective_source`, but the traced ``x``, ``y``
+    of the point at each target (the designs of ``P`` at their reference placement) are kept, and
+    :func:`assur.kernels.reductions.similarity_fit` places them within the design's limits ``lim[d] (6,)`` (turning
+    them when ``rotate`` is 1.0). ``out (D, 9)``: (Σ squared distance, Σ distance of the placed points over the
+    assembled targets, targets not assembled, cycle samples not assembled, Σ shortfall, s, φ, dx, dy)."""
+    call, design = _design_and_call(tracer, [x, y, target_ok, ok, deficit])
+    body = [
+        f"{I4}per = 1 if tc.shape[0] > 1 else 0", *[f"{I4}{a} = np.empty(tc.shape[1])" for a in ("px", "py", "pv")],
+        *call, f"{I4}for d in range(P.shape[0]):", *design, f"{I8}bad = 0.0",
+        f"{I8}for u in range(tc.shape[1]):", f"{I12}c = tc[d * per, u]", f"{I12}s = ts[d * per, u]",
+        *lines_at(tracer, [x, y, target_ok], SAMPLE, I12),
+        f"{I12}pv[u] = 1.0 if {source(target_ok)} else 0.0",
+        f"{I12}px[u] = {source(x)} if {source(target_ok)} else 0.0",
+        f"{I12}py[u] = {source(y)} if {source(target_ok)} else 0.0",
+        f"{I12}bad += 1.0 - pv[u]",
+        f"{I8}similarity_fit(px, py, pv, txy, lim[d], rotate, out, d)", f"{I8}out[d, 2] = bad",
+        *_cycle_loop(tracer, ok, deficit, "cq.shape[0]"),
+        f"{I8}out[d, 3] = cbad", f"{I8}out[d, 4] = shortfall",
+    ]
+    return module("assur.kernels.codegen.placed_objective_source", "P, tc, ts, txy, cq, sq, tol, lim, rotate, out",
+                  body, fastmath=("contract",), imports=["from assur.kernels.reductions import similarity_fit"])
 
 
 #: columns of the cycle kernel's output (:func:`cycle_source`); the path distances follow from PATH_COLUMN

@@ -11,6 +11,8 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
+from .similarity import similarity
+
 
 @intrinsic
 def select(typingctx, cond, a, b):
@@ -124,6 +126,66 @@ def polyline_distance(px, py, txy, out, d, col):
             ey = ay + t * aby - ty
             best = min(best, ex * ex + ey * ey)
         out[d, col + j] = math.sqrt(best)
+
+
+_similarity = njit(cache=True, error_model="numpy")(similarity)
+
+
+@njit(cache=True, error_model="numpy")
+def similarity_fit(px, py, pv, txy, lim, rotate, out, d):
+    """The best placement of design d (:mod:`assur.synthesis.placement`) from its points (px, py) (N,) at the
+    reference placement, ``pv`` (N,) 1.0 where assembled, the targets ``txy (N, 2)``, its limits ``lim (6,)``:
+    ``out[d, 0]`` and ``out[d, 1]`` the sums of the squared distances and of the distances of the placed points
+    (over the assembled targets), ``out[d, 5:9]`` (s, φ, dx, dy). Centred sums (two passes), so the fit keeps its
+    digits when the points lie far from the origin."""
+    N = px.shape[0]
+    n = 0.0
+    qx = 0.0
+    qy = 0.0
+    tx = 0.0
+    ty = 0.0
+    for u in range(N):
+        w = pv[u]
+        n += w
+        qx += w * px[u]
+        qy += w * py[u]
+        tx += w * txy[u, 0]
+        ty += w * txy[u, 1]
+    m = max(n, 1.0)
+    qx /= m
+    qy /= m
+    tx /= m
+    ty /= m
+    A = 0.0
+    C = 0.0
+    D = 0.0
+    for u in range(N):
+        w = pv[u]
+        ax = (px[u] - qx) * w
+        ay = (py[u] - qy) * w
+        bx = (txy[u, 0] - tx) * w
+        by = (txy[u, 1] - ty) * w
+        A += ax * ax + ay * ay
+        C += ax * by - ay * bx
+        D += ax * bx + ay * by
+    s, phi, dx, dy = _similarity(qx, qy, tx, ty, A, C, D, lim, rotate)
+    c = math.cos(phi)
+    sn = math.sin(phi)
+    e2sum = 0.0
+    esum = 0.0
+    for u in range(N):
+        if pv[u] > 0.0:
+            ex = txy[u, 0] - (s * (c * px[u] - sn * py[u]) + dx)
+            ey = txy[u, 1] - (s * (sn * px[u] + c * py[u]) + dy)
+            e2 = ex * ex + ey * ey
+            e2sum += e2
+            esum += math.sqrt(e2)
+    out[d, 0] = e2sum
+    out[d, 1] = esum
+    out[d, 5] = s
+    out[d, 6] = phi
+    out[d, 7] = dx
+    out[d, 8] = dy
 
 
 # -- a triad's assemblies near a solved pose ----------------------------------------------------------------------

@@ -1,4 +1,5 @@
-"""A design as a mechanism: the template with a parameter vector written into it.
+"""A design as a mechanism: design vectors mapped to the template's parameters and to the inputs at the targets
+(:func:`parameters`, :func:`target_inputs`), and one parameter vector written into the template.
 
 ``mechanism_with_params(plan, params)`` returns a new frozen ``Mechanism`` whose parameters are
 ``params`` (SI, ``plan.param_names`` order): frame points moved, link lengths and point placements
@@ -14,6 +15,35 @@ import numpy as np
 
 from ..errors import SpecError
 from ..model.mechanism import FRAME, Placement
+
+
+def parameters(problem, X) -> np.ndarray:
+    """Mechanism parameters (n, n_params) SI of wrapped design vectors X (n, n_vars): the template's defaults with
+    the problem's ``[parameters]`` expressions evaluated in order (a parameter may use those before it)."""
+    plan = problem.plan
+    p = np.tile(plan.defaults, (len(X), 1))
+    env = {name: p[:, i] for i, name in enumerate(plan.param_names)}
+    env.update({v.name: X[:, j] for j, v in enumerate(problem.variables)})
+    names = set(problem.names)
+    with np.errstate(all="ignore"):
+        for name, e in problem.parameters:
+            idx = plan.param_index(name)
+            p[:, idx] = np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),))
+            if name not in names:
+                env[name] = p[:, idx]
+    return p
+
+
+def target_inputs(problem, X) -> np.ndarray:
+    """(n, N) input values at the targets (rad or m) of wrapped design vectors X (n, n_vars) as they stand: the
+    prescribed inputs, the timing variables of free timing, or uniform timing's start plus its steps."""
+    t = problem.targets
+    names = problem.names
+    if t.timing == "prescribed":
+        return np.broadcast_to(t.inputs, (len(X), t.n))
+    if t.timing == "free":
+        return X[:, [names.index(n) for n in t.input_variables]]
+    return X[:, [names.index(t.start)]] + t.step * np.arange(t.n)
 
 
 def mechanism_with_params(plan, params, *, name: str | None = None, description: str | None = None):
@@ -65,4 +95,4 @@ def mechanism_with_params(plan, params, *, name: str | None = None, description:
                                description=m.description if description is None else description)
 
 
-__all__ = ["mechanism_with_params"]
+__all__ = ["mechanism_with_params", "parameters", "target_inputs"]

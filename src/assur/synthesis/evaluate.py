@@ -20,6 +20,7 @@ from ..errors import SpecError, float_array
 from ..tolerances import DEFAULT
 from . import fourbar as fb
 from .defects import defect_measures, nearest_inputs
+from .design import parameters, target_inputs
 from .problem import Problem
 from .targets import target_offsets
 
@@ -129,7 +130,6 @@ class Evaluator:
         p = problem
         self._periodic = np.array([v.periodic for v in p.variables], dtype=bool)
         self._index = {v.name: i for i, v in enumerate(p.variables)}
-        self._param_index = [(p.plan.param_index(name), name, e) for name, e in p.parameters]
         quantities = {t.quantity for t in p.terms} | {lim.quantity for lim in p.limits}
         self._order = 2 if "acceleration" in quantities else 0
         # forces.* need the accelerations (d'Alembert loads), gait speeds the first derivatives
@@ -157,6 +157,7 @@ class Evaluator:
         # free timing solved per design (synthesis.timing): the timing variables are outputs of the evaluation
         self._inner = t is not None and t.timing == "free" and t.free_timing == "inner"
         self._timing_cols = [self._index[n] for n in t.input_variables] if self._inner else []
+        self._placement = p.placement              # synthesis.placement: each design placed in closed form
 
     def __reduce__(self):
         return (_rebuild_evaluator, (self.problem, self.chunk, self.backend))
@@ -202,28 +203,36 @@ class Evaluator:
 
     def _params(self, X) -> np.ndarray:
         """params() of already wrapped design vectors."""
-        plan = self.problem.plan
-        p = np.tile(plan.defaults, (len(X), 1))
-        env = {name: p[:, i] for i, name in enumerate(plan.param_names)}
-        env.update({v.name: X[:, j] for j, v in enumerate(self.problem.variables)})
-        with np.errstate(all="ignore"):
-            for idx, name, e in self._param_index:
-                value = np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),))
-                p[:, idx] = value
-                if name not in self._index:
-                    env[name] = p[:, idx]
-        return p
+        return parameters(self.problem, X)
 
     def _target_inputs(self, X) -> np.ndarray:
         """target_inputs() of already wrapped design vectors."""
-        t = self.problem.targets
-        if t.timing == "prescribed":
-            return np.broadcast_to(t.inputs, (len(X), t.n))
-        if t.timing == "free":
-            return X[:, [self._index[n] for n in t.input_variables]]
-        return X[:, [self._index[t.start]]] + t.step * np.arange(t.n)
+        return target_inputs(self.problem, X)
 
     # -- one chunk -----------------------------------------------------------------------------------
+    def _place(self, Xw, detail: bool):
+        """(the designs Xw (n, n_vars) at their best placement (:mod:`.placement`), the placed fused reduction
+        (n, 9) where the compiled route computed it, else None). The fit is made at each design's reference
+        placement; the compiled route also reduces the objective of the placed points there."""
+        from .placement import fit, limits, place, points, reference
+        prob, pl = self.problem, self._placement
+        R = reference(pl, Xw)
+        lim = limits(pl, Xw, prob.bounds)
+        rotate = pl.angle is not None
+        if self._fusable and not detail:
+            from ..engine.planar.numba_backend import placed_path_objective
+            params = self._params(R)
+            finite = np.all(np.isfinite(params), axis=1)
+            params = np.where(finite[:, None], params, prob.plan.defaults)
+            cycle = self._cycle_q if self._needs_cycle and not self._cycle_fast else None
+            theta = self._target_inputs(R)
+            q = theta[:1] if prob.targets.timing == "prescribed" else theta
+            out = placed_path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
+                                        DEFAULT.radicand, lim, rotate)
+            return place(pl, R, prob.bounds, *out[:, 5:9].T), out
+        q, ok = points(prob, R, self.backend)
+        return place(pl, R, prob.bounds, *fit(q, ok, prob.targets.xy, lim, rotate)), None
+
     def _fused(self, theta, params):
         """The compiled reduction (D, 5) of ``engine.planar.numba_backend.path_objective`` where it covers the
         problem (timed targets, deviation and buildability only), else None. theta: (n, N) target inputs."""
@@ -241,6 +250,9 @@ class Evaluator:
         prob, plan = self.problem, self.problem.plan
         n = len(X)
         Xw = self.wrap(X)
+        placed = None
+        if self._placement is not None:                   # each design at its best placement, then as given
+            Xw, placed = self._place(Xw, detail)
         lo, hi = prob.bounds.T
         out_of_box = np.where(self._periodic, 0.0, np.maximum(0.0, lo - Xw) + np.maximum(0.0, Xw - hi)).sum(axis=1)
         params = self._params(Xw)
@@ -251,14 +263,14 @@ class Evaluator:
         ls = prob.length_scale
         f = np.zeros(n)
         t = prob.targets
-        x_out = None
+        x_out = Xw if self._placement is not None else None      # the placement is an output
         if self._inner:                                   # the best inputs of each design, then as if explicit
             theta = self._solve_timing(params)
             Xw[:, self._timing_cols] = theta
             x_out = Xw
         else:
             theta = self._target_inputs(Xw) if t is not None and t.timing != "path" else None   # (n, N)
-        fused = None if detail else self._fused(theta, params)
+        fused = placed if placed is not None else None if detail else self._fused(theta, params)
         if fused is not None:
             V["assembly"] = fused[:, 2] / t.n
             Q["deviation"] = fused[:, 0 if prob.deviation == "squared" else 1] * (ls * ls if prob.deviation == "squared" else ls)

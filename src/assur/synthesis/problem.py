@@ -156,6 +156,7 @@ class Problem:
     length_unit: str = "m"
     angle_unit: str = "rad"
     solver: dict = field(default_factory=dict)    # the file's [solver] defaults (synthesis/solver.py)
+    placement: object = None                      # synthesis.placement.PlacementVariables, or None
 
     @property
     def n_vars(self) -> int:
@@ -255,12 +256,14 @@ def problem_from_dict(data: dict, *, base_dir=".", source: str | None = None, me
     targets = _settle_free_timing(data, P, plan, targets, mapping, terms, limits, fourbar)
     if P:
         raise P.error(source)
-    return Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
-                   deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
-                   limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
-                   violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
-                   source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
-                   solver=solver)
+    problem = Problem(plan=plan, variables=tuple(variables), parameters=tuple(mapping), targets=targets,
+                      deviation=deviation, deviation_weight=dev_weight, terms=tuple(terms), constraints=constraints,
+                      limits=tuple(limits), fourbar=tuple(fourbar), cycle_samples=samples, infeasible_offset=offset,
+                      violation_weight=vw, name=str(data.get("name", "")), description=str(data.get("description", "")),
+                      source=source, mechanism_source=mech_source, length_unit=units.length, angle_unit=units.angle,
+                      solver=solver)
+    from .placement import settle
+    return settle(data, problem, source)
 
 
 def _with_array_of_tables(table: dict, path: str, key: str, P) -> dict:

@@ -1,6 +1,7 @@
-"""The variables an optimiser searches: all of a problem's design variables, or, with free timing solved inside the
-evaluation (``[targets] free_timing = "inner"``), all but the timing variables, whose values each evaluation finds
-for itself (:mod:`assur.synthesis.timing`)."""
+"""The variables an optimiser searches: all of a problem's design variables but those each evaluation finds for
+itself — the timing variables of free timing solved inside the evaluation (``[targets] free_timing = "inner"``,
+:mod:`assur.synthesis.timing`) and the translation and angle of a placement solved in closed form
+(:mod:`assur.synthesis.placement`)."""
 from __future__ import annotations
 
 import numpy as np
@@ -14,6 +15,8 @@ class SearchSpace:
         t = problem.targets
         solved = (set(t.input_variables) if t is not None and t.timing == "free" and t.free_timing == "inner"
                   else set())
+        if problem.placement is not None:
+            solved |= {problem.variables[i].name for i in problem.placement.solved}
         self.problem = problem
         self.index = np.array([i for i, v in enumerate(problem.variables) if v.name not in solved], dtype=int)
         self.variables = tuple(problem.variables[i] for i in self.index)

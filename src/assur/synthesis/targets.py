@@ -44,6 +44,7 @@ class Targets:
     relative: bool = True
     angle_weight: float = 0.0
     free_timing: str = "explicit"      # free timing: "inner" (solved per design) or "explicit" (design variables)
+    placement: str = "inner"           # point targets: the design's placement solved per design where it can be
 
     @property
     def n(self) -> int:
@@ -58,7 +59,11 @@ def _did_you_mean(name: str, known) -> str:
 #: how free timing is solved: "inner" — each design's best input per target, inside the evaluation (the optimiser
 #: searches the design variables only); "explicit" — the inputs are design variables the optimiser searches
 FREE_TIMINGS = ("inner", "explicit")
-_TARGET_KEYS = {"points": ("point", "xy", "timing", "inputs", "variables", "start", "step", "free_timing"),
+#: how the placement of a design (its position, angle and size; :mod:`assur.synthesis.placement`) is found: "inner" —
+#: in closed form per design, where the problem allows it; "explicit" — its variables are searched like the others
+PLACEMENTS = ("inner", "explicit")
+_TARGET_KEYS = {"points": ("point", "xy", "timing", "inputs", "variables", "start", "step", "free_timing",
+                           "placement"),
                 "function": ("link", "pairs", "output", "timing", "variables", "start"),
                 "poses": ("link", "point", "poses", "angle_weight", "timing", "inputs", "variables", "start", "step",
                           "free_timing")}
@@ -103,6 +108,12 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
         return None
     P.unknown_keys(raw, ("kind", *_TARGET_KEYS[kind]), "targets")
     extra = {"kind": kind}
+    if kind == "points":
+        placement = raw.get("placement", "inner")
+        if placement not in PLACEMENTS:
+            P.add("targets.placement", f"must be one of {', '.join(PLACEMENTS)}: {placement!r}")
+            return None
+        extra["placement"] = placement
     point = None
     if kind != "function":
         point = raw.get("point")

@@ -196,6 +196,34 @@ def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_x
     return out
 
 
+def placed_objective_source(plan, point: str) -> str:
+    """The source of the plan's placed path-objective kernel for one point
+    (:func:`assur.kernels.codegen.placed_objective_source`): the point's x and y, valid where the groups assemble and
+    they are finite."""
+    t = traced.trace_plan(plan, 0)
+    z = t.pos[point].v
+    x, y = np.real(z), np.imag(z)
+    return codegen.placed_objective_source(t.tracer, x, y, t.finite(x + y), t.valid, t.deficit())
+
+
+def placed_path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray, point: str,
+                          cycle_inputs: np.ndarray | None, tol: float, limits: np.ndarray, rotate: bool):
+    """:func:`path_objective` with each design's placement solved (:mod:`assur.synthesis.placement`); None if the
+    plan is not covered. params (D, n_params) the designs at their reference placement, limits (D, 6)
+    (:func:`assur.synthesis.placement.limits`). Returns (D, 9): the five columns of :func:`path_objective` for the
+    placed designs, then s, φ, dx, dy."""
+    if not covers(plan):
+        return None
+    kern = _load(plan, f"placed_{plan.point_index(point)}", lambda: placed_objective_source(plan, point))
+    designs = _designs(params)
+    q = np.asarray(target_inputs, dtype=float)
+    cyc = np.zeros(0) if cycle_inputs is None else np.asarray(cycle_inputs, dtype=float)
+    out = np.empty((designs.shape[0], 9))
+    kern(designs, np.cos(q), np.sin(q), _designs(target_xy), np.cos(cyc), np.sin(cyc), float(tol),
+         _designs(limits), 1.0 if rotate else 0.0, out)
+    return out
+
+
 def cycle_covers(plan, transmission: bool = False) -> bool:
     """True when :func:`cycle_objective` covers the plan: a traced plan (:func:`covers`, or one with Newton-solved
     groups: :func:`newton_covers`), and for the transmission angle only RRR dyads (the angle of RRP and RPR dyads
