@@ -175,17 +175,13 @@ def test_a_best_design_on_a_bound_is_warned_in_the_output_and_the_json(tmp_path,
 #: the targets of docs/papers/synthesis_benchmarks.md §3 (table of the cases).
 #: The wider set (docs/papers/synthesis_benchmarks.md §4): H5 4.019923e-4, the HCDJ code's case 5 "WYLin" design; MW7
 #: 4.8125121e-21, the value of the design PHCpack prints for Morgan & Wampler's problem 7; MS6 0.60684464 mm², McCarthy &
-#: Soh's printed steering linkage (Table 6.2, Table 6.3). Still open (docs/synthesis.md, "The defaults on a wider
-#: set"): H4 1.2162211, the lowest feasible printed design of the HCDJ code's case 4, and C3's lower value 9.0289e-3
-#: (found first by a long DE run, README): strict expected failures, so that a default that reaches them in 4 of 5
-#: seeds is noticed. P14 runs only in benchmarks/synthesis_set.py (about 40 s a run: too long for the suite's budget).
-_OPEN = "the defaults do not reach it in 4 of 5 seeds yet (docs/synthesis.md, the defaults on a wider set)"
+#: Soh's printed steering linkage (Table 6.2, Table 6.3); H4 1.2162211, the lowest feasible printed design of the HCDJ
+#: code's case 4; C3's lower value 9.0289e-3 (found first by a long DE run, docs/synthesis.md). P14 runs only in
+#: benchmarks/synthesis_set.py (about 40 s a run: too long for the suite's budget).
 THRESHOLDS = [("paper000_six_points.toml", 99.85), ("c1_six_points_line.toml", 1e-20),
               ("c2_five_points_timed.toml", 1.284000e-6), ("c3_eighteen_points_closed.toml", 1.607768e-2),
-              pytest.param("c3_eighteen_points_closed.toml", 9.0289e-3, id="c3-lower",
-                           marks=pytest.mark.xfail(strict=True, reason=_OPEN)),
-              pytest.param("benchmarks/hcdj4_six_points_arc.toml", 1.2162211, id="h4",
-                           marks=pytest.mark.xfail(strict=True, reason=_OPEN)),
+              pytest.param("c3_eighteen_points_closed.toml", 9.0289e-3, id="c3-lower"),
+              pytest.param("benchmarks/hcdj4_six_points_arc.toml", 1.2162211, id="h4"),
               pytest.param("benchmarks/hcdj5_ten_points_ellipse.toml", 4.019923e-4, id="h5"),
               pytest.param("benchmarks/morgan_wampler_five_points_line.toml", 4.8125121e-21, id="mw7"),
               pytest.param("benchmarks/mccarthy_soh_steering_five_poses.toml", 0.60684464, id="ms6")]
