@@ -220,15 +220,15 @@ class Evaluator:
         lim = limits(pl, Xw, prob.bounds)
         rotate = pl.angle is not None
         if self._fusable and not detail:
-            from ..engine.planar.numba_backend import placed_path_objective
+            from ..engine.planar.numba_backend import path_objective
             params = self._params(R)
             finite = np.all(np.isfinite(params), axis=1)
             params = np.where(finite[:, None], params, prob.plan.defaults)
             cycle = self._cycle_q if self._needs_cycle and not self._cycle_fast else None
             theta = self._target_inputs(R)
             q = theta[:1] if prob.targets.timing == "prescribed" else theta
-            out = placed_path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
-                                        DEFAULT.radicand, lim, rotate)
+            out = path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle, DEFAULT.radicand,
+                                 lim, rotate)
             return place(pl, R, prob.bounds, *out[:, 5:9].T), out
         q, ok = points(prob, R, self.backend)
         return place(pl, R, prob.bounds, *fit(q, ok, prob.targets.xy, lim, rotate)), None

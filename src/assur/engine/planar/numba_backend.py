@@ -176,26 +176,6 @@ def objective_source(plan, point: str) -> str:
     return codegen.objective_source(t.tracer, e2, t.finite(e2), t.valid, t.deficit())
 
 
-def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray,
-                   point: str, cycle_inputs: np.ndarray | None, tol: float):
-    """Fused reduction of a path-synthesis objective; None if the plan is not covered.
-
-    params (D, n_params); target_inputs (D or 1, N) input angles at the targets; target_xy (N, 2);
-    cycle_inputs (M,) or None. Returns (D, 5): Σ squared distance, Σ distance (over the assembled
-    targets), the number of targets and of cycle samples that cannot be assembled, and the sum over
-    the cycle of the groups' shortfalls past their toggles (normalised radicands below −tol).
-    """
-    if not covers(plan):
-        return None
-    kern = _load(plan, f"objective_{plan.point_index(point)}", lambda: objective_source(plan, point))
-    designs = _designs(params)
-    q = np.asarray(target_inputs, dtype=float)
-    cyc = np.zeros(0) if cycle_inputs is None else np.asarray(cycle_inputs, dtype=float)
-    out = np.empty((designs.shape[0], 5))
-    kern(designs, np.cos(q), np.sin(q), _designs(target_xy), np.cos(cyc), np.sin(cyc), float(tol), out)
-    return out
-
-
 def placed_objective_source(plan, point: str) -> str:
     """The source of the plan's placed path-objective kernel for one point
     (:func:`assur.kernels.codegen.placed_objective_source`): the point's x and y, valid where the groups assemble and
@@ -206,21 +186,32 @@ def placed_objective_source(plan, point: str) -> str:
     return codegen.placed_objective_source(t.tracer, x, y, t.finite(x + y), t.valid, t.deficit())
 
 
-def placed_path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray, point: str,
-                          cycle_inputs: np.ndarray | None, tol: float, limits: np.ndarray, rotate: bool):
-    """:func:`path_objective` with each design's placement solved (:mod:`assur.synthesis.placement`); None if the
-    plan is not covered. params (D, n_params) the designs at their reference placement, limits (D, 6)
-    (:func:`assur.synthesis.placement.limits`). Returns (D, 9): the five columns of :func:`path_objective` for the
-    placed designs, then s, φ, dx, dy."""
+def path_objective(plan, params: np.ndarray, target_inputs: np.ndarray, target_xy: np.ndarray,
+                   point: str, cycle_inputs: np.ndarray | None, tol: float, limits: np.ndarray | None = None,
+                   rotate: bool = False):
+    """Fused reduction of a path-synthesis objective; None if the plan is not covered.
+
+    params (D, n_params); target_inputs (D or 1, N) input angles at the targets; target_xy (N, 2);
+    cycle_inputs (M,) or None. Returns (D, 5): Σ squared distance, Σ distance (over the assembled
+    targets), the number of targets and of cycle samples that cannot be assembled, and the sum over
+    the cycle of the groups' shortfalls past their toggles (normalised radicands below −tol).
+
+    With ``limits`` (D, 6) (:func:`assur.synthesis.placement.limits`), each design's placement is solved
+    (:mod:`assur.synthesis.placement`; turned too when ``rotate``): params are the designs at their reference
+    placement, and the result (D, 9) has the five columns for the placed designs, then s, φ, dx, dy.
+    """
     if not covers(plan):
         return None
-    kern = _load(plan, f"placed_{plan.point_index(point)}", lambda: placed_objective_source(plan, point))
+    placed = limits is not None
+    index = plan.point_index(point)
+    kern = (_load(plan, f"placed_{index}", lambda: placed_objective_source(plan, point)) if placed else
+            _load(plan, f"objective_{index}", lambda: objective_source(plan, point)))
     designs = _designs(params)
     q = np.asarray(target_inputs, dtype=float)
     cyc = np.zeros(0) if cycle_inputs is None else np.asarray(cycle_inputs, dtype=float)
-    out = np.empty((designs.shape[0], 9))
-    kern(designs, np.cos(q), np.sin(q), _designs(target_xy), np.cos(cyc), np.sin(cyc), float(tol),
-         _designs(limits), 1.0 if rotate else 0.0, out)
+    out = np.empty((designs.shape[0], 9 if placed else 5))
+    extra = (_designs(limits), 1.0 if rotate else 0.0) if placed else ()
+    kern(designs, np.cos(q), np.sin(q), _designs(target_xy), np.cos(cyc), np.sin(cyc), float(tol), *extra, out)
     return out
 
 
