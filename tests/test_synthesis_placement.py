@@ -201,3 +201,13 @@ def test_a_placement_that_cannot_be_solved_is_refused_where_the_file_asks_for_it
         problem_from_dict(c2, base_dir=SYN)
     with pytest.raises(SpecError, match="targets.placement.*must be one of inner, explicit"):
         c3(placement="solved")
+
+
+def test_four_bar_constraint_lengths_that_do_not_follow_the_size_keep_the_placement_searched():
+    """A four-bar constraint read on a length plus a constant (not scaled with the mechanism) would change
+    feasibility under a placement: the placement is not solved."""
+    data = tomllib.loads(C3.read_text(encoding="utf-8"))
+    data["constraints"]["fourbar"]["ground"] = "r1 + 5"
+    p = problem_from_dict(data, base_dir=C3.parent)
+    assert p.placement is None
+    assert "do not scale" in detect(p)[1]

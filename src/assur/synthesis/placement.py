@@ -21,9 +21,9 @@ Which variables place the mechanism is found on the problem, not declared: :func
 random designs of the box and keeps a variable pair (x, y) whose change translates every target point by exactly
 that change, an angle variable whose change rotates them about (x, y), and the length variables whose common
 factor scales them about (x, y) — each checked to 1e-9 of the points' size on every trial design. A problem where
-these do not hold, or whose objective or limits would change under a placement (a term other than the squared
-deviation, a limit other than transmission or buildability, an expression of a placement variable), keeps every
-variable searched (``[targets] placement = "explicit"``, which a file can also ask for).
+these do not hold, or whose objective or constraints would change under a placement (a term other than the
+squared deviation, a limit other than transmission or buildability, four-bar constraint lengths that do not follow
+the size), keeps every variable searched (``[targets] placement = "explicit"``, which a file can also ask for).
 """
 from __future__ import annotations
 
@@ -156,9 +156,28 @@ def detect(problem, rng_seed: int = 0) -> tuple[PlacementVariables | None, str |
         X1[:, list(scale)] *= 0.73
         if not moved(X1, centre + 0.73 * (q0 - centre)):
             scale = ()
-    if angle is None and not scale:
-        return PlacementVariables(x, y, None, ()), None
+    if problem.fourbar:             # the four-bar constraints' lengths must follow the size and ignore the rest
+        X1 = X.copy()
+        X1[:, [x, y]] += 0.29 * step
+        if angle is not None:
+            X1[:, angle] += turn
+        factor = 0.73 if scale else 1.0
+        X1[:, list(scale)] *= factor
+        L0, L1 = fourbar_lengths(problem, X), fourbar_lengths(problem, wrap(X1))
+        if not np.allclose(L1, factor * L0, rtol=AGREEMENT, atol=0.0):
+            return None, "the four-bar constraints' lengths do not scale with the mechanism"
     return PlacementVariables(x, y, angle, scale), None
+
+
+def fourbar_lengths(problem, X) -> np.ndarray:
+    """(n, 4) the lengths the four-bar constraints read (``[constraints] fourbar``) at wrapped designs X."""
+    from .design import parameters
+    params = parameters(problem, X)
+    env = {name: params[:, i] for i, name in enumerate(problem.plan.param_names)}
+    env.update({v.name: X[:, j] for j, v in enumerate(problem.variables)})
+    with np.errstate(all="ignore"):
+        return np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),)) for _, e in problem.fourbar],
+                        axis=1)
 
 
 def points(problem, X, backend) -> tuple[np.ndarray, np.ndarray]:
