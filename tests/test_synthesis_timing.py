@@ -122,6 +122,28 @@ def test_compiled_and_interpreted_assignments_agree():
         assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
 
 
+def test_the_interpreted_route_costs_all_designs_at_once_as_design_by_design(monkeypatch):
+    """Without numba, :func:`ordered.assign` computes the costs of every design at once (numpy): the same numbers as
+    :func:`ordered._costs` design by design (points and poses, both powers, a NaN sample), and the same assignment."""
+    rng = np.random.default_rng(4)
+    for K, weight in ((2, 0.0), (3, 0.7)):
+        path = rng.normal(size=(5, 30, K)) * [1.0, 1.0, 4.0][:K]
+        path[1, 3, 0] = np.nan
+        valid = rng.random((5, 30)) > 0.1
+        xy = rng.normal(size=(4, K))
+        for power in (1, 2):
+            C = ordered.costs(path, valid, xy, power, weight)
+            for d in range(5):
+                one = np.empty((4, 30))
+                ordered._costs(path[d], valid[d], xy, power, weight, one)
+                assert np.array_equal(C[d], one)
+            monkeypatch.setattr(ordered, "compiled", lambda: None)
+            for mode in range(4):
+                a, b = ordered.assign(path, valid, xy, power, mode, weight), ordered._batch(path, valid, xy, power,
+                                                                                           mode, weight)
+                assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
 # -- the inner solve against a dense search over the crank angle ---------------------------------------------------
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
 def test_inner_timing_is_each_targets_nearest_point_of_the_curve(backend):
