@@ -82,6 +82,17 @@ def same(a, b, fields=FIELDS, rel=1e-11, scale=1.0):
         assert np.all(np.abs(x[ok] - y[ok]) <= rel * np.maximum(floor, np.abs(x[ok]))), f
 
 
+def test_rates_per_sample_give_the_velocities_and_accelerations_of_the_numpy_route(triad):
+    """Input speeds and accelerations given per sample ((N, 1), as the co-design's motor law gives them) scale the
+    compiled solve's analogues sample by sample: the same velocities and accelerations as the numpy route."""
+    q = np.linspace(0.0, 2 * np.pi, 90, endpoint=False)
+    qdot, qddot = (1.0 + 0.5 * np.sin(q))[:, None], np.cos(q)[:, None]
+    a = assur.solve(triad, None, q, order=2, speeds=qdot, accels=qddot, backend="numpy")
+    b = assur.solve(triad, None, q, order=2, speeds=qdot, accels=qddot, backend="numba")
+    assert b._xyz is not None
+    same(a, b, fields=("pos", "vel", "acc"), scale=0.3)
+
+
 def scaled_triad(s: float):
     """The triad six-bar with every length multiplied by ``s`` (tests/test_scale.py's ``scaled``)."""
     from test_scale import scaled

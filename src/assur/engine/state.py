@@ -206,6 +206,12 @@ class State(StateBase):
                    + np.einsum("...pkl,...k,...l->...p", d2z, qd, qd))
         return vel, acc
 
+    @staticmethod
+    def _input_rate(rate) -> np.ndarray:
+        """The one input's rate (qdot or qddot: (1,) or per sample (..., 1)) shaped to multiply the float views
+        (..., n_points, 2) of a compiled solve (their analogues d/dq, d²/dq²)."""
+        return np.asarray(rate, dtype=float)[..., 0][..., None, None]
+
     @property
     def vel(self) -> np.ndarray | None:
         """(..., n_points, 2) velocities (m/s) at the input rates ``qdot``; None with order 0."""
@@ -213,7 +219,7 @@ class State(StateBase):
             first = self._xyz[1]
             if first is None or self._xyz_time:
                 return first
-            return first * float(self.qdot[0])
+            return first * self._input_rate(self.qdot)
         if self._dz is None:
             return None
         return _xy(self._rate(self._dz[..., : self._np, :], None)[0])
@@ -225,7 +231,7 @@ class State(StateBase):
             first, second = self._xyz[1], self._xyz[2]
             if second is None or self._xyz_time:
                 return second
-            w, a = float(self.qdot[0]), float(self.qddot[0])
+            w, a = self._input_rate(self.qdot), self._input_rate(self.qddot)
             return second * (w * w) + first * a
         if self._d2z is None:
             return None
