@@ -211,3 +211,19 @@ def test_four_bar_constraint_lengths_that_do_not_follow_the_size_keep_the_placem
     p = problem_from_dict(data, base_dir=C3.parent)
     assert p.placement is None
     assert "do not scale" in detect(p)[1]
+
+
+def test_the_command_says_what_each_evaluation_solves(capsys):
+    import json
+
+    from assur.cli.main import main
+    assert main(["synth", str(C3), "--seed", "0", "--budget", "300"]) == 0
+    out = capsys.readouterr().out
+    assert "solved per design: x0, y0, theta0 (placement); the size through r1, r2, r3, r4, rcx, rcy" in out
+    assert main(["synth", str(C3), "--seed", "0", "--budget", "300", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["solved_per_design"] == {"placement": ["x0", "y0", "theta0"],
+                                      "size": ["r1", "r2", "r3", "r4", "rcx", "rcy"]}
+    h5 = SYN / "benchmarks" / "hcdj5_ten_points_ellipse.toml"
+    assert main(["synth", str(h5), "--seed", "0", "--budget", "300"]) == 0
+    assert "theta2_10 (free timing)" in capsys.readouterr().out

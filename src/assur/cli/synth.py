@@ -190,8 +190,11 @@ def cmd_synth(args) -> int:
         finally:
             close(fig)
         plotted = str(args.plot)
+    from ..synthesis.space import solved_per_design
+    solved = solved_per_design(problem)
     if args.json:
         d = result.as_dict()
+        d["solved_per_design"] = solved
         d["written"] = written
         d["plot"] = plotted
         if unwritten:
@@ -210,6 +213,10 @@ def cmd_synth(args) -> int:
     else:
         print(f"no feasible design found: least total violation {result.violation:.6g}")
     print(f"constraints: {', '.join(problem.constraints)}")
+    if solved:
+        parts = [f"{', '.join(solved[k])} ({k})" for k in ("free timing", "placement") if k in solved]
+        size = f"; the size through {', '.join(solved['size'])}" if "size" in solved else ""
+        print("solved per design: " + "; ".join(parts) + size)
     print(f"evaluations: {result.evaluations}  wall time: {result.seconds:.2f} s  stopped: {result.stopped}  "
           f"({result.settings['method']}, {len(result.starts)} start(s), seed {args.seed}, {result.executor})")
     print("settings: " + settings_line(result.settings))

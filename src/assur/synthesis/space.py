@@ -48,4 +48,19 @@ class SearchSpace:
         return X if self.full else X[..., self.index]
 
 
-__all__ = ["SearchSpace"]
+def solved_per_design(problem) -> dict:
+    """The variables each evaluation finds for itself, by reason: ``{"free timing": [names], "placement": [names],
+    "size": [names]}`` (a reason only where it applies; "size": the lengths whose common factor the placement
+    solves, still searched for the shape)."""
+    t, out = problem.targets, {}
+    if t is not None and t.timing == "free" and t.free_timing == "inner":
+        out["free timing"] = list(t.input_variables)
+    pl = problem.placement
+    if pl is not None:
+        out["placement"] = [problem.names[i] for i in pl.solved]
+        if pl.scale:
+            out["size"] = [problem.names[i] for i in pl.scale]
+    return out
+
+
+__all__ = ["SearchSpace", "solved_per_design"]
