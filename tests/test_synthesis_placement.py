@@ -227,3 +227,28 @@ def test_the_command_says_what_each_evaluation_solves(capsys):
     h5 = SYN / "benchmarks" / "hcdj5_ten_points_ellipse.toml"
     assert main(["synth", str(h5), "--seed", "0", "--budget", "300"]) == 0
     assert "theta2_10 (free timing)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_without_the_turn_a_mirrored_fit_keeps_its_size_and_the_run_ends_well(backend):
+    """C3 with the crank's zero not tied to θ0: θ0 no longer turns the mechanism, so only the position and the size
+    are solved (θ0 is searched). A shape that fits best mirrored (D ≤ 0) would be shrunk to a point by the
+    unturned fit: it keeps its size instead, every placed design has positive lengths, and a default run ends on a
+    feasible design without an error."""
+    data = tomllib.loads(C3.read_text(encoding="utf-8"))
+    del data["parameters"]["crank.zero"]
+    p = problem_from_dict(data, base_dir=C3.parent)
+    assert [p.names[i] for i in p.placement.solved] == ["x0", "y0"] and p.placement.angle is None
+    rng = np.random.default_rng(0)
+    lo, hi = p.bounds.T
+    X = lo + rng.random((3000, p.n_vars)) * (hi - lo)
+    ev = Evaluator(p, backend=backend)(X)
+    assert np.all(np.isfinite(ev.penalised))
+    assert np.all(ev.x[:, :4].max(axis=1) > 0)
+    given = Evaluator(dataclasses.replace(p, placement=None), backend=backend)
+    before, again = given(X), given(ev.x)
+    ok = ev.feasible & before.feasible
+    assert ok.sum() > 100 and np.all(ev.objective[ok] <= before.objective[ok] * (1 + 1e-12))
+    assert np.allclose(again.objective[ev.feasible], ev.objective[ev.feasible], rtol=1e-12, atol=0)
+    r = synthesize(p, seed=0, budget=20000, backend=backend)
+    assert r.feasible and np.isfinite(r.objective)

@@ -128,10 +128,12 @@ def polyline_distance(px, py, txy, out, d, col):
         out[d, col + j] = math.sqrt(best)
 
 
-_similarity = njit(cache=True, error_model="numpy")(similarity)
+#: compiled without numba's disk cache: that cache follows this file's changes, not those of .similarity, where the
+#: arithmetic is written (a kernel that calls it is cached under a name that follows both: codegen.GENERATOR_FILES)
+_similarity = njit(error_model="numpy")(similarity)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(error_model="numpy")
 def similarity_fit(px, py, pv, txy, lim, rotate, out, d):
     """The best placement of design d (:mod:`assur.synthesis.placement`) from its points (px, py) (N,) at the
     reference placement, ``pv`` (N,) 1.0 where assembled, the targets ``txy (N, 2)``, its limits ``lim (6,)``:

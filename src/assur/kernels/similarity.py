@@ -11,12 +11,13 @@ def similarity(qx, qy, tx, ty, A, C, D, lim, rotate):
     assembled targets, A, C, D, the limits ``lim`` (6 values or rows: s interval, x bounds, y bounds), ``rotate``
     (1.0: turn, 0.0: keep the angle). Returns (s, φ, dx, dy). Elementwise arithmetic only (no branch), so the same
     lines serve arrays (the numpy route) and scalars (compiled into the kernels' helper,
-    :func:`assur.kernels.reductions.similarity_fit`). A = 0 (no spread: fewer than two assembled targets) keeps
-    s = 1, clipped."""
+    :func:`assur.kernels.reductions.similarity_fit`). Where no positive size improves on none (A = 0: fewer than two
+    assembled targets; or, without the turn, D ≤ 0: the shape fits best mirrored, and the fit would shrink it to a
+    point), the size stays as proposed (s = 1, clipped)."""
     phi = np.arctan2(C, D) * rotate
     along = rotate * np.hypot(C, D) + (1.0 - rotate) * D
-    spread = (A > 0.0) * 1.0
-    s = spread * along / (A + (1.0 - spread)) + (1.0 - spread)
+    fits = (A > 0.0) * (along > 0.0) * 1.0
+    s = fits * along / (A + (1.0 - fits)) + (1.0 - fits)
     s = np.minimum(np.maximum(s, lim[0]), lim[1])
     cphi, sphi = np.cos(phi), np.sin(phi)
     dx = np.minimum(np.maximum(tx - s * (cphi * qx - sphi * qy), lim[2]), lim[3])

@@ -324,6 +324,9 @@ class Evaluator:
                 viol = viol + np.maximum(0.0, v - lim.high)
             V[f"limit[{i}] {lim.quantity}"] = np.where(np.isfinite(v), viol, 1.0)
         total = sum(V.values())
+        # a measure that cannot be computed (0/0 on a degenerate design) or overflows: infeasible, with a finite
+        # penalty (the polish's residuals must stay finite)
+        total = np.where(np.isnan(total), 1.0, np.minimum(total, 1e30))
         bad_f = ~np.isfinite(f)
         total = np.where(bad_f & (total == 0), 1.0, total)        # an objective that cannot be computed
         feasible = total == 0
