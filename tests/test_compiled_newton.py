@@ -82,6 +82,7 @@ def same(a, b, fields=FIELDS, rel=1e-11, scale=1.0):
         assert np.all(np.abs(x[ok] - y[ok]) <= rel * np.maximum(floor, np.abs(x[ok]))), f
 
 
+@pytest.mark.slow            # compiles the order-2 kernel (10–30 s with an empty cache)
 def test_rates_per_sample_give_the_velocities_and_accelerations_of_the_numpy_route(triad):
     """Input speeds and accelerations given per sample ((N, 1), as the co-design's motor law gives them) scale the
     compiled solve's analogues sample by sample: the same velocities and accelerations as the numpy route."""

@@ -61,10 +61,12 @@ def test_swept_designs_move_continuously_and_agree_where_the_default_does(plan):
 
 
 def test_sweep_is_ignored_where_it_does_not_apply(plan):
-    """Designs varying along the samples' axis, or a plan without Newton groups: the default solve, bit for bit."""
+    """Designs varying along the samples' axis, or a plan without Newton groups: the default solve, bit for bit (on
+    one backend: with backend="auto" the choice between the compiled and the numpy route depends on which kernels
+    earlier tests of the process left compiled, and the two agree to round-off, not bit for bit)."""
     P = _designs(plan, n=len(Q) - 1)
-    a = assur.solve(plan, P, Q, order=0)
-    b = assur.solve(plan, P, Q, order=0, sweep=True)
+    a = assur.solve(plan, P, Q, order=0, backend="numpy")
+    b = assur.solve(plan, P, Q, order=0, sweep=True, backend="numpy")
     assert np.array_equal(np.nan_to_num(a.pos), np.nan_to_num(b.pos))
     four = assur.compile(assur.load(TRIAD.parent / "crank_rocker.toml"))
     c = assur.solve(four, inputs=Q, backend="numpy")
