@@ -294,6 +294,7 @@ FAR_CLASS_IV = {"J1.x": -62.6574833226064, "J1.y": -231.8758787332542, "L2.lengt
                 "L5.J4.distance": 194.09121877428564, "L5.J4.angle": 92.46652425163718}
 
 
+@pytest.mark.slow            # about 12 s
 def test_a_far_newton_design_is_studied_in_its_own_assembly(six):
     """The search sweeps each design through the turn from its own assembly at the sketch's angle; the template's
     plan continued to a design this far from its sketch loses its way on part of the turn. The result's Study is

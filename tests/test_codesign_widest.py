@@ -159,6 +159,7 @@ def atlas_leg():
     return assur.compile(assur.load(ROOT / "docs" / "codesign" / "widest_leg6.toml"))
 
 
+@pytest.mark.slow            # about 7 s
 def test_the_published_atlas_leg_is_measured_as_the_page_says(atlas_leg):
     """docs/codesign/widest_leg6.toml (docs/codesign.md, "The widest window in the atlas"): its widest screened
     window 0.840, the worst margin at 0.9 the pressure angle with the window's bound 36.0° > 30°, and the gait

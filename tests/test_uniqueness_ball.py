@@ -85,6 +85,7 @@ def test_points_within_d_put_the_poses_within_reach_times_d(classiv):
     assert checked > 2 * len(X)
 
 
+@pytest.mark.slow            # about 9 s
 def test_no_assembly_is_proven_alone_where_another_is(classiv):
     """A design whose group locks over part of the turn (the binary b2 at 0.8 of its length): at the ends of the
     locked range two assemblies meet, so the nearest other one comes arbitrarily close."""
