@@ -110,9 +110,9 @@ def parse_targets(raw, plan, L, A, number, P) -> Targets | None:
     extra = {"kind": kind}
     if kind == "points":
         placement = raw.get("placement", "inner")
-        if placement not in PLACEMENTS:
+        if placement not in PLACEMENTS:      # reported; the rest of the targets is still read
             P.add("targets.placement", f"must be one of {', '.join(PLACEMENTS)}: {placement!r}")
-            return None
+            placement = "explicit"
         extra["placement"] = placement
     point = None
     if kind != "function":
