@@ -22,8 +22,7 @@ def parameters(problem, X) -> np.ndarray:
     the problem's ``[parameters]`` expressions evaluated in order (a parameter may use those before it)."""
     plan = problem.plan
     p = np.tile(plan.defaults, (len(X), 1))
-    env = {name: p[:, i] for i, name in enumerate(plan.param_names)}
-    env.update({v.name: X[:, j] for j, v in enumerate(problem.variables)})
+    env = expression_env(problem, p, X)        # its parameter columns are views: filled in below, in order
     names = set(problem.names)
     with np.errstate(all="ignore"):
         for name, e in problem.parameters:
@@ -32,6 +31,21 @@ def parameters(problem, X) -> np.ndarray:
             if name not in names:
                 env[name] = p[:, idx]
     return p
+
+
+def expression_env(problem, params, X) -> dict:
+    """The names the problem's expressions read → (n,) columns: the mechanism's parameters ``params``
+    (n, n_params) and the design variables of X (n, n_vars), a variable shadowing a parameter of its name."""
+    env = {name: params[:, i] for i, name in enumerate(problem.plan.param_names)}
+    env.update({v.name: X[:, j] for j, v in enumerate(problem.variables)})
+    return env
+
+
+def fourbar_lengths(problem, env, n: int) -> np.ndarray:
+    """(n, 4) the lengths the four-bar constraints read (``[constraints] fourbar``), from :func:`expression_env`;
+    NaN where an expression cannot be computed."""
+    with np.errstate(all="ignore"):
+        return np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (n,)) for _, e in problem.fourbar], axis=1)
 
 
 def target_inputs(problem, X) -> np.ndarray:
@@ -95,4 +109,4 @@ def mechanism_with_params(plan, params, *, name: str | None = None, description:
                                description=m.description if description is None else description)
 
 
-__all__ = ["mechanism_with_params", "parameters", "target_inputs"]
+__all__ = ["expression_env", "fourbar_lengths", "mechanism_with_params", "parameters", "target_inputs"]

@@ -20,7 +20,7 @@ from ..errors import SpecError, float_array
 from ..tolerances import DEFAULT
 from . import fourbar as fb
 from .defects import defect_measures, nearest_inputs
-from .design import parameters, target_inputs
+from .design import expression_env, fourbar_lengths, parameters, target_inputs
 from .problem import Problem
 from .targets import target_offsets
 
@@ -220,22 +220,17 @@ class Evaluator:
         lim = limits(pl, Xw, prob.bounds)
         rotate = pl.angle is not None
         if self._fusable and not detail:
-            from ..engine.planar.numba_backend import path_objective
             params = self._params(R)
-            finite = np.all(np.isfinite(params), axis=1)
-            params = np.where(finite[:, None], params, prob.plan.defaults)
-            cycle = self._cycle_q if self._needs_cycle and not self._cycle_fast else None
-            theta = self._target_inputs(R)
-            q = theta[:1] if prob.targets.timing == "prescribed" else theta
-            out = path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle, DEFAULT.radicand,
-                                 lim, rotate)
+            params = np.where(np.all(np.isfinite(params), axis=1)[:, None], params, prob.plan.defaults)
+            out = self._fused(self._target_inputs(R), params, lim, rotate)
             return place(pl, R, prob.bounds, *out[:, 5:9].T), out
         q, ok = points(prob, R, self.backend)
         return place(pl, R, prob.bounds, *fit(q, ok, prob.targets.xy, lim, rotate)), None
 
-    def _fused(self, theta, params):
+    def _fused(self, theta, params, limits=None, rotate=False):
         """The compiled reduction (D, 5) of ``engine.planar.numba_backend.path_objective`` where it covers the
-        problem (timed targets, deviation and buildability only), else None. theta: (n, N) target inputs."""
+        problem (timed targets, deviation and buildability only), else None. theta: (n, N) target inputs. With
+        ``limits`` (D, 6) the designs' placements solved too (``params`` at their reference placement): (D, 9)."""
         if not self._fusable:
             return None
         from ..engine.planar.numba_backend import path_objective
@@ -243,7 +238,7 @@ class Evaluator:
         cycle = self._cycle_q if self._needs_cycle and not self._cycle_fast else None
         q = theta[:1] if prob.targets.timing == "prescribed" else theta
         return path_objective(prob.plan, params, q, prob.targets.xy, prob.targets.point, cycle,
-                              DEFAULT.radicand)
+                              DEFAULT.radicand, limits, rotate)
 
     def _chunk(self, X, detail: bool = False) -> Evaluation:
         from ..engine import solve
@@ -305,8 +300,7 @@ class Evaluator:
             Q["deviation"] = (d * d).sum(axis=1) if prob.deviation == "squared" else d.sum(axis=1)
             if prob.deviation != "none":
                 f = f + prob.deviation_weight * Q["deviation"]
-        env = {name: params[:, i] for i, name in enumerate(plan.param_names)}   # for the expressions
-        env.update({v.name: Xw[:, j] for j, v in enumerate(prob.variables)})
+        env = expression_env(prob, params, Xw)             # for the expressions
         if prob.fourbar:
             self._fourbar(env, theta, n, V)
         for c in ("cyclic_order", "cyclic_order_any", "ascending"):
@@ -417,8 +411,7 @@ class Evaluator:
     def _fourbar(self, env, theta, n, V):
         """The four-bar constraint measures; env: the expressions' names → (n,), theta (n, N) or None."""
         prob = self.problem
-        with np.errstate(all="ignore"):
-            L = np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (n,)) for _, e in prob.fourbar], axis=1)
+        L = fourbar_lengths(prob, env, n)
         L = np.where(np.isfinite(L), L, 0.0)
         safe = np.where(L > 0, L, 1e-300)
         for c, measure in (("grashof", fb.grashof), ("nondegenerate", fb.nondegenerate),

@@ -157,27 +157,18 @@ def detect(problem, rng_seed: int = 0) -> tuple[PlacementVariables | None, str |
         if not moved(X1, centre + 0.73 * (q0 - centre)):
             scale = ()
     if problem.fourbar:             # the four-bar constraints' lengths must follow the size and ignore the rest
+        from .design import expression_env, fourbar_lengths, parameters
         X1 = X.copy()
         X1[:, [x, y]] += 0.29 * step
         if angle is not None:
             X1[:, angle] += turn
         factor = 0.73 if scale else 1.0
         X1[:, list(scale)] *= factor
-        L0, L1 = fourbar_lengths(problem, X), fourbar_lengths(problem, wrap(X1))
+        L0, L1 = (fourbar_lengths(problem, expression_env(problem, parameters(problem, Z), Z), len(Z))
+                  for Z in (X, wrap(X1)))
         if not np.allclose(L1, factor * L0, rtol=AGREEMENT, atol=0.0):
             return None, "the four-bar constraints' lengths do not scale with the mechanism"
     return PlacementVariables(x, y, angle, scale), None
-
-
-def fourbar_lengths(problem, X) -> np.ndarray:
-    """(n, 4) the lengths the four-bar constraints read (``[constraints] fourbar``) at wrapped designs X."""
-    from .design import parameters
-    params = parameters(problem, X)
-    env = {name: params[:, i] for i, name in enumerate(problem.plan.param_names)}
-    env.update({v.name: X[:, j] for j, v in enumerate(problem.variables)})
-    with np.errstate(all="ignore"):
-        return np.stack([np.broadcast_to(np.asarray(e(env), dtype=float), (len(X),)) for _, e in problem.fourbar],
-                        axis=1)
 
 
 def points(problem, X, backend) -> tuple[np.ndarray, np.ndarray]:

@@ -61,14 +61,6 @@ def order_of(constraints) -> str:
 ORDER_CODES = {"none": 0, "ccw": 1, "either": 2, "ascending": 3}
 
 
-def sample_costs(path, valid, xy, power: int):
-    """Cost (n, N, M) of target i at sample u: |P_u − T_i|^power, inf where the sample is unassembled.
-    path (n, M, 2), valid (n, M), xy (N, 2). (What :mod:`assur.kernels.ordered` computes design by design.)"""
-    d2 = np.sum((path[:, None, :, :] - xy[None, :, None, :]) ** 2, axis=-1)
-    cost = d2 if power == 2 else np.sqrt(d2)
-    return np.where(valid[:, None, :], cost, np.inf)
-
-
 def assign_samples(path, valid, xy, power: int, order: str, angle_weight: float = 0.0):
     """Unrolled sample indices (n, N) of the best assignment of the targets to the samples under ``order`` (module
     docstring), and for 'either' whether the clockwise sense won (n,) bool. path (n, M, 2) and xy (N, 2) for points;
@@ -244,4 +236,4 @@ def solve_timing(plan, params, point: str, xy, cycle_inputs, order: str, power: 
 
 
 __all__ = ["ORDERS", "SAMPLE_CHUNK", "assign_samples", "order_of", "pose_cost", "refine", "refine_poses", "restore_order",
-           "sample_costs", "solve_timing"]
+           "solve_timing"]
