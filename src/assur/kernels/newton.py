@@ -63,13 +63,16 @@ def newton(F_and_J, x: np.ndarray, residual_tol: float, iterations: int, accept_
         done = np.all(np.abs(F) < residual_tol, axis=-1) | ~np.all(np.isfinite(F), axis=-1)
         if np.all(done):
             break
+        # only the samples still iterating are factorised (a converged or failed one does not move)
+        active = ~done
         with np.errstate(all="ignore"):
-            Jr = np.where(done[..., None, None], np.eye(n), J)
+            Jr = J[active]
             Jr = np.where(np.isfinite(Jr), Jr, 0.0) + 0.0
             singular = ~(np.abs(scaled_det(Jr)) >= SINGULAR_DETERMINANT)
             Jr = np.where(singular[..., None, None], np.eye(n), Jr)
-            dx = np.linalg.solve(Jr, -np.where(np.isfinite(F), F, 0.0)[..., None])[..., 0]
-        dx = np.where(done[..., None], 0.0, np.where(singular[..., None], np.nan, dx))
+            step = np.linalg.solve(Jr, -np.where(np.isfinite(F[active]), F[active], 0.0)[..., None])[..., 0]
+        dx = np.zeros(x.shape)
+        dx[active] = np.where(singular[..., None], np.nan, step)
         x = x + dx
     F, J = F_and_J(x)
     # one more Newton step polishes the converged samples to round-off
