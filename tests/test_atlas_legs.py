@@ -162,15 +162,16 @@ def test_six_link_ranking_end_to_end(tmp_path, six):
     """Every six-link candidate dimensioned with a small budget, ranked and written: the page, the data and a
     mechanism file and drawing per entry, each file walking with the metrics the ranking reports."""
     from assur.report.legs import write_leg_ranking
-    # every closed-form candidate and two with a Newton-solved (class III) group: all of them dimensioned and ranked
-    # together (the other class III candidates cost a minute each at this budget on the numpy path)
-    subset = [c for c in six if not c.newton] + [c for c in six if c.newton][:2]
+    # every closed-form candidate and one with a Newton-solved (class III) group: all of them dimensioned and ranked
+    # together (a class III candidate costs 15-30 s at this budget on the numpy path; the others are dimensioned by
+    # test_a_triad_candidate_is_dimensioned_by_default and the local-process ranking below)
+    subset = [c for c in six if not c.newton] + [c for c in six if c.newton][:1]
     ranking = rank_legs(6, settings={"budget": 600, "starts": 1, "backend": "numpy"}, candidates=subset)
     out = tmp_path / "legs"
     write_leg_ranking(ranking, out, subset)
     entries = ranking.entries
     n = len(subset)
-    assert len(entries) == n == 24
+    assert len(entries) == n == 23
     assert [e["rank"] for e in entries] == list(range(1, n + 1))
     # each start's search runs whole generations within its share of the budget (a population is 15 per variable)
     assert not any(e["skipped"] for e in entries) and all(e["evaluations"] >= 0.8 * 600 for e in entries)

@@ -94,12 +94,20 @@ def test_tour_is_parsed():
     assert any("out/" in arg for c in commands for arg in c)     # the tour writes under out/, rewritten below
 
 
+#: the tour's effort flags cut to these values at most (a plain install must run each command, not reproduce its
+#: result: the README's figures are checked by their own tests): the synthesis time limit (s), the evaluation
+#: budgets, the Monte Carlo draws, the walking legs ranked
+EFFORT_CAPS = {"--time": 3, "--budget": 1000, "--monte-carlo": 2000, "--limit": 1}
+
+
 def _rewrite(args: list[str], out: Path) -> tuple[list[str], Path | None]:
-    """The outputs moved from out/ to ``out``; the C3 synthesis run's --time shortened from 60 s to 10 s (a plain
-    install must run it, not reproduce its result). Returns the arguments and the output path, if any."""
+    """The outputs moved from out/ to ``out``; the effort flags cut to :data:`EFFORT_CAPS`. Returns the arguments
+    and the output path, if any."""
     args = [str(out / a[len("out/"):]) if a.startswith("out/") else a for a in args]
-    if "--time" in args:
-        args[args.index("--time") + 1] = "10"
+    for flag, cap in EFFORT_CAPS.items():
+        if flag in args:
+            i = args.index(flag) + 1
+            args[i] = str(min(float(args[i]), cap)).removesuffix(".0")
     target = None
     for flag in ("-o", "--output", "--csv", "--plot"):
         if flag in args:
