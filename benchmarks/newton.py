@@ -28,10 +28,11 @@ them alike; min and median over the repeats.
    difference.
 6. **Where the compiled triad cycle's time goes** (case 1's cycle, round-robin): the whole ``assur.solve`` call, its
    kernel called alone with the same arguments (the rest is the Python around it: the batch's layout, the arguments,
-   the State), and the same kernel with the triad's root certificate (``reductions.triad_check``: the polynomial's
-   roots tracked, the nearest assembly and the separation) replaced by "passed" — on this mechanism every step passes
-   it, so the walks and the numbers are the same (checked), and the difference is the certificate's cost; the rest
-   is the continuation's Newton iterations and the derivatives.
+   the State), and the same kernel with the triad's certificate (``reductions.triad_check``: the root-free bound on
+   the distance to the other assemblies first, and where it proves nothing the polynomial's roots tracked, the
+   nearest assembly and the separation) replaced by "passed" — on this mechanism every step passes it, so the walks
+   and the numbers are the same (checked), and the difference is the certificate's cost; the rest is the
+   continuation's Newton iterations and the derivatives.
 """
 from __future__ import annotations
 
@@ -164,7 +165,7 @@ def breakdown(repeats: int) -> dict:
         outs[name] = (out, valid)
         return lambda: k(*args, 1.0, 1.0, 0.0, out, valid)
     cases = {"assur.solve, the whole call": whole, "its kernel alone": alone(kernel, "kernel"),
-             "the kernel without the triad's root certificate": alone(bare, "bare")}
+             "the kernel without the triad's certificate": alone(bare, "bare")}
     for fn in cases.values():
         fn()
     (a, va), (b, vb) = outs["kernel"], outs["bare"]
@@ -297,15 +298,15 @@ def report(repeats: int, moves: int) -> str:
               "| case | min | median |", "|---|---|---|"]
     for k, ts in brk["times"].items():
         lines.append(f"| {k} | {min(ts) * 1e3:.3f} ms | {statistics.median(ts) * 1e3:.3f} ms |")
-    lines += ["", f"Medians: the Python around the kernel {(whole - alone) * 1e3:.3f} ms, the triad's root certificate "
+    lines += ["", f"Medians: the Python around the kernel {(whole - alone) * 1e3:.3f} ms, the triad's certificate "
               f"{(alone - bare) * 1e3:.3f} ms, the rest of the kernel (about one certified Newton solve per sample, "
               f"the continuation's bookkeeping, the derivatives) {bare * 1e3:.3f} ms. The kernel without the "
               f"certificate gave {'the same' if brk['same'] else 'DIFFERENT'} valid samples and numbers.", ""]
     dyad = min(med[k] for k in med if "dyads, compiled" in k)
     lines += ["## The targets (issue 26, section 4)", "",
               f"- a triad six-bar cycle within 3× a compiled dyad six-bar's time: {med[triad] / dyad:.1f}× "
-              f"({'met' if med[triad] <= 3 * dyad else 'not met'}); the kernel's certified Newton solves and root "
-              f"certificate alone take {bare / dyad:.1f}× and {(alone - bare) / dyad:.1f}× the dyad six-bar's whole "
+              f"({'met' if med[triad] <= 3 * dyad else 'not met'}); the kernel's certified Newton solves and the "
+              f"triad's certificate alone take {bare / dyad:.1f}× and {(alone - bare) / dyad:.1f}× the dyad six-bar's whole "
               "call;",
               f"- the designer's preview of it at p95 < 30 ms: {np.percentile(prev, 95):.1f} ms on the server "
               f"({'met' if np.percentile(prev, 95) < 30 else 'not met'} there; the browser's round trip is "

@@ -296,6 +296,77 @@ def _track_roots(TS, RT):
     return False
 
 
+#: the strip |Im φ| ≤ β of complex orientations that holds every root z = exp(iφ) the certificates count as an
+#: assembly (| |z| − 1 | below _ON_CIRCLE: |z| = exp(−Im φ))
+_TRIAD_STRIP = -math.log(1.0 - _ON_CIRCLE)
+#: |e^{ikφ}| ≤ e^{kβ} on that strip, k = 1, 2, 3
+_TRIAD_GROWTH = (math.exp(_TRIAD_STRIP), math.exp(2.0 * _TRIAD_STRIP), math.exp(3.0 * _TRIAD_STRIP))
+#: steps of :func:`triad_alone`'s walk away from the solved orientation, each way
+_TRIAD_WALK = 4
+
+
+@njit(cache=True, error_model="numpy")
+def _triad_slopes(TS, e1):
+    """(G'(φ), G''(φ)) at e1 = exp(iφ) from the coefficients c_k in ``TS[8:15]`` (c_k = TS[11 − k], c_−k = c̄_k):
+    G' = −2·Σ k·Im(c_k·e^{ikφ}), G'' = −2·Σ k²·Re(c_k·e^{ikφ}), k = 1, 2, 3."""
+    ek = e1
+    g1 = 0.0
+    g2 = 0.0
+    for k in range(1, 4):
+        t = TS[11 - k] * ek
+        g1 -= 2.0 * k * t.imag
+        g2 -= 2.0 * k * k * t.real
+        ek = ek * e1
+    return g1, g2
+
+
+@njit(cache=True, error_model="numpy")
+def triad_alone(TA, TS, reach):
+    """A lower bound (m) on the distance from the triad's pose x to every other assembly its polynomial has, from the
+    coefficients in ``TS[8:15]`` (:func:`_triad_coefficients`) alone: no root is found. 0 where nothing is proven.
+    ``reach`` (rad): the turn of the ternary beyond which the bound need not look (π: as far as it can).
+
+    G(φ) = Σ c_k·e^{ikφ} (|k| ≤ 3) has |G‴| ≤ M = 2·Σ k³·|c_k|·e^{kβ} on the strip |Im φ| ≤ β (:data:`_TRIAD_STRIP`)
+    that holds every root counted as an assembly. From x's orientation θ the bound walks each way: at φ_j, with
+    g = |G'(φ_j)| and h = |G''(φ_j)|, |G'| stays above m = M·β²/6 for a further δ with g − h·δ − M·δ²/2 = m (Taylor).
+    Where |G'| > m on a real interval I around θ, G is monotone on I (at most one real root there), and a complex root
+    φ + iy (0 < |y| ≤ β, φ in I) cannot be: Im G(φ + iy) = y·G'(φ) + R with |R| ≤ M·|y|³/6. So every assembly but the
+    one I may hold is turned at least r from θ (r: I's shorter side, at most π), and two poses of the ternary turned by
+    Δ apart move one of the ends of its longest side D by at least |sin(Δ/2)|·D: the bound is sin(r/2)·D. Each step
+    and the bound are shrunk by 1 % for round-off (a step needs g above m = 10⁻⁶·M/6, far above G's round-off)."""
+    e0 = complex(math.cos(TA[17]), math.sin(TA[17]))
+    big = 0.0
+    for k in range(1, 4):
+        big += k * k * k * abs(TS[11 - k]) * _TRIAD_GROWTH[k - 1]
+    big *= 2.0
+    floor = 1.01 * big * _TRIAD_STRIP * _TRIAD_STRIP / 6.0
+    if not (big > 0.0 and math.isfinite(big)):
+        return 0.0
+    reach = min(reach, math.pi)
+    r = math.pi
+    for way in (1.0, -1.0):
+        e = e0
+        gone = 0.0
+        for _ in range(_TRIAD_WALK):
+            g, h = _triad_slopes(TS, e)
+            g, h = abs(g), abs(h)
+            if not g > floor:
+                break
+            # the largest δ with g − h·δ − M·δ²/2 ≥ m
+            step = 0.99 * 2.0 * (g - floor) / (h + math.sqrt(h * h + 2.0 * big * (g - floor)))
+            gone += step
+            if gone >= reach:
+                break
+            e = e * complex(math.cos(way * step), math.sin(way * step))
+        r = min(r, gone)
+    side2 = 0.0
+    for i in range(3):
+        for j in range(i + 1, 3):
+            dr, di = TA[2 * i] - TA[2 * j], TA[2 * i + 1] - TA[2 * j + 1]
+            side2 = max(side2, dr * dr + di * di)
+    return 0.99 * math.sin(0.5 * min(r, math.pi)) * math.sqrt(side2)
+
+
 @njit(cache=True, error_model="numpy")
 def triad_check(TA, TS, RT, sep):
     """A triad's certificates at a solved pose, as the numpy backend's continuation checks them
@@ -306,13 +377,44 @@ def triad_check(TA, TS, RT, sep):
     ``TA``: w (0:6, the ternary's three points in its frame, re/im), Q (6:12, the three known points), ell (12:15, the
     binary links' lengths), the ternary's pose at x (15:18: x, y, θ) and at the prediction (18:21), the length scale
     (21); ``TS``: complex scratch (22,); ``RT``: the roots of the last call (0:6) and whether they are known (6: > 0).
-    The polynomial's roots are the last call's, refined (:func:`_track_roots`); where that fails, the companion
-    matrix's eigenvalues, as numpy finds them."""
+
+    Where :func:`triad_alone` proves every other assembly at least L from x, both hold without a root: the sample's
+    when L > sep; the step's when L ≥ 3·d + 2·10⁻⁶·scale (d: the distance of x from the prediction; the assembly
+    within 10⁻⁶·scale of x, if any, is then x's own, at most d + 10⁻⁶·scale from the prediction, and every other is
+    at least L − d from it). The bound looks only as far as that needs. Otherwise :func:`triad_check_roots`
+    decides."""
+    _triad_coefficients(TA, TS)
+    d2 = 0.0
+    side2 = 0.0
+    c, s = math.cos(TA[17]), math.sin(TA[17])
+    cp, sp = math.cos(TA[20]), math.sin(TA[20])
+    for k in range(3):
+        wr, wi = TA[2 * k], TA[2 * k + 1]
+        dr = TA[15] + c * wr - s * wi - (TA[18] + cp * wr - sp * wi)
+        di = TA[16] + c * wi + s * wr - (TA[19] + cp * wi + sp * wr)
+        d2 = max(d2, dr * dr + di * di)
+        for j in range(k + 1, 3):
+            er, ei = wr - TA[2 * j], wi - TA[2 * j + 1]
+            side2 = max(side2, er * er + ei * ei)
+    step = 3.0 * math.sqrt(d2) + 2e-6 * TA[21]
+    # the ternary's turn that moves an end of its longest side by what is needed (the bound's 1 % included)
+    ratio = max(step, sep) / (0.99 * math.sqrt(side2))
+    if ratio < 0.999:
+        alone = triad_alone(TA, TS, 1.001 * 2.0 * math.asin(ratio))
+        if alone > sep and alone >= step:
+            return True, True
+    return triad_check_roots(TA, TS, RT, sep)
+
+
+@njit(cache=True, error_model="numpy")
+def triad_check_roots(TA, TS, RT, sep):
+    """:func:`triad_check` from every root of the polynomial whose coefficients :func:`_triad_coefficients` left in
+    ``TS[8:15]``: the last call's roots, refined (:func:`_track_roots`); where that fails, the companion matrix's
+    eigenvalues, as numpy finds them."""
     ox, oth = (TA[15], TA[16]), TA[17]
     po, pth = (TA[18], TA[19]), TA[20]
     scale = TA[21]
     cx, sx, cp, sp = math.cos(oth), math.sin(oth), math.cos(pth), math.sin(pth)
-    _triad_coefficients(TA, TS)
     a = TS[8:15]
     big2 = 0.0
     finite = True
