@@ -306,8 +306,8 @@ def report(repeats: int, moves: int) -> str:
     lines += ["## The targets (issue 26, section 4)", "",
               f"- a triad six-bar cycle within 3× a compiled dyad six-bar's time: {med[triad] / dyad:.1f}× "
               f"({'met' if med[triad] <= 3 * dyad else 'not met'}); the kernel's certified Newton solves and the "
-              f"triad's certificate alone take {bare / dyad:.1f}× and {(alone - bare) / dyad:.1f}× the dyad six-bar's whole "
-              "call;",
+              f"triad's certificate alone take {bare / dyad:.1f}× and {(alone - bare) / dyad:.1f}× the dyad "
+              "six-bar's whole call;",
               f"- the designer's preview of it at p95 < 30 ms: {np.percentile(prev, 95):.1f} ms on the server "
               f"({'met' if np.percentile(prev, 95) < 30 else 'not met'} there; the browser's round trip is "
               "benchmarks/designer.py's);",
