@@ -349,3 +349,29 @@ def test_bad_gear_check_input(law, kwargs, field):
     with pytest.raises(SpecError) as exc:
         gear_checks(law, L, **args)
     assert _fields(exc) == [field]
+
+
+def test_a_foot_law_asked_for_again_is_the_one_made_and_goes_with_its_plan(monkeypatch):
+    """foot_law keeps the laws it made per plan: asked again (same parameters and samples) it gives the same law on the
+    plan it was asked for without making it again; other parameters give another law, equal to one made afresh on a
+    new compile of the file; and nothing keeps the plan alive."""
+    import gc
+    import weakref
+    from assur.codesign import law as law_module
+    plan = assur.compile(assur.load(WALKER))
+    first = foot_law(plan, samples=256)
+    made = []
+    real = law_module._foot_law
+    monkeypatch.setattr(law_module, "_foot_law", lambda *a: made.append(len(a)) or real(*a))
+    again = foot_law(plan, samples=256)
+    assert again.plan is plan and not made
+    assert np.array_equal(again.x, first.x) and again.contact_start == first.contact_start
+    other = plan.defaults * 1.01
+    moved = foot_law(plan, other, samples=256)
+    assert len(made) == 1
+    fresh = foot_law(assur.compile(assur.load(WALKER)), other, samples=256)
+    assert not np.array_equal(moved.x, first.x) and np.array_equal(moved.x, fresh.x)
+    gone = weakref.ref(plan)
+    del plan, first, again, moved
+    gc.collect()
+    assert gone() is None

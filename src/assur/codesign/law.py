@@ -29,7 +29,9 @@ are continuous and the window law is exact to the spline's interpolation error (
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import threading
+import weakref
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -141,19 +143,48 @@ def foot_law_from_samples(x, contact_start: float, contact_end: float, *, x_min:
     return FootLaw(q, x, spline, cs, ce, lo, hi, -1 if sense < 0 else 1, float(omega))
 
 
+#: the foot laws made in this process, per plan (weakly: they go with it) and (params, samples), each kept without
+#: its plan: a co-design's searches and trade-off rows, the window screen and the leg ranking ask for the same leg's
+#: law again
+_FOOT_LAWS = weakref.WeakKeyDictionary()
+_FOOT_LAWS_LOCK = threading.Lock()
+#: laws kept per plan (the latest)
+_FOOT_LAWS_PER_PLAN = 8
+
+
 def foot_law(plan, params=None, *, samples: int = 4096) -> FootLaw:
     """The foot's stride coordinate of a walking leg over one crank turn (see :class:`FootLaw`).
 
     The leg is solved (order 2) at ``samples`` uniform crank inputs; x = foot·ground (the plan's ``[gait]``); the
     contact arc and the stride's ends are those of :func:`~assur.analysis.gait.gait_metrics` (exact extremes).
     Raises SpecError (no ``[gait]`` foot, not one rotary input, too few samples), UnbuildableError (the crank
-    cannot turn fully)."""
+    cannot turn fully). The law of a plan, parameters and sample count made before in this process is returned again
+    (a FootLaw is frozen)."""
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 64:
+        raise SpecError([("samples", f"must be a whole number ≥ 64: {samples!r}")])
+    try:
+        key = (np.asarray(plan.defaults if params is None else params, dtype=float).tobytes(), int(samples))
+        with _FOOT_LAWS_LOCK:
+            law = _FOOT_LAWS.setdefault(plan, {}).get(key)
+    except (TypeError, ValueError):     # parameters that are not numbers (refused below), a plan not kept weakly
+        return _foot_law(plan, params, samples)
+    if law is not None:
+        return replace(law, plan=plan)
+    law = _foot_law(plan, params, samples)
+    with _FOOT_LAWS_LOCK:
+        kept = _FOOT_LAWS.setdefault(plan, {})
+        kept[key] = replace(law, plan=None)          # kept without the plan, so that the entry goes with it
+        while len(kept) > _FOOT_LAWS_PER_PLAN:
+            kept.pop(next(iter(kept)))
+    return law
+
+
+def _foot_law(plan, params, samples) -> FootLaw:
+    """:func:`foot_law`, made."""
     foot, ground, _ = resolve_gait(plan)
     if plan.n_inputs != 1 or plan.input_kinds[0] != "rotary":
         raise SpecError([("drivers", f"a geared leg needs exactly one rotary input (the crank): the mechanism has "
                                      f"{plan.n_inputs} ({', '.join(plan.input_kinds)})")])
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 64:
-        raise SpecError([("samples", f"must be a whole number ≥ 64: {samples!r}")])
     params = plan.defaults if params is None else np.asarray(params, dtype=float)
     metrics = gait_metrics(plan, params, support="arc")       # raises UnbuildableError if the crank stops
     q = np.linspace(0.0, TWO_PI, int(samples), endpoint=False)
