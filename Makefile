@@ -27,7 +27,7 @@ demo: $(VENV)/.installed
 	@echo "report written to out/index.html"
 
 test: $(VENV)/.installed-test
-	PYTHONUTF8=1 $(BIN)/python -m pytest
+	PYTHONUTF8=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 $(BIN)/python -m pytest
 
 bench:
 	test -x .bench-venv/bin/python || $(PYTHON) -m venv .bench-venv

@@ -35,7 +35,10 @@ def solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildab
     def stack(ctx, attr):
         """(..., n_points + n_bodies) complex: point positions, then body orientations e = exp(iθ)."""
         jets = [ctx.pos[p] for p in names] + [ctx.pose[b][1] for b in range(n_bodies)]
-        return np.stack([np.broadcast_to(getattr(j, attr), shape) for j in jets], axis=-1)
+        out = np.empty(shape + (len(jets),), dtype=complex)
+        for i, j in enumerate(jets):
+            out[..., i] = getattr(j, attr)           # broadcast by the assignment
+        return out
 
     eye = np.eye(n)
     passes = [run(eye[k]) for k in range(n)] if order >= 1 and n > 0 else [run(np.zeros(n))]
