@@ -334,7 +334,14 @@ def triad_alone(TA, TS, reach):
     one I may hold is turned at least r from θ (r: I's shorter side, at most π), and two poses of the ternary turned by
     Δ apart move one of the ends of its longest side D by at least |sin(Δ/2)|·D: the bound is sin(r/2)·D. Each step
     and the bound are shrunk by 1 % for round-off (a step needs g above m = 10⁻⁶·M/6, far above G's round-off)."""
-    e0 = complex(math.cos(TA[17]), math.sin(TA[17]))
+    return 0.99 * math.sin(0.5 * _turn_alone(TS, complex(math.cos(TA[17]), math.sin(TA[17])), reach)) \
+        * _longest_side(TA)
+
+
+@njit(cache=True, error_model="numpy")
+def _turn_alone(TS, e0, reach):
+    """The turn r (rad, at most π; 0 where nothing is proven) within which :func:`triad_alone`'s walk from the
+    orientation e0 = exp(iθ) proves no other assembly, looking no further than ``reach``."""
     big = 0.0
     for k in range(1, 4):
         big += k * k * k * abs(TS[11 - k]) * _TRIAD_GROWTH[k - 1]
@@ -359,12 +366,18 @@ def triad_alone(TA, TS, reach):
                 break
             e = e * complex(math.cos(way * step), math.sin(way * step))
         r = min(r, gone)
+    return r
+
+
+@njit(cache=True, error_model="numpy")
+def _longest_side(TA):
+    """The longest side D (m) of the ternary's triangle of joints w (``TA[0:6]``, re/im)."""
     side2 = 0.0
     for i in range(3):
         for j in range(i + 1, 3):
             dr, di = TA[2 * i] - TA[2 * j], TA[2 * i + 1] - TA[2 * j + 1]
             side2 = max(side2, dr * dr + di * di)
-    return 0.99 * math.sin(0.5 * min(r, math.pi)) * math.sqrt(side2)
+    return math.sqrt(side2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -385,7 +398,6 @@ def triad_check(TA, TS, RT, sep):
     decides."""
     _triad_coefficients(TA, TS)
     d2 = 0.0
-    side2 = 0.0
     c, s = math.cos(TA[17]), math.sin(TA[17])
     cp, sp = math.cos(TA[20]), math.sin(TA[20])
     for k in range(3):
@@ -393,14 +405,12 @@ def triad_check(TA, TS, RT, sep):
         dr = TA[15] + c * wr - s * wi - (TA[18] + cp * wr - sp * wi)
         di = TA[16] + c * wi + s * wr - (TA[19] + cp * wi + sp * wr)
         d2 = max(d2, dr * dr + di * di)
-        for j in range(k + 1, 3):
-            er, ei = wr - TA[2 * j], wi - TA[2 * j + 1]
-            side2 = max(side2, er * er + ei * ei)
     step = 3.0 * math.sqrt(d2) + 2e-6 * TA[21]
+    side = _longest_side(TA)
     # the ternary's turn that moves an end of its longest side by what is needed (the bound's 1 % included)
-    ratio = max(step, sep) / (0.99 * math.sqrt(side2))
+    ratio = max(step, sep) / (0.99 * side)
     if ratio < 0.999:
-        alone = triad_alone(TA, TS, 1.001 * 2.0 * math.asin(ratio))
+        alone = 0.99 * math.sin(0.5 * _turn_alone(TS, complex(c, s), 1.001 * 2.0 * math.asin(ratio))) * side
         if alone > sep and alone >= step:
             return True, True
     return triad_check_roots(TA, TS, RT, sep)
