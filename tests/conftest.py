@@ -9,12 +9,14 @@ and headless-Chromium tests, the reproduction page and anything else over about 
 """
 import os
 
-# One BLAS thread per process. The test workers run side by side on every core, and OpenBLAS's own threads on the
-# small matrices assur multiplies and factorises only spin: measured on a 2-core machine, the four-bar leg's joint
-# co-design (budget 300) took 54 s of CPU in 32 s with OpenBLAS's default threads and 25 s in 25 s with one. Set
-# before numpy loads OpenBLAS (Makefile's test target sets them too, for the processes pytest starts first).
-for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_name, "1")
+from assur.cli.main import _one_blas_thread  # loads no numpy
+
+# One BLAS thread per process, as the command line has (assur.cli.main._one_blas_thread). The test workers run side by
+# side on every core, and OpenBLAS's own threads on the small matrices assur multiplies and factorises only spin:
+# measured on a 2-core machine, the four-bar leg's joint co-design (budget 300) took 54 s of CPU in 32 s with
+# OpenBLAS's default threads and 25 s in 25 s with one. Set before numpy loads OpenBLAS (Makefile's test target sets
+# the variables too, for the processes pytest starts first).
+_one_blas_thread()
 
 from pathlib import Path  # noqa: E402  (after the thread limits)
 

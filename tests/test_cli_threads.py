@@ -7,8 +7,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+from assur.cli.main import BLAS_THREAD_VARIABLES as VARIABLES
+
 ROOT = Path(__file__).resolve().parents[1]
-VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 #: run a command, then print the variables and, where threadpoolctl is installed, OpenBLAS's thread counts
 PROGRAM = """
 import os, sys
