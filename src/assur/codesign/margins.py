@@ -50,13 +50,13 @@ class TransferMargins:
         transfer = k * self.hermite + np.einsum("j,ojp->op", c, self.bumps)
         return k, np.concatenate([k * self.window, transfer], axis=1)
 
-    def margins(self, c) -> np.ndarray:
-        """The margins of :attr:`names` (≥ 0 met) for the coefficients c (n_bumps,). A law that does not exist
-        (k ≤ 0 or G ≤ 0) gives every margin −100 + min(k, min G) (≤ −100)."""
+    def _evaluate(self, c):
+        """(margins (len(names),), pitch terms or None): :meth:`margins` and the terms they came from (None for a
+        law that does not exist), so that :meth:`objective` reads the same terms instead of computing them again."""
         k, (g, dg, d2g) = self.ratio_samples(c)
         g_min = float(g.min())
         if not (k > 0 and g_min > 0):
-            return np.full(len(self.names), INVALID + min(k, g_min))
+            return np.full(len(self.names), INVALID + min(k, g_min)), None
         t = pitch_terms(g, dg, d2g, self.L)
         lo, hi = self.bounds
         out = [float(t["kappa_driving"].min() * self.L), float(t["kappa_driven"].min() * self.L),
@@ -65,16 +65,19 @@ class TransferMargins:
                1.0 - self.limit * float(np.abs(t["kappa_driven"]).max())]
         if self.torque is not None:
             out.append(1.0 - self.torque(g, dg, d2g) / self.torque_limit)
-        return np.array(out)
+        return np.array(out), t
+
+    def margins(self, c) -> np.ndarray:
+        """The margins of :attr:`names` (≥ 0 met) for the coefficients c (n_bumps,). A law that does not exist
+        (k ≤ 0 or G ≤ 0) gives every margin −100 + min(k, min G) (≤ −100)."""
+        return self._evaluate(c)[0]
 
     def objective(self, c) -> float:
         """Scalar to minimise: the total violation V = Σ max(0, −margin) + the mean concave depth of both curves
         (mean of max(0, −κ·L)) when V > 0, else −min(margins) (the worst margin, maximised)."""
-        m = self.margins(c)
-        if m[0] <= INVALID + 1.0 and np.all(m == m[0]):
+        m, t = self._evaluate(c)
+        if t is None:
             return float(1e3 - m[0])
-        k, (g, dg, d2g) = self.ratio_samples(c)
-        t = pitch_terms(g, dg, d2g, self.L)
         depth = sum(float(np.mean(np.maximum(0.0, -t[f"kappa_{n}"] * self.L))) for n in ("driving", "driven"))
         violation = float(np.sum(np.maximum(0.0, -m))) + depth
         return violation if violation > 0 else -float(np.min(m))
