@@ -12,6 +12,7 @@ from numba.core import types
 from numba.extending import intrinsic
 
 from .similarity import similarity
+from .triad import ON_CIRCLE, SAMPLES, STRIP, WALK
 
 
 @intrinsic
@@ -191,9 +192,8 @@ def similarity_fit(px, py, pv, txy, lim, rotate, out, d):
 
 
 # -- a triad's assemblies near a solved pose ----------------------------------------------------------------------
-#: samples of the triad's function per turn (assur.kernels.triad.SAMPLES) and a root's distance from the unit circle
-#: below which it is an assembly (assur.kernels.triad.ON_CIRCLE)
-_TRIAD_SAMPLES, _ON_CIRCLE = 8, 1e-3
+#: samples of the triad's function per turn and a root's distance from the unit circle below which it is an assembly
+_TRIAD_SAMPLES, _ON_CIRCLE = SAMPLES, ON_CIRCLE
 
 
 #: exp(iφ_j) at the triad's sample orientations φ_j = 2πj/8, and the discrete Fourier transform's factors
@@ -296,13 +296,11 @@ def _track_roots(TS, RT):
     return False
 
 
-#: the strip |Im φ| ≤ β of complex orientations that holds every root z = exp(iφ) the certificates count as an
-#: assembly (| |z| − 1 | below _ON_CIRCLE: |z| = exp(−Im φ))
-_TRIAD_STRIP = -math.log(1.0 - _ON_CIRCLE)
+#: the strip |Im φ| ≤ β of complex orientations that holds every root counted as an assembly, and the steps of
+#: :func:`triad_alone`'s walk each way (the numpy twin's, :func:`assur.kernels.triad.turn_alone`)
+_TRIAD_STRIP, _TRIAD_WALK = STRIP, WALK
 #: |e^{ikφ}| ≤ e^{kβ} on that strip, k = 1, 2, 3
 _TRIAD_GROWTH = (math.exp(_TRIAD_STRIP), math.exp(2.0 * _TRIAD_STRIP), math.exp(3.0 * _TRIAD_STRIP))
-#: steps of :func:`triad_alone`'s walk away from the solved orientation, each way
-_TRIAD_WALK = 4
 
 
 @njit(cache=True, error_model="numpy")

@@ -28,6 +28,8 @@ each. The roots are estimates: the caller polishes each by Newton on the loop eq
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: samples of G per turn (≥ 7 for degree 3; the 8th bin checks the degree)
@@ -35,6 +37,11 @@ SAMPLES = 8
 #: a root z of the degree-6 polynomial is a real assembly candidate when | |z| − 1 | is below this (the caller
 #: polishes and verifies every candidate, so this only has to keep the real ones)
 ON_CIRCLE = 1e-3
+#: the strip |Im φ| ≤ β of complex orientations that holds every root z = exp(iφ) counted as an assembly
+#: (| |z| − 1 | below ON_CIRCLE: |z| = exp(−Im φ))
+STRIP = -math.log(1.0 - ON_CIRCLE)
+#: steps of :func:`turn_alone`'s walk away from the solved orientation, each way
+WALK = 4
 
 
 def _legs(e, w, Q, ell):
@@ -78,6 +85,59 @@ def triad_polynomial(w, Q, ell):
     with np.errstate(all="ignore"):
         alias = np.abs(c[..., 4]) / np.where(big > 0, big, 1.0)
     return coeff, alias
+
+
+def turn_alone(coeff, theta, reach=np.pi):
+    """(...) a turn r (rad, at most π; 0 where nothing is proven) of the platform from the orientation ``theta`` (...)
+    within which the polynomial ``coeff`` (..., 7) of :func:`triad_polynomial` has no root but, at most, the one at
+    ``theta``'s assembly, looking no further than ``reach`` (rad): no root is found.
+
+    G(φ) = Σ c_k·e^{ikφ} (|k| ≤ 3) has |G‴| ≤ M = 2·Σ k³·|c_k|·e^{kβ} on the strip |Im φ| ≤ β (:data:`STRIP`) that
+    holds every root counted as an assembly. From θ the bound walks :data:`WALK` steps each way: at φ_j, with
+    g = |G'(φ_j)| and h = |G''(φ_j)|, |G'| stays above m = M·β²/6 for a further δ with g − h·δ − M·δ²/2 = m (Taylor).
+    Where |G'| > m on a real interval I around θ, G is monotone on I (at most one real root there), and a complex root
+    φ + iy (0 < |y| ≤ β, φ in I) cannot be: Im G(φ + iy) = y·G'(φ) + R with |R| ≤ M·|y|³/6. So every assembly but the
+    one I may hold is turned at least r from θ (r: I's shorter side). Each step and m are widened by 1 % for
+    round-off. Two poses of the platform turned Δ apart move one end of its longest side D by at least |sin(Δ/2)|·D.
+
+    The compiled kernels' twin is :func:`assur.kernels.reductions.triad_alone`, one sample at a time."""
+    coeff = np.asarray(coeff, dtype=complex)
+    theta = np.asarray(theta, dtype=float)
+    ck = [coeff[..., 3 - k] for k in (1, 2, 3)]                     # c_k, the coefficient of e^{+ikφ}
+    with np.errstate(all="ignore"):
+        big = 2.0 * sum(k ** 3 * np.abs(c) * np.exp(k * STRIP) for k, c in zip((1, 2, 3), ck))
+        floor = 1.01 * big * STRIP * STRIP / 6.0
+        usable = (big > 0.0) & np.isfinite(big)
+        reach = np.minimum(reach, np.pi)
+        r = np.full(np.shape(big), np.pi)
+        for way in (1.0, -1.0):
+            phi = theta.copy() if theta.shape == big.shape else np.broadcast_to(theta, big.shape).copy()
+            gone = np.zeros(big.shape)
+            walking = usable.copy()
+            for _ in range(WALK):
+                e = [np.exp(1j * k * phi) for k in (1, 2, 3)]
+                g = np.abs(-2.0 * sum(k * (c * ek).imag for k, c, ek in zip((1, 2, 3), ck, e)))
+                h = np.abs(-2.0 * sum(k * k * (c * ek).real for k, c, ek in zip((1, 2, 3), ck, e)))
+                walking &= g > floor
+                # the largest δ with g − h·δ − M·δ²/2 ≥ m
+                step = 0.99 * 2.0 * (g - floor) / (h + np.sqrt(h * h + 2.0 * big * (g - floor)))
+                gone = np.where(walking, gone + step, gone)
+                walking &= gone < reach
+                phi = phi + way * np.where(walking, step, 0.0)
+            r = np.minimum(r, np.where(usable, gone, 0.0))
+    return r
+
+
+def longest_side(w):
+    """(...) the longest side (m) of the triangle of the platform's points ``w`` (..., 3) complex."""
+    return np.max(np.abs(w[..., [0, 1, 2]] - w[..., [1, 2, 0]]), axis=-1)
+
+
+def triad_alone(coeff, theta, w, reach=np.pi):
+    """(...) a lower bound (m) on the distance (the largest of the platform's three points) from the assembly at
+    orientation ``theta`` to every other assembly of the polynomial ``coeff`` (:func:`triad_polynomial`):
+    0.99·sin(r/2)·D with r of :func:`turn_alone` and D the platform's longest side (:func:`longest_side`)."""
+    return 0.99 * np.sin(0.5 * turn_alone(coeff, theta, reach)) * longest_side(np.asarray(w, dtype=complex))
 
 
 def triad_roots(w, Q, ell):

@@ -33,9 +33,10 @@ from dataclasses import replace
 import numpy as np
 
 from ...kernels.jet import Jet
+from ...kernels.triad import triad_alone, triad_polynomial, triad_roots
 from ...tolerances import DEFAULT
 from .group_assemblies import (assembly_distances, before_group, group_assemblies, group_method, group_points,
-                               take_rows, triad_layout, triad_root_poses)
+                               take_rows, triad_layout, triad_legs)
 from .newton_group import _residual_and_jacobian, alone_within, certificate_det
 from .steps import Context, _run
 
@@ -183,17 +184,30 @@ class Walker:
         return ok
 
 
-def _triad_joints(c, st, n):
-    """(joints of every root of the triad's polynomial (n, 6, 3), NaN where fewer; a function giving the ternary's
-    three joints (n, 3) of group poses (n, 3k))."""
-    t, legs, w, Q, phi, p = triad_root_poses(c, st, n)                             # phi, p: (n, 6)
-    roots = p[..., None] + np.exp(1j * phi)[..., None] * w[:, None, :]         # (n, 6, 3)
+def _triad_certificate_data(c, st, n):
+    """A triad's data for its certificates at n samples of ``c``: ``(w, Q, ell, joints)``, as
+    :func:`.group_assemblies.triad_legs`, and a function giving the ternary's three joints (m, 3) of group poses
+    (m, 3k) with their rows' ``w`` (m, 3)."""
+    t, legs, w, Q, ell = triad_legs(c, st, n)
     ti = st.bodies.index(t)
 
-    def joints(y):
+    def joints(y, w):
         return (y[:, 3 * ti] + 1j * y[:, 3 * ti + 1])[:, None] + np.exp(1j * y[:, 3 * ti + 2])[:, None] * w
 
-    return roots, joints
+    return w, Q, ell, ti, joints
+
+
+def _root_joints(w, Q, ell):
+    """(m, 6, 3) the ternary's joints in every assembly of the triad's polynomial, NaN where it has fewer."""
+    phi, p = triad_roots(w, Q, ell)                                              # phi, p: (m, 6)
+    return p[..., None] + np.exp(1j * phi)[..., None] * w[:, None, :]
+
+
+def _alone(w, Q, ell, theta):
+    """(m,) a lower bound (m) on the distance from the ternary's orientation ``theta`` (m,) to every other assembly of
+    the triad, from its polynomial's coefficients, no root found (:func:`assur.kernels.triad.triad_alone`)."""
+    coeff, _ = triad_polynomial(w, Q, ell)
+    return triad_alone(coeff, theta, w)
 
 
 def _distances(roots, z):
@@ -204,14 +218,28 @@ def _distances(roots, z):
 
 def _nearest_triad_assembly(c, st, pred, x, n):
     """(n,) whether ``x`` is the triad's assembly nearest the prediction ``pred`` and every other is at least twice
-    as far from the prediction (the roots of its polynomial, unpolished: good to far below the margin)."""
-    roots, joints = _triad_joints(c, st, n)
-    dp, dx = _distances(roots, joints(pred)), _distances(roots, joints(x))
-    mine = np.argmin(dx, axis=-1)
-    d_mine = np.take_along_axis(dp, mine[:, None], axis=-1)[:, 0]
-    others = np.where(np.arange(6)[None, :] == mine[:, None], np.inf, dp)
-    is_root = np.take_along_axis(dx, mine[:, None], axis=-1)[:, 0] <= 1e-6 * c.plan.length_scale
-    return ~is_root | (2.0 * d_mine <= np.min(others, axis=-1))
+    as far from the prediction (the roots of its polynomial, unpolished: good to far below the margin).
+
+    Where the bound of :func:`_alone` puts every other assembly at least 3·d + 2·10⁻⁶·scale from x (d: x's distance
+    from the prediction), that holds without finding a root: the assembly within 10⁻⁶·scale of x, if any, is x's own,
+    at most d + 10⁻⁶·scale from the prediction, and every other is at least 2·(d + 10⁻⁶·scale) from it. The roots
+    decide the other samples."""
+    w, Q, ell, ti, joints = _triad_certificate_data(c, st, n)
+    jx, jp = joints(x, w), joints(pred, w)
+    scale = c.plan.length_scale
+    with np.errstate(invalid="ignore"):
+        proven = _alone(w, Q, ell, x[:, 3 * ti + 2]) >= 3.0 * np.max(np.abs(jx - jp), axis=-1) + 2e-6 * scale
+    out = np.ones(n, dtype=bool)
+    rest = np.flatnonzero(~proven)
+    if rest.size:
+        roots = _root_joints(w[rest], Q[rest], ell[rest])
+        dp, dx = _distances(roots, jp[rest]), _distances(roots, jx[rest])
+        mine = np.argmin(dx, axis=-1)
+        d_mine = np.take_along_axis(dp, mine[:, None], axis=-1)[:, 0]
+        others = np.where(np.arange(6)[None, :] == mine[:, None], np.inf, dp)
+        is_root = np.take_along_axis(dx, mine[:, None], axis=-1)[:, 0] <= 1e-6 * scale
+        out[rest] = ~is_root | (2.0 * d_mine <= np.min(others, axis=-1))
+    return out
 
 
 def _broadcast_batch(plan, params, q_jets):
@@ -275,8 +303,14 @@ def separate(plan, steps, c, method, tol, shape, x):
         xs = np.reshape(x[id(st)], (n, -1))[rows]
         m = len(rows)
         if method_ == "triad":
-            roots, joints = _triad_joints(flat, st, m)
-            second = np.sort(_distances(roots, joints(xs)), axis=-1)[:, 1]
+            # the second nearest assembly (the nearest is the sample's own), from the roots where the bound on the
+            # coefficients does not already put every other beyond the separation
+            w, Q, ell, ti, joints = _triad_certificate_data(flat, st, m)
+            second = np.full(m, np.inf)
+            rest = np.flatnonzero(~(_alone(w, Q, ell, xs[:, 3 * ti + 2]) > sep))
+            if rest.size:
+                roots = _root_joints(w[rest], Q[rest], ell[rest])
+                second[rest] = np.sort(_distances(roots, joints(xs[rest], w[rest])), axis=-1)[:, 1]
         else:
             F, J = _residual_and_jacobian(flat, st, xs, (m,))
             gated = np.abs(certificate_det(flat, st, J)) < SEPARATION_GATE

@@ -195,16 +195,23 @@ def _pose_from_two(z1, z2, w1, w2):
     return o.real, o.imag, np.angle(e)
 
 
-def triad_root_poses(c, st, n):
-    """The roots of a triad's polynomial at n samples of the context ``c``: ``(t, legs, w, Q, phi, p)``, the ternary
-    body ``t`` and its ``legs`` (triad_layout), its joints' local offsets ``w`` (n, 3), the legs' far joints ``Q``
-    (n, 3) complex and per root its angle ``phi`` (n, 6) and reference point ``p`` (n, 6) complex, NaN where the
-    polynomial has fewer real roots."""
+def triad_legs(c, st, n):
+    """A triad's data at n samples of the context ``c``: ``(t, legs, w, Q, ell)``, the ternary body ``t`` and its
+    ``legs`` (triad_layout), its joints' local offsets ``w`` (n, 3) complex, the legs' far joints ``Q`` (n, 3)
+    complex and the legs' lengths ``ell`` (n, 3)."""
     t, legs = triad_layout(c.plan, st)
     w = np.stack([np.broadcast_to(np.asarray(c.w[(t, p)]), (n,)) for _, p, _ in legs], axis=-1)
     Q = np.stack([np.broadcast_to(c.pos[far].v, (n,)) for _, _, far in legs], axis=-1)
     ell = np.stack([np.broadcast_to(np.abs(np.asarray(c.w[(leg, far)]) - np.asarray(c.w[(leg, p)])), (n,))
                     for leg, p, far in legs], axis=-1)
+    return t, legs, w, Q, ell
+
+
+def triad_root_poses(c, st, n):
+    """The roots of a triad's polynomial at n samples of the context ``c``: ``(t, legs, w, Q, phi, p)``, as
+    :func:`triad_legs` and per root its angle ``phi`` (n, 6) and reference point ``p`` (n, 6) complex, NaN where the
+    polynomial has fewer real roots."""
+    t, legs, w, Q, ell = triad_legs(c, st, n)
     phi, p = triad_roots(w, Q, ell)
     return t, legs, w, Q, phi, p
 
