@@ -21,13 +21,17 @@ assembly.
 
 :func:`execute` continues every sample on its own from the sketch (the short way round; samples a crank cannot
 reach that way, past a locked range, the long way), so a sample's result does not depend on the batch it is in or
-on the step of a grid. After the last step each sample's group is checked against its other assemblies
+on the step of a grid. The samples of the file's design start at the last whole step of crank before them
+(:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
+which depends on the plan, the tolerances and the way round only. After the last step each sample's group is checked against its other assemblies
 (:mod:`assur.engine.planar.group_assemblies`): a sample closer to another assembly than
 ``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
 """
 from __future__ import annotations
 
 import copy
+import threading
+import weakref
 from dataclasses import replace
 
 import numpy as np
@@ -106,9 +110,13 @@ class Walker:
         with np.errstate(divide="ignore"):
             return np.where(span > 0, tol.continuation_min_step / span, 1e-12)
 
-    def advance(self, params, q, rows=None):
+    def advance(self, params, q, rows=None, back=None):
         """Walk the rows ``rows`` (default all alive) to ``params (R, n_params)``, ``q (R, n_inputs)``
-        (broadcastable); rows that cannot be certified die. Returns the alive mask (R,)."""
+        (broadcastable); rows that cannot be certified die. Returns the alive mask (R,).
+
+        ``back``: ``(x {step id: (R, 3k)}, q (R, n_inputs))``, a point each row passed before on the straight line
+        to its target (its inputs NaN where none): the first step's secant goes through it (else the first
+        prediction is the row's position)."""
         R = len(self.q)
         params = np.broadcast_to(np.asarray(params, dtype=float), (R, self.plan.n_params))
         q = np.broadcast_to(np.asarray(q, dtype=float), (R, self.plan.n_inputs))
@@ -124,6 +132,15 @@ class Walker:
         x = {k: v[idx] for k, v in self.x.items()}
         last = {k: v.copy() for k, v in x.items()}           # the previous accepted point, for the secant
         t_last = np.full(len(idx), np.nan)
+        if back is not None:
+            bx, bq = back
+            with np.errstate(all="ignore"):
+                # where the row's target is along its first input: t of the point behind it on that line
+                tb = (bq[idx, 0] - q0[:, 0]) / dq[:, 0]
+            has = np.isfinite(tb) & (tb < 0.0)
+            t_last[has] = tb[has]
+            for k in last:
+                last[k][has] = bx[k][idx[has]]
         todo = t < 1.0
         todo &= ~np.all(dq == 0, axis=-1) | np.any(dp != 0, axis=-1)
         dead = np.zeros(len(idx), dtype=bool)
@@ -250,10 +267,98 @@ def _broadcast_batch(plan, params, q_jets):
     return shape, P, Q
 
 
+class WholeSteps:
+    """The file's design walked from the sketch in whole steps of its one crank, one way round: its groups' poses at
+    the inputs q_s + way·k·``stage_angle`` (k = 0, 1, …), each walked from the one before by :meth:`Walker.advance`
+    (the secant through the one before that). They depend on the plan, the tolerances, the method and the way only,
+    so every sample of that design starts its walk at the last whole step before its input, and its result is the
+    same in any batch and after any call before it. Extended on demand and kept per plan (:func:`whole_steps`).
+
+    ``x[k]``: {step id: (1, 3k)} at the k-th step, NaN from the first step that cannot be reached."""
+
+    def __init__(self, plan, steps, tol, method, way: float):
+        self.plan, self.steps, self.tol, self.method, self.way = plan, steps, tol, method, way
+        start = Walker.at_sketch(plan, steps, tol, method, 1)
+        self.sign = start.sign
+        self.x = [start.x]
+        self.alive = bool(start.alive[0])
+        self.lock = threading.Lock()
+
+    def q(self, k):
+        """(...) the input at the k-th whole step (rad)."""
+        return self.plan.sketch_inputs[0] + self.way * np.asarray(k) * self.tol.stage_angle
+
+    def upto(self, n: int) -> list:
+        """The poses of the whole steps 0 … n (walked now where they are not yet)."""
+        with self.lock:
+            while len(self.x) <= n:
+                k = len(self.x)
+                if not self.alive:
+                    self.x.append({key: np.full_like(v, np.nan) for key, v in self.x[0].items()})
+                    continue
+                w = Walker(self.plan, self.steps, self.tol, self.method, self.plan.defaults[None, :],
+                           np.array([[self.q(k - 1)]]), self.x[k - 1], self.sign)
+                back = (self.x[k - 2], np.array([[self.q(k - 2)]])) if k >= 2 else None
+                self.alive = bool(w.advance(self.plan.defaults[None, :], np.array([[self.q(k)]]), back=back)[0])
+                self.x.append({key: v.copy() for key, v in w.x.items()})
+            return self.x[:n + 1]
+
+
+#: the whole steps of a plan's file's design: {plan: {(tolerances, method, way): WholeSteps}}
+_WHOLE_STEPS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_WHOLE_LOCK = threading.Lock()
+
+
+def whole_steps(plan, steps, tol, method, way: float) -> WholeSteps:
+    """The plan's :class:`WholeSteps` one way round: kept while the plan lives for its own steps, made afresh for
+    others (a compile's first steps)."""
+    if steps is not plan.steps:
+        return WholeSteps(plan, steps, tol, method, way)
+    key = (tol, method, way)
+    with _WHOLE_LOCK:
+        per_plan = _WHOLE_STEPS.setdefault(plan, {})
+        if key not in per_plan:
+            per_plan[key] = WholeSteps(plan, steps, tol, method, way)
+        return per_plan[key]
+
+
+def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, rows=None):
+    """Move the walker's rows ``rows`` (default all) of the file's design (a plan with one crank) to the last whole
+    step of crank before their ``target`` (R, 1) (:class:`WholeSteps`); the rest stay where they are. Returns the
+    ``back`` points of :meth:`Walker.advance` (None where no row moved)."""
+    if plan.input_kinds != ("rotary",) or not walker.x:
+        return None
+    d = target[:, 0] - plan.sketch_inputs[0]
+    stage = tol.stage_angle
+    with np.errstate(invalid="ignore"):
+        n = np.where(np.isfinite(d), np.ceil(np.abs(d) / stage) - 1.0, 0.0)
+    rows = np.all(P == plan.defaults, axis=-1) & walker.alive & (n >= 1) & (True if rows is None else rows)
+    if not rows.any():
+        return None
+    bx = {k: np.full_like(v, np.nan) for k, v in walker.x.items()}
+    bq = np.full(walker.q.shape, np.nan)
+    for way in (1.0, -1.0):
+        mine = np.flatnonzero(rows & (np.sign(d) == way))
+        if not len(mine):
+            continue
+        cache = whole_steps(plan, steps, tol, method, way)
+        k = n[mine].astype(int)
+        x = cache.upto(int(k.max()))
+        for key in walker.x:
+            stack = np.concatenate([xi[key] for xi in x], axis=0)           # (k_max + 1, 3k)
+            walker.x[key][mine] = stack[k]
+            bx[key][mine] = stack[k - 1]
+        walker.q[mine, 0] = cache.q(k)
+        bq[mine, 0] = cache.q(k - 1)
+    walker.alive = np.all([np.all(np.isfinite(v), axis=-1) for v in walker.x.values()], axis=0)
+    return bx, bq
+
+
 def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
     """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)); Newton-solved groups continued from
     the sketch to every sample in certified steps (module docstring), a crank the short way round first, then the
-    long way for the samples that failed."""
+    long way for the samples that failed. The samples of the file's design start at the last whole step of crank
+    before them (:class:`WholeSteps`)."""
     keys = newton_keys(steps, method)
     if not (keys and len(q_jets)):
         return _run(plan, steps, params, q_jets, order, tol, method, {})
@@ -265,12 +370,14 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
     short = np.where(rotary, q_s + (Q - q_s + np.pi) % (2 * np.pi) - np.pi, Q)
     start = (walker.params.copy(), walker.q.copy(), {k: v.copy() for k, v in walker.x.items()},
              {k: v.copy() for k, v in walker.sign.items()})
-    alive = walker.advance(P, short).copy()
+    back = _start_on_whole_steps(plan, steps, tol, method, walker, P, short)
+    alive = walker.advance(P, short, back=back).copy()
     if rotary.any() and not alive.all():
         other = Walker(plan, steps, tol, method, *start)
         d = short - q_s
         longer = np.where(rotary & (d != 0), short - np.copysign(2 * np.pi, d), short)
-        again = other.advance(P, longer, rows=~alive)
+        back = _start_on_whole_steps(plan, steps, tol, method, other, P, longer, rows=~alive)
+        again = other.advance(P, longer, rows=~alive, back=back)
         take = ~alive & again
         for k in walker.x:
             walker.x[k][take] = other.x[k][take]
