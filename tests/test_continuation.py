@@ -118,3 +118,43 @@ def test_continuation_over_a_whole_turn_at_a_hundredth_of_a_degree(name):
     plan = assur.compile(assur.load(EXAMPLES / FILES[name]))
     params = _designs(plan, 2, 4)[1]          # a perturbed design that turns fully
     assert _check_design(plan, params, [(0.0, 359.99)]) == 1.0
+
+
+@pytest.mark.parametrize("name", sorted(FILES))
+def test_a_sample_is_the_same_alone_in_a_batch_and_after_any_call(name, monkeypatch):
+    """The file's design's samples start at the last whole step of crank before them (continuation.WholeSteps,
+    walked once and kept with the plan): a sample solved alone on a fresh plan, the same sample inside a turn of 720,
+    and alone again once the whole steps are kept give the same numbers bit for bit, both ways round; and the kept
+    whole steps spare the walk: a single sample then takes at most three Newton steps instead of one per whole step
+    of crank between it and the sketch."""
+    from assur.engine.planar import continuation
+    text = (EXAMPLES / FILES[name]).read_text()
+    q = np.arange(720) * np.radians(0.5)
+    picks = [100, 350, 400, 600]                                          # both ways round from the sketch
+    alone_fresh = []
+    for i in picks:
+        fresh = assur.compile(assur.loads(text))
+        alone_fresh.append(assur.solve(fresh, inputs=q[i:i + 1], order=2, backend="numpy"))
+    plan = assur.compile(assur.loads(text))
+    turn = assur.solve(plan, inputs=q, order=2, backend="numpy")
+    runs = [0]
+    real_run = continuation._run
+
+    def counted(*args, **kw):
+        runs[0] += 1
+        return real_run(*args, **kw)
+
+    monkeypatch.setattr(continuation, "_run", counted)
+    for i, fresh in zip(picks, alone_fresh):
+        runs[0] = 0
+        again = assur.solve(plan, inputs=q[i:i + 1], order=2, backend="numpy")
+        assert runs[0] <= 5            # the sketch, at most three walk steps, the sample's own run
+        for st in (fresh, again):
+            np.testing.assert_array_equal(st.valid[0], turn.valid[i])
+            np.testing.assert_array_equal(st.pos[0], turn.pos[i])
+            np.testing.assert_array_equal(st.acc[0], turn.acc[i])
+    assert turn.valid[picks].all()
+    # on a fresh plan the same sample walks from the sketch through every whole step between
+    runs[0] = 0
+    assur.solve(assur.compile(assur.loads(text)), inputs=q[350:351], order=2, backend="numpy")
+    assert runs[0] >= 10
