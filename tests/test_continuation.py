@@ -158,3 +158,18 @@ def test_a_sample_is_the_same_alone_in_a_batch_and_after_any_call(name, monkeypa
     runs[0] = 0
     assur.solve(assur.compile(assur.loads(text)), inputs=q[350:351], order=2, backend="numpy")
     assert runs[0] >= 10
+
+
+def test_a_plan_is_freed_with_its_kept_whole_steps():
+    """The whole steps are kept with the plan (weakly): once the plan is gone, so are they."""
+    import gc
+    import weakref
+
+    from assur.engine.planar import continuation
+    plan = assur.compile(assur.load(EXAMPLES / FILES["triad"]))
+    st = assur.solve(plan, inputs=[[np.radians(175.0)]], backend="numpy")
+    assert st.valid.all() and plan in continuation._WHOLE_STEPS
+    ref = weakref.ref(plan)
+    del plan, st
+    gc.collect()
+    assert ref() is None

@@ -272,12 +272,14 @@ class WholeSteps:
     the inputs q_s + way·k·``stage_angle`` (k = 0, 1, …), each walked from the one before by :meth:`Walker.advance`
     (the secant through the one before that). They depend on the plan, the tolerances, the method and the way only,
     so every sample of that design starts its walk at the last whole step before its input, and its result is the
-    same in any batch and after any call before it. Extended on demand and kept per plan (:func:`whole_steps`).
+    same in any batch and after any call before it. Extended on demand and kept per plan (:func:`whole_steps`; it
+    holds no reference to the plan, which the cache keeps weakly).
 
     ``x[k]``: {step id: (1, 3k)} at the k-th step, NaN from the first step that cannot be reached."""
 
     def __init__(self, plan, steps, tol, method, way: float):
-        self.plan, self.steps, self.tol, self.method, self.way = plan, steps, tol, method, way
+        self.tol, self.method, self.way = tol, method, way
+        self.sketch, self.stage = float(plan.sketch_inputs[0]), float(tol.stage_angle)
         start = Walker.at_sketch(plan, steps, tol, method, 1)
         self.sign = start.sign
         self.x = [start.x]
@@ -286,20 +288,21 @@ class WholeSteps:
 
     def q(self, k):
         """(...) the input at the k-th whole step (rad)."""
-        return self.plan.sketch_inputs[0] + self.way * np.asarray(k) * self.tol.stage_angle
+        return self.sketch + self.way * np.asarray(k) * self.stage
 
-    def upto(self, n: int) -> list:
-        """The poses of the whole steps 0 … n (walked now where they are not yet)."""
+    def upto(self, plan, steps, n: int) -> list:
+        """The poses of the whole steps 0 … n of ``plan`` (the one this was made for; walked now where they are not
+        yet)."""
         with self.lock:
             while len(self.x) <= n:
                 k = len(self.x)
                 if not self.alive:
                     self.x.append({key: np.full_like(v, np.nan) for key, v in self.x[0].items()})
                     continue
-                w = Walker(self.plan, self.steps, self.tol, self.method, self.plan.defaults[None, :],
-                           np.array([[self.q(k - 1)]]), self.x[k - 1], self.sign)
+                w = Walker(plan, steps, self.tol, self.method, plan.defaults[None, :], np.array([[self.q(k - 1)]]),
+                           self.x[k - 1], self.sign)
                 back = (self.x[k - 2], np.array([[self.q(k - 2)]])) if k >= 2 else None
-                self.alive = bool(w.advance(self.plan.defaults[None, :], np.array([[self.q(k)]]), back=back)[0])
+                self.alive = bool(w.advance(plan.defaults[None, :], np.array([[self.q(k)]]), back=back)[0])
                 self.x.append({key: v.copy() for key, v in w.x.items()})
             return self.x[:n + 1]
 
@@ -343,7 +346,7 @@ def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, rows=None
             continue
         cache = whole_steps(plan, steps, tol, method, way)
         k = n[mine].astype(int)
-        x = cache.upto(int(k.max()))
+        x = cache.upto(plan, steps, int(k.max()))
         for key in walker.x:
             stack = np.concatenate([xi[key] for xi in x], axis=0)           # (k_max + 1, 3k)
             walker.x[key][mine] = stack[k]
