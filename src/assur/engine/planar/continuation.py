@@ -23,9 +23,9 @@ assembly.
 reach that way, past a locked range, the long way), so a sample's result does not depend on the batch it is in or
 on the step of a grid. The samples of the file's design start at the last whole step of crank before them
 (:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
-which depends on the plan, the tolerances and the way round only. After the last step each sample's group is checked against its other assemblies
-(:mod:`assur.engine.planar.group_assemblies`): a sample closer to another assembly than
-``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
+which depends on the plan, the tolerances and the way round only. After the last step each sample's group is
+checked against its other assemblies (:mod:`assur.engine.planar.group_assemblies`): a sample closer to another
+assembly than ``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
 """
 from __future__ import annotations
 
@@ -202,9 +202,9 @@ class Walker:
 
 
 def _triad_certificate_data(c, st, n):
-    """A triad's data for its certificates at n samples of ``c``: ``(w, Q, ell, joints)``, as
-    :func:`.group_assemblies.triad_legs`, and a function giving the ternary's three joints (m, 3) of group poses
-    (m, 3k) with their rows' ``w`` (m, 3)."""
+    """A triad's data for its certificates at n samples of ``c``: ``(w, Q, ell, ti, joints)``, as
+    :func:`.group_assemblies.triad_legs`, the ternary's index among the group's bodies, and a function giving the
+    ternary's three joints (m, 3) of group poses (m, 3k) with their rows' ``w`` (m, 3)."""
     t, legs, w, Q, ell = triad_legs(c, st, n)
     ti = st.bodies.index(t)
 
