@@ -45,9 +45,10 @@ def pitch_terms(g, dg, d2g, centre_distance: float) -> dict:
     g, dg, d2g = (np.asarray(v, dtype=float) for v in (g, dg, d2g))
     L = float(centre_distance)
     a = 1.0 + g
+    a2 = a ** 2
     r1 = L / a
-    r1p = -L * dg / a ** 2
-    r1pp = -L * d2g / a ** 2 + 2.0 * L * dg ** 2 / a ** 3
+    r1p = -L * dg / a2
+    r1pp = -L * d2g / a2 + 2.0 * L * dg ** 2 / a ** 3
     r2, r2p, r2pp = L - r1, -r1p, -r1pp
     d1 = r1p / g
     dd1 = (r1pp * g - r1p * dg) / g ** 3

@@ -325,6 +325,18 @@ def whole_steps(plan, steps, tol, method, way: float) -> WholeSteps:
         return per_plan[key]
 
 
+def _at_sketch(plan, steps, tol, method, rows: int) -> Walker:
+    """:meth:`Walker.at_sketch`, from the sketch's solve the plan keeps with its whole steps (:func:`whole_steps`)
+    where the steps are the plan's own: the same numbers without solving the sketch again."""
+    if steps is not plan.steps:
+        return Walker.at_sketch(plan, steps, tol, method, rows)
+    kept = whole_steps(plan, steps, tol, method, 1.0)
+    return Walker(plan, steps, tol, method, np.repeat(plan.defaults[None, :], rows, axis=0),
+                  np.repeat(plan.sketch_inputs[None, :], rows, axis=0),
+                  {k: np.repeat(v, rows, axis=0) for k, v in kept.x[0].items()},
+                  {k: np.repeat(v, rows) for k, v in kept.sign.items()})
+
+
 def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, rows=None):
     """Move the walker's rows ``rows`` (default all) of the file's design (a plan with one crank) to the last whole
     step of crank before their ``target`` (R, 1) (:class:`WholeSteps`); the rest stay where they are. Returns the
@@ -367,7 +379,7 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
         return _run(plan, steps, params, q_jets, order, tol, method, {})
     shape, P, Q = _broadcast_batch(plan, params, q_jets)
     R = len(Q)
-    walker = Walker.at_sketch(plan, steps, tol, method, R)
+    walker = _at_sketch(plan, steps, tol, method, R)
     rotary = np.array([k == "rotary" for k in plan.input_kinds])
     q_s = plan.sketch_inputs
     short = np.where(rotary, q_s + (Q - q_s + np.pi) % (2 * np.pi) - np.pi, Q)
