@@ -12,7 +12,10 @@ from numba.core import types
 from numba.extending import intrinsic
 
 from .similarity import similarity
-from .triad import ON_CIRCLE, SAMPLES, STRIP, WALK
+# the triad's constants, shared with its numpy functions: samples of its function per turn, a root's distance from the
+# unit circle below which it is an assembly, the strip |Im φ| ≤ β that holds every such root, and the steps of
+# triad_alone's walk each way (the numpy twin's, assur.kernels.triad.turn_alone)
+from .triad import ON_CIRCLE as _ON_CIRCLE, SAMPLES as _TRIAD_SAMPLES, STRIP as _TRIAD_STRIP, WALK as _TRIAD_WALK
 
 
 @intrinsic
@@ -192,10 +195,6 @@ def similarity_fit(px, py, pv, txy, lim, rotate, out, d):
 
 
 # -- a triad's assemblies near a solved pose ----------------------------------------------------------------------
-#: samples of the triad's function per turn and a root's distance from the unit circle below which it is an assembly
-_TRIAD_SAMPLES, _ON_CIRCLE = SAMPLES, ON_CIRCLE
-
-
 #: exp(iφ_j) at the triad's sample orientations φ_j = 2πj/8, and the discrete Fourier transform's factors
 #: exp(−2πi·jk/8) (numpy's fft) — constants of the compiled code
 _TRIAD_E = np.exp(1j * 2.0 * np.pi * np.arange(_TRIAD_SAMPLES) / _TRIAD_SAMPLES)
@@ -296,9 +295,6 @@ def _track_roots(TS, RT):
     return False
 
 
-#: the strip |Im φ| ≤ β of complex orientations that holds every root counted as an assembly, and the steps of
-#: :func:`triad_alone`'s walk each way (the numpy twin's, :func:`assur.kernels.triad.turn_alone`)
-_TRIAD_STRIP, _TRIAD_WALK = STRIP, WALK
 #: |e^{ikφ}| ≤ e^{kβ} on that strip, k = 1, 2, 3
 _TRIAD_GROWTH = (math.exp(_TRIAD_STRIP), math.exp(2.0 * _TRIAD_STRIP), math.exp(3.0 * _TRIAD_STRIP))
 
@@ -324,14 +320,15 @@ def triad_alone(TA, TS, reach):
     coefficients in ``TS[8:15]`` (:func:`_triad_coefficients`) alone: no root is found. 0 where nothing is proven.
     ``reach`` (rad): the turn of the ternary beyond which the bound need not look (π: as far as it can).
 
-    G(φ) = Σ c_k·e^{ikφ} (|k| ≤ 3) has |G‴| ≤ M = 2·Σ k³·|c_k|·e^{kβ} on the strip |Im φ| ≤ β (:data:`_TRIAD_STRIP`)
-    that holds every root counted as an assembly. From x's orientation θ the bound walks each way: at φ_j, with
-    g = |G'(φ_j)| and h = |G''(φ_j)|, |G'| stays above m = M·β²/6 for a further δ with g − h·δ − M·δ²/2 = m (Taylor).
-    Where |G'| > m on a real interval I around θ, G is monotone on I (at most one real root there), and a complex root
-    φ + iy (0 < |y| ≤ β, φ in I) cannot be: Im G(φ + iy) = y·G'(φ) + R with |R| ≤ M·|y|³/6. So every assembly but the
-    one I may hold is turned at least r from θ (r: I's shorter side, at most π), and two poses of the ternary turned by
-    Δ apart move one of the ends of its longest side D by at least |sin(Δ/2)|·D: the bound is sin(r/2)·D. Each step
-    and the bound are shrunk by 1 % for round-off (a step needs g above m = 10⁻⁶·M/6, far above G's round-off)."""
+    G(φ) = Σ c_k·e^{ikφ} (|k| ≤ 3) has |G‴| ≤ M = 2·Σ k³·|c_k|·e^{kβ} on the strip |Im φ| ≤ β
+    (:data:`assur.kernels.triad.STRIP`) that holds every root counted as an assembly. From x's orientation θ the bound
+    walks each way: at φ_j, with g = |G'(φ_j)| and h = |G''(φ_j)|, |G'| stays above m = M·β²/6 for a further δ with
+    g − h·δ − M·δ²/2 = m (Taylor). Where |G'| > m on a real interval I around θ, G is monotone on I (at most one real
+    root there), and a complex root φ + iy (0 < |y| ≤ β, φ in I) cannot be: Im G(φ + iy) = y·G'(φ) + R with
+    |R| ≤ M·|y|³/6. So every assembly but the one I may hold is turned at least r from θ (r: I's shorter side, at most
+    π), and two poses of the ternary turned by Δ apart move one of the ends of its longest side D by at least
+    |sin(Δ/2)|·D: the bound is sin(r/2)·D. Each step and the bound are shrunk by 1 % for round-off (a step needs g
+    above m = 10⁻⁶·M/6, far above G's round-off)."""
     return 0.99 * math.sin(0.5 * _turn_alone(TS, complex(math.cos(TA[17]), math.sin(TA[17])), reach)) \
         * _longest_side(TA)
 

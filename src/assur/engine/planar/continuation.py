@@ -337,17 +337,17 @@ def _at_sketch(plan, steps, tol, method, rows: int) -> Walker:
                   {k: np.repeat(v, rows) for k, v in kept.sign.items()})
 
 
-def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, rows=None):
-    """Move the walker's rows ``rows`` (default all) of the file's design (a plan with one crank) to the last whole
-    step of crank before their ``target`` (R, 1) (:class:`WholeSteps`); the rest stay where they are. Returns the
-    ``back`` points of :meth:`Walker.advance` (None where no row moved)."""
+def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, among=None):
+    """Move the walker's rows of the file's design (a plan with one crank), of those ``among`` (R,) (default all),
+    to the last whole step of crank before their ``target`` (R, 1) (:class:`WholeSteps`); the rest stay where they
+    are. Returns the ``back`` points of :meth:`Walker.advance` (None where no row moved)."""
     if plan.input_kinds != ("rotary",) or not walker.x:
         return None
     d = target[:, 0] - plan.sketch_inputs[0]
     stage = tol.stage_angle
     with np.errstate(invalid="ignore"):
         n = np.where(np.isfinite(d), np.ceil(np.abs(d) / stage) - 1.0, 0.0)
-    rows = np.all(P == plan.defaults, axis=-1) & walker.alive & (n >= 1) & (True if rows is None else rows)
+    rows = np.all(P == plan.defaults, axis=-1) & walker.alive & (n >= 1) & (True if among is None else among)
     if not rows.any():
         return None
     bx = {k: np.full_like(v, np.nan) for k, v in walker.x.items()}
@@ -391,7 +391,7 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
         other = Walker(plan, steps, tol, method, *start)
         d = short - q_s
         longer = np.where(rotary & (d != 0), short - np.copysign(2 * np.pi, d), short)
-        back = _start_on_whole_steps(plan, steps, tol, method, other, P, longer, rows=~alive)
+        back = _start_on_whole_steps(plan, steps, tol, method, other, P, longer, among=~alive)
         again = other.advance(P, longer, rows=~alive, back=back)
         take = ~alive & again
         for k in walker.x:
