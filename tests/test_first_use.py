@@ -72,29 +72,31 @@ def test_free_timing_solved_per_design_counts_its_turn_and_refinements():
     assert run_backend(h5, 300_000, None) == ("numba" if available() else "numpy")
 
 
+#: the body of test_a_solve_takes_the_cached_kernel_once_it_is_there, run in a new interpreter with an empty kernel
+#: cache (in a test worker an earlier test may have loaded the kernel already)
+_CACHED_KERNEL_SCRIPT = """
+import sys
+import numpy as np
+import assur
+from assur.engine.planar import numba_backend
+plan = assur.compile(assur.load(sys.argv[1]))
+assert not numba_backend.kernel_ready(plan), "the kernel is ready in a new process with an empty cache"
+q = np.linspace(0, 6.28, 20000)
+a = assur.solve(plan, inputs=q)                     # auto, not cached: numpy
+assert not numba_backend.kernel_ready(plan)
+assur.solve(plan, inputs=q[:10], backend="numba")   # compiles it
+assert numba_backend.kernel_ready(plan)
+b = assur.solve(plan, inputs=q)                     # auto, cached: compiled
+np.testing.assert_allclose(b.pos, a.pos, rtol=0, atol=1e-12)
+"""
+
+
 @pytest.mark.slow
 def test_a_solve_takes_the_cached_kernel_once_it_is_there(tmp_path):
     """After a synthesis compiled a mechanism's kernel, a moderate solve of the same mechanism uses it (the same
-    numbers as numpy to round-off: the excerpt printed agrees)."""
+    numbers as numpy to round-off: the excerpt printed agrees). Run in a new interpreter with an empty kernel cache."""
     pytest.importorskip("numba")
-    import assur
-    plan = assur.compile(assur.load(ROOT / "examples" / "jansen.toml"))
-    from assur.engine.planar import numba_backend
-    env_before = os.environ.get("ASSUR_CACHE_DIR")
-    os.environ["ASSUR_CACHE_DIR"] = str(tmp_path / "cache")
-    try:
-        if numba_backend.kernel_ready(plan):
-            pytest.skip("an earlier test in this worker process loaded the kernel already")
-        q = __import__("numpy").linspace(0, 6.28, 20000)
-        a = assur.solve(plan, inputs=q)                     # auto, not cached: numpy
-        assert not numba_backend.kernel_ready(plan)
-        assur.solve(plan, inputs=q[:10], backend="numba")   # compiles it
-        assert numba_backend.kernel_ready(plan)
-        b = assur.solve(plan, inputs=q)                     # auto, cached: compiled
-        import numpy as np
-        np.testing.assert_allclose(b.pos, a.pos, rtol=0, atol=1e-12)
-    finally:
-        if env_before is None:
-            os.environ.pop("ASSUR_CACHE_DIR", None)
-        else:
-            os.environ["ASSUR_CACHE_DIR"] = env_before
+    env = {**os.environ, "ASSUR_CACHE_DIR": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-c", _CACHED_KERNEL_SCRIPT, str(ROOT / "examples" / "jansen.toml")],
+                       env=env, capture_output=True, encoding="utf-8", timeout=900, cwd=ROOT)
+    assert r.returncode == 0, r.stderr[-3000:]
