@@ -107,37 +107,45 @@ def population(plan, n=16, seed=1, spread=0.05):
 
 
 def test_the_traced_group_computes_what_numpy_computes(triad):
-    """At random designs, inputs and poses around the sketch's: the traced residual, Newton step and branch
-    certificate (the lines the kernel runs, executed here as plain Python) equal newton_group's
-    _residual_and_jacobian, numpy.linalg.solve and certificate_det."""
+    """At random designs, inputs and poses around the sketch's: the traced residual and Newton step of the iterated
+    (reduced) unknowns and the branch certificate at the full poses they give (the lines the kernel runs, executed
+    here as plain Python) equal newton_group's _residual_and_jacobian, numpy.linalg.solve, expand and
+    certificate_det."""
     from assur.engine.planar import traced
-    from assur.engine.planar.newton_group import _residual_and_jacobian, certificate_det
+    from assur.engine.planar.newton_group import _residual_and_jacobian, certificate_det, expand, reduction
     from assur.engine.planar.newton_kernels import seeds
     from assur.engine.planar.continuation import context_at
     from assur.kernels import trace as T
     plan = triad
     t = traced.trace_plan(plan, 0, row="p[{}]")
     g = t.groups[0]
+    st = next(s for s in plan.steps if s.kind == "newton")
+    red = reduction(plan.structure.graph, plan.lines, st)
+    assert list(g.start) == list(red.index) and len(g.x) == 3      # the ternary's pose: the triad's unknowns
+    full = len(g.solved)
     outs = g.F + g.update + [g.certificate]
-    names = ["p", "c", "s", "tol", "ls"] + [x.name for x in g.x]
+    names = ["p", "c", "s", "tol", "ls"] + [x.name for x in g.x] + [f"pr0_{i}" for i in range(full)]
     body = "".join(f"    {ln}\n" for ln in t.tracer.needed(outs))
-    ns = {"math": SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, isfinite=math.isfinite, nan=math.nan),
+    ns = {"math": SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, isfinite=math.isfinite, nan=math.nan,
+                                  atan2=math.atan2),
           "max": max}
     exec(f"def f({', '.join(names)}):\n{body}    return [{', '.join(T.source(o) for o in outs)}]\n", ns)
-    st = next(s for s in plan.steps if s.kind == "newton")
     i = plan.steps.index(st)
     rng = np.random.default_rng(4)
     n = len(g.x)
     for _ in range(20):
         p = plan.defaults * (1 + 0.03 * rng.standard_normal(plan.n_params))
         q = rng.uniform(0, 2 * np.pi)
-        x = seeds(plan) + 0.02 * rng.standard_normal(n)
-        got = ns["f"](p, math.cos(q), math.sin(q), 1e-12, plan.length_scale, *x)
+        x = seeds(plan) + 0.02 * rng.standard_normal(full)
+        y = x[list(red.index)]
+        got = ns["f"](p, math.cos(q), math.sin(q), 1e-12, plan.length_scale, *y, *x)
         c = context_at(plan, plan.steps[:i], p, [q])
-        F, J = _residual_and_jacobian(c, st, x, ())
+        F, J = _residual_and_jacobian(c, st, y, (), red)
         np.testing.assert_allclose(got[:n], F, rtol=0, atol=1e-15)
-        np.testing.assert_allclose(got[n:2 * n], x - np.linalg.solve(J, F), rtol=1e-12, atol=1e-14)
-        assert math.isclose(got[-1], float(certificate_det(c, st, J)), rel_tol=1e-11)
+        np.testing.assert_allclose(got[n:2 * n], y - np.linalg.solve(J, F), rtol=1e-12, atol=1e-14)
+        xf = np.array(expand(c, st, red, list(y), list(x)), dtype=float)
+        Jf = _residual_and_jacobian(c, st, xf, ())[1]
+        assert math.isclose(got[-1], float(certificate_det(c, st, Jf)), rel_tol=1e-11)
 
 
 @pytest.mark.slow            # compiles the kernel (10–30 s with an empty cache)

@@ -89,7 +89,7 @@ def _group_block(em: _Emitter, g: int, grp) -> list[str]:
         "for pas in range(2):",
         f"{I4}if pas == 0 and not probe:",
         f"{I8}continue",
-        *_block([f"{xi} = pr{g}_{i}" for i, xi in enumerate(x)], I4),
+        *_block([f"{xi} = pr{g}_{k}" for xi, k in zip(x, grp.start)], I4),
         f"{I4}it = 0",
         f"{I4}polished = False",
         f"{I4}if {source(grp.upstream)}:",
@@ -353,9 +353,9 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
                                              + [f"tok{g}" for g in triads]))
     sample.append("sepok = " + " and ".join(["True"] + [f"tsep{g}" for g in triads]))
     final = em.take(values) + list(epilogue)
-    preds = [f"pr{g}_{i} = PRED[{grp.seeds + i}]" for g, grp in enumerate(groups) for i in range(len(grp.x))]
-    ntot = sum(len(grp.x) for grp in groups)
-    thetas = [grp.seeds + i for grp in groups for i in range(2, len(grp.x), 3)]
+    preds = [f"pr{g}_{i} = PRED[{grp.seeds + i}]" for g, grp in enumerate(groups) for i in range(len(grp.solved))]
+    ntot = sum(len(grp.solved) for grp in groups)
+    thetas = [grp.seeds + i for grp in groups for i in range(2, len(grp.solved), 3)]
     body = [
         *call, *_block(before, I4),
         f"{I4}p = np.empty(P.shape[1])", f"{I4}N = cq.shape[1]", f"{I4}NT = {ntot}",

@@ -5,6 +5,12 @@ closed forms. Unknowns are the poses (x, y, θ) of the group's bodies; equations
 joins two bodies at one point (2 equations), each prismatic pair keeps the slider aligned with and
 on its guide line (2 equations), a driven actuator's slide also fixes its length (1 more).
 
+Newton iterates on fewer unknowns (:func:`reduction`): a binary link of two revolutes whose ends are held by known
+points or by the group's other bodies is one equation, the distance of its ends, and not three unknowns; its pose
+follows from its ends after the iterations (:func:`expand`). The triad's four bodies iterate as its ternary's three
+unknowns. The acceptance, the branch certificate and the derivatives are those of the full equations at the full
+poses.
+
 The assembly branch is the one connected to the sketch: the solver (:func:`steps.execute`) walks
 each sample's inputs from the sketch inputs to the requested ones in small stages, and each
 stage's Newton iterations start from the previous stage (the first from the sketch poses). Samples
@@ -15,25 +21,103 @@ F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), evaluated on jets.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import StructureError
 from ...kernels.jet import Jet, expi
-from ...kernels.newton import newton
+from ...kernels.newton import ACCEPT_FACTOR, newton
 
 
-def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = False):
+@dataclass(frozen=True)
+class Reduction:
+    """The unknowns Newton iterates on for a group (:func:`reduction`): ``kept`` the bodies whose poses remain,
+    ``index`` their unknowns' places among the group's (x, y, θ per body of ``st.bodies``), ``rods`` the binary links
+    left out, each (body, its first point, its second point)."""
+    kept: tuple
+    index: tuple
+    rods: tuple
+
+
+def reduction(g, lines, st) -> Reduction:
+    """The group's reduced unknowns: a body of two points, both revolutes joining it to exactly one other body, that
+    slides on nothing (``lines``: the plan's slide records) and whose two partners are known bodies or kept bodies of
+    the group (not both the same one), is a rod: one equation |P₂ − P₁| = l between the points that hold its ends.
+    The group's bodies are taken in order; a rod's partners in the group stay kept. The system stays square: a rod
+    takes three unknowns and its four joint equations away and adds one equation."""
+    sliding = {b for rec in lines for b in rec[2:4]}
+    at = dict(g.joints)
+    group = set(st.bodies)
+    rods, pinned = [], set()
+    for b in st.bodies:
+        pts = tuple(g.bodies[b].points)
+        if b in sliding or b in pinned or len(pts) != 2 or pts[0] == pts[1]:
+            continue
+        partners = []
+        for p in pts:
+            bodies = tuple(at.get(p, ()))
+            others = [o for o in bodies if o != b]
+            if len(bodies) != 2 or len(others) != 1 or others[0] in {r[0] for r in rods}:
+                break
+            partners.append(others[0])
+        else:
+            if partners[0] == partners[1] and partners[0] in group:
+                continue
+            rods.append((b, pts[0], pts[1]))
+            pinned.update(o for o in partners if o in group)
+    out = {r[0] for r in rods}
+    kept = tuple(b for b in st.bodies if b not in out)
+    index = tuple(3 * i + k for i, b in enumerate(st.bodies) if b not in out for k in range(3))
+    return Reduction(kept, index, tuple(rods))
+
+
+def expand(c, st, red: Reduction, y: list, ref: list) -> list:
+    """The group's full poses (a list of 3k values: x, y, θ per body of ``st.bodies``) from the reduced unknowns ``y``
+    (the kept bodies' poses, a list) of :func:`reduction`: a rod's angle from the points at its ends, within half a
+    turn of its angle in ``ref`` (the full poses the iterations started from), its origin from its first end.
+    Element-wise (numpy arrays or traced values)."""
+    out = list(ref)
+    pose = {}
+    for j, b in enumerate(red.kept):
+        i = st.bodies.index(b)
+        out[3 * i:3 * i + 3] = y[3 * j:3 * j + 3]
+        pose[b] = (y[3 * j] + y[3 * j + 1] * 1j, np.cos(y[3 * j + 2]) + np.sin(y[3 * j + 2]) * 1j)
+    at = dict(c.g.joints)
+
+    def end(rod, p):
+        other = [o for o in at[p] if o != rod][0]
+        if other in pose:
+            o, e = pose[other]
+            return o + e * c.w[(other, p)]
+        return c.pos[p].v
+    for b, p1, p2 in red.rods:
+        i = st.bodies.index(b)
+        w1 = c.w[(b, p1)]
+        first = end(b, p1)
+        d = (end(b, p2) - first) * np.conj(c.w[(b, p2)] - w1)
+        ref_theta = ref[3 * i + 2]
+        cr, sr = np.cos(ref_theta), np.sin(ref_theta)
+        dr, di = np.real(d), np.imag(d)
+        theta = ref_theta + np.arctan2(di * cr - dr * sr, dr * cr + di * sr)
+        e = d / np.abs(d)
+        o = first - e * w1
+        out[3 * i:3 * i + 3] = [np.real(o), np.imag(o), theta]
+    return out
+
+
+def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = False, red: Reduction | None = None):
     """Residual components (list of real jets) for unknown jets X (3k of them); with ``labels``, the
     joint point or slide name of each component is appended to it. ``lift``: the unknowns' values carry one more
     trailing axis (of length 1, their derivatives one of length 3k: every direction at once), so every known value
-    of the context gets it too."""
+    of the context gets it too. ``red``: X holds the kept bodies' poses only (:func:`reduction`); each rod adds
+    (|P₂ − P₁|² − l²)/(2l) (m: to first order the distance's error) after the other equations."""
     g = c.g
 
     def up(a):
         a = np.asarray(a)
         return a[..., None] if lift and a.ndim else a
-    group = list(st.bodies)
+    group = list(st.bodies if red is None else red.kept)
     gi = {b: i for i, b in enumerate(group)}
 
     def const(j):
@@ -87,6 +171,17 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = F
             res.append((U.conj() * d).real - const(c.q[driven[name]]))
         if labels is not None:
             labels += [name] * (len(res) - len(labels))
+    if red is not None:
+        at = dict(g.joints)
+        for b, p1, p2 in red.rods:
+            ends = []
+            for p in (p1, p2):
+                other = [o for o in at[p] if o != b][0]
+                ends.append(world(other, p) if other in gi else const(c.pos[p]))
+            d = ends[1] - ends[0]
+            length = np.abs(c.w[(b, p2)] - c.w[(b, p1)])
+            length = up(length) if lift else length
+            res.append((d.real * d.real + d.imag * d.imag - length * length) / (2.0 * length))
     return res
 
 
@@ -197,14 +292,15 @@ def sketch_misfit(c, st, poses):
     return math.sqrt(off[where]), where
 
 
-def _residual_and_jacobian(c, st, x, shape):
+def _residual_and_jacobian(c, st, x, shape, red: Reduction | None = None):
     """(F (shape + (n,)), J (shape + (n, n))) of the group's loop equations at the body poses ``x``: one pass of the
-    residual on jets whose derivative holds all n directions at once."""
-    n = 3 * len(st.bodies)
+    residual on jets whose derivative holds all n directions at once. ``red``: the reduced equations, ``x`` the kept
+    bodies' poses (:func:`reduction`)."""
+    n = 3 * len(st.bodies if red is None else red.kept)
     x = _shaped(x, shape + (n,))
     eye = np.eye(n)
     X = [Jet(x[..., i:i + 1], _shaped(eye[i], shape + (n,)), None) for i in range(n)]
-    r = _residual(c, st, X, derivs=False, lift=True)
+    r = _residual(c, st, X, derivs=False, lift=True, red=red)
     if len(r) != n:
         raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
     F = np.stack([_shaped(ri.v, shape + (1,))[..., 0] for ri in r], axis=-1)
@@ -247,13 +343,33 @@ def solve_group(c, st):
         return _residual_and_jacobian(c, st, x, shape)
 
     scale = c.plan.length_scale
+    red = reduction(c.g, c.plan.lines, st)
+
+    def full(y, ref):
+        """The full poses from the kept bodies' ``y`` (:func:`expand`), ``ref`` the poses started from."""
+        out = expand(c, st, red, [y[..., i] for i in range(y.shape[-1])], [ref[..., i] for i in range(n)])
+        return np.stack([_shaped(v, shape) for v in out], axis=-1)
+    start = x
+    if red.rods:
+        with np.errstate(all="ignore"):
+            x = full(x[..., list(red.index)], start)
     sign_key = (key, "det_sign")
     if sign_key not in c.warm:
         # the branch invariant: the sign of the equilibrated Jacobian determinant at the seed (the sketch
         # assembly, on the plan's branches); it changes only through a singular position
         c.warm[sign_key] = np.sign(certificate_det(c, st, F_and_J(x)[1]))
-    x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations,
-                      accept_tol=1e3 * tol.newton_residual * scale)
+    accept = ACCEPT_FACTOR * tol.newton_residual * scale
+    if red.rods:
+        # the iterations on the kept bodies' poses; the rods follow, and the full equations are checked there
+        y, ok, _ = newton(lambda y: _residual_and_jacobian(c, st, y, shape, red), x[..., list(red.index)],
+                          tol.newton_residual * scale, tol.newton_iterations, accept_tol=accept)
+        with np.errstate(all="ignore"):
+            x = full(y, start)
+            F, J = F_and_J(x)
+            ok = ok & np.all(np.abs(F) < accept, axis=-1) & np.all(np.isfinite(x), axis=-1)
+        x = np.where(ok[..., None], x, np.nan)
+    else:
+        x, ok, J = newton(F_and_J, x, tol.newton_residual * scale, tol.newton_iterations, accept_tol=accept)
     # a converged sample counts only where its branch is certified: the same determinant sign as the seed,
     # clear of the singular positions where two assemblies meet
     det = certificate_det(c, st, J)

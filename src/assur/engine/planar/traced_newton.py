@@ -6,14 +6,16 @@ of the equilibrated Jacobian determinant, velocities and accelerations by implic
 the same ``_residual`` on symbols (:mod:`assur.kernels.trace`) and gives the kernel generator
 (:func:`assur.kernels.codegen.newton_source`) the pieces of one Newton solve:
 
-* the unknowns ``x{g}_{i}`` (the group's body poses x, y, θ) are free names of one more level, :data:`ITER`, so that
-  every line that reads them runs inside the iteration loop while the design's geometry and the input's terms stay
-  outside it;
+* the iterated unknowns ``x{g}_{i}`` (the poses x, y, θ of the group's kept bodies, :func:`.newton_group.reduction`:
+  a triad's ternary) are free names of one more level, :data:`ITER`, so that every line that reads them runs inside
+  the iteration loop while the design's geometry and the input's terms stay outside it; they start at the
+  prediction ``pr{g}_{k}`` of their place k among the group's poses (``TracedGroup.start``);
 * the residual F(x), its Jacobian by forward-mode jets (one direction per unknown, as the numpy code builds it) and
   the Newton step −J⁻¹F by the element-wise elimination of :mod:`assur.kernels.dense` (its pivots on the ±1 of the
   bodies' x and y cost nothing; the angles' columns are pivoted per sample);
 * at the iteration's result (the same lines, run once more at the polished iterate: the kernel's last evaluation):
-  the acceptance test, the branch certificate (:func:`certificate`, the numpy backend's ``_equilibrated_det``)
+  the full poses (:func:`.newton_group.expand`: the left-out links from their ends) and the full equations'
+  Jacobian and factorisation there, the acceptance test, the branch certificate (:func:`certificate`, the numpy backend's ``_equilibrated_det``)
   against the sign ``sg{g}`` the kernel found at the seed, and the flag ``ok``;
 * the solved poses (NaN where not ``ok``) and their derivatives by the input: the residual's jets at the solution give
   the implicit-differentiation right-hand sides, solved with the same factorisation; the group's bodies are placed on
@@ -28,20 +30,22 @@ import numpy as np
 from ...kernels import dense
 from ...kernels.jet import Jet, expi
 from ...kernels.trace import ITER, SAMPLE, isfinite, maximum, where
-from .newton_group import _residual
+from .newton_group import _residual, expand, reduction
 
 __all__ = ["TracedGroup", "certificate", "trace_group"]
 
 
 @dataclass
 class TracedGroup:
-    """One Newton-solved group of a traced plan (names as in the module's docstring): the unknowns ``x`` (free names
-    of the level ``bit``), the residual ``F`` there and its flags ``converged`` (every |F| below the kernel's
-    ``rtol``) and ``finite``, the iterate after one Newton step ``update`` (x − J⁻¹F); at x as the result: its
-    ``certificate`` (the signed equilibrated determinant), ``ok`` (the group's inputs assembled, every residual below
-    ``atol``, x finite, the certificate of the seed's sign ``sign`` and above ``certify``) and ``solved`` (x where ok,
-    else NaN); ``seeds``: the group's first unknown's index in the kernel's seed array; ``upstream``: whether the
-    group's inputs assembled (the steps before it)."""
+    """One Newton-solved group of a traced plan (names as in the module's docstring): the iterated unknowns ``x``
+    (free names of the level ``bit``; the kept bodies' poses), the residual ``F`` there and its flags ``converged``
+    (every |F| below the kernel's ``rtol``) and ``finite``, the iterate after one Newton step ``update`` (x − J⁻¹F);
+    at x as the result, on the full poses it gives: their ``certificate`` (the signed equilibrated determinant),
+    ``ok`` (the group's inputs assembled, every residual of the iterated and of the full equations below ``atol``,
+    the poses finite, the certificate of the seed's sign ``sign`` and above ``certify``) and ``solved`` (the group's
+    full poses where ok, else NaN); ``seeds``: the group's first pose's index in the kernel's seed array; ``start``:
+    each iterated unknown's place among the group's poses (its prediction's); ``upstream``: whether the group's
+    inputs assembled (the steps before it)."""
     x: list
     F: list
     converged: object
@@ -54,19 +58,20 @@ class TracedGroup:
     seeds: int
     upstream: object
     bit: int
+    start: list
     moved: object = 0.0
     triad: list | None = None
 
 
-def _residual_and_jacobian(ctx, st, x):
+def _residual_and_jacobian(ctx, st, x, red=None):
     """(F, J) of the group's loop equations at the unknowns ``x`` (symbols): F a list of n values, J its n rows, each
     column the residual's derivative along one unknown (a forward-mode jet per direction, as
-    :func:`.newton_group._residual_and_jacobian`)."""
+    :func:`.newton_group._residual_and_jacobian`). ``red``: the reduced equations, ``x`` the kept bodies' poses."""
     n = len(x)
     F, cols = None, []
     for j in range(n):
         X = [Jet(x[i], 1.0 if i == j else 0.0, None) for i in range(n)]
-        r = _residual(ctx, st, X, derivs=False)
+        r = _residual(ctx, st, X, derivs=False, red=red)
         if len(r) != n:
             from ...errors import StructureError
             raise StructureError(f"group of {len(st.bodies)} bodies gave {len(r)} equations, expected {n}")
@@ -154,23 +159,35 @@ def trace_group(ctx, st) -> TracedGroup:
     n = 3 * len(st.bodies)
     rtol, atol, certify = tr.free("rtol"), tr.free("atol"), tr.free("certify")
     upstream = ctx.valid
-    x = [tr.free(f"x{g}_{i}", SAMPLE | bit) for i in range(n)]
-    F, J = _residual_and_jacobian(ctx, st, x)
-    lu = dense.factor(J)
-    update = [xi + dx for xi, dx in zip(x, lu.solve([-f for f in F]))]
+    pred = [tr.free(f"pr{g}_{i}", SAMPLE) for i in range(n)]
+    red = reduction(ctx.g, ctx.plan.lines, st)
+    # the iteration's unknowns: the kept bodies' poses (every body's where the group has no rod), from the prediction
+    start = list(red.index) if red.rods else list(range(n))
+    y = [tr.free(f"x{g}_{i}", SAMPLE | bit) for i in range(len(start))]
+    Fy, Jy = _residual_and_jacobian(ctx, st, y, red if red.rods else None)
+    luy = dense.factor(Jy)
+    update = [yi + dy for yi, dy in zip(y, luy.solve([-f for f in Fy]))]
+    if red.rods:
+        x = expand(ctx, st, red, y, pred)
+        F, J = _residual_and_jacobian(ctx, st, x)
+        lu = dense.factor(J)
+    else:
+        x, F, lu = y, Fy, luy
     # the iteration's stop: Σ F² < rtol² (a little stricter than numpy's every |F| < rtol, so at most one more
     # step: the root is the same to round-off) and a finite Σ F² (every F finite), in 25 lines instead of 58
     squares = 0.0
-    for f in F:
+    for f in Fy:
         squares = squares + f * f
     converged = squares < rtol * rtol
     finite = isfinite(squares)
     cert = certificate(ctx, st, J, lu.det)
     sign = tr.free(f"sg{g}", SAMPLE)        # found by the kernel at the seed; never a design-level line
-    ok = upstream & _all(np.abs(f) < atol for f in F) & _all(isfinite(v) for v in x) \
-        & (cert * sign > 0.0) & (np.abs(cert) > certify)
+    # accepted: the iterated equations' residuals (numpy's ``newton``) and, with rods, the full equations' too
+    accepted = _all(np.abs(f) < atol for f in Fy)
+    if red.rods:
+        accepted = accepted & _all(np.abs(f) < atol for f in F)
+    ok = upstream & accepted & _all(isfinite(v) for v in x) & (cert * sign > 0.0) & (np.abs(cert) > certify)
     solved = [where(ok, v, np.nan) for v in x]
-    pred = [tr.free(f"pr{g}_{i}", SAMPLE) for i in range(n)]
     moved = 0.0
     for i, b in enumerate(st.bodies):
         for p in ctx.g.bodies[b].points:
@@ -180,8 +197,8 @@ def trace_group(ctx, st) -> TracedGroup:
             moved = maximum(moved, np.abs(z - zp)) if not isinstance(moved, float) else np.abs(z - zp)
     seeds = sum(3 * len(grp_st.bodies) for grp_st in ctx.group_steps)
     ctx.group_steps.append(st)
-    ctx.groups.append(TracedGroup(x, F, converged, finite, update, cert, sign, ok, solved, seeds, upstream, bit,
-                                  moved, _triad_values(ctx, st, x, pred)))
+    ctx.groups.append(TracedGroup(y, Fy, converged, finite, update, cert, sign, ok, solved, seeds, upstream, bit,
+                                  start, moved, _triad_values(ctx, st, x, pred)))
     ctx.flag(ok)
     # implicit differentiation: F_x·x' = −F', F_x·x'' = −(F'' at x'' = 0), on the solution's factorisation
     order = ctx.order
