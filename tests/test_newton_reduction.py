@@ -45,7 +45,7 @@ def test_which_bodies_are_iterated():
     triad = assur.compile(assur.load(EXAMPLES / "triad_sixbar.toml"))
     st, red = _group(triad)
     assert _names(triad, red.kept) == ["tern"]
-    assert sorted((_names(triad, [b])[0], p, q) for b, p, q in red.rods) == [
+    assert sorted((_names(triad, [b])[0], p, q) for b, p, q, *_ in red.rods) == [
         ("ab", "A", "B"), ("r1", "P1", "C"), ("r2", "P2", "D")]
     assert list(red.index) == [3 * st.bodies.index(red.kept[0]) + k for k in range(3)]
     classiv = assur.compile(assur.load(EXAMPLES / "classiv_sixbar.toml"))
@@ -92,7 +92,7 @@ def test_expanded_poses_close_the_rods_ends(plan):
     labels = []
     full = np.array([float(np.real(r.v)) for r in _residual(c, st, [Jet(np.float64(v)) for v in xf], False,
                                                              labels=labels)])
-    for k, (b, p1, p2) in enumerate(red.rods):
+    for k, (b, p1, p2, *_) in enumerate(red.rods):
         # a rod's joints take two rows each (its partner's): its first end held, its second off by the distance error
         first = full[[i for i, name in enumerate(labels) if name == p1]]
         second = full[[i for i, name in enumerate(labels) if name == p2]]
@@ -102,7 +102,7 @@ def test_expanded_poses_close_the_rods_ends(plan):
         r = abs(reduced[len(reduced) - len(red.rods) + k])
         assert r > 1e-7 * plan.length_scale
         assert abs(miss - r) <= 1e-3 * r
-    for b, _, _ in red.rods:
+    for b, *_ in red.rods:
         j = 3 * st.bodies.index(b) + 2
         for turns in (-2, 1, 3):
             ref = x.copy()

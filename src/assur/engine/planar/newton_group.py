@@ -34,7 +34,8 @@ from ...kernels.newton import ACCEPT_FACTOR, newton
 class Reduction:
     """The unknowns Newton iterates on for a group (:func:`reduction`): ``kept`` the bodies whose poses remain,
     ``index`` their unknowns' places among the group's (x, y, θ per body of ``st.bodies``), ``rods`` the binary links
-    left out, each (body, its first point, its second point)."""
+    left out, each (body, its first point, its second point, the body holding the first, the one holding the
+    second)."""
     kept: tuple
     index: tuple
     rods: tuple
@@ -64,7 +65,7 @@ def reduction(g, lines, st) -> Reduction:
         else:
             if partners[0] == partners[1] and partners[0] in group:
                 continue
-            rods.append((b, pts[0], pts[1]))
+            rods.append((b, pts[0], pts[1], partners[0], partners[1]))
             pinned.update(o for o in partners if o in group)
     out = {r[0] for r in rods}
     kept = tuple(b for b in st.bodies if b not in out)
@@ -83,19 +84,17 @@ def expand(c, st, red: Reduction, y: list, ref: list) -> list:
         i = st.bodies.index(b)
         out[3 * i:3 * i + 3] = y[3 * j:3 * j + 3]
         pose[b] = (y[3 * j] + y[3 * j + 1] * 1j, np.cos(y[3 * j + 2]) + np.sin(y[3 * j + 2]) * 1j)
-    at = dict(c.g.joints)
 
-    def end(rod, p):
-        other = [o for o in at[p] if o != rod][0]
-        if other in pose:
-            o, e = pose[other]
-            return o + e * c.w[(other, p)]
+    def end(p, holder):
+        if holder in pose:
+            o, e = pose[holder]
+            return o + e * c.w[(holder, p)]
         return c.pos[p].v
-    for b, p1, p2 in red.rods:
+    for b, p1, p2, h1, h2 in red.rods:
         i = st.bodies.index(b)
         w1 = c.w[(b, p1)]
-        first = end(b, p1)
-        d = (end(b, p2) - first) * np.conj(c.w[(b, p2)] - w1)
+        first = end(p1, h1)
+        d = (end(p2, h2) - first) * np.conj(c.w[(b, p2)] - w1)
         ref_theta = ref[3 * i + 2]
         cr, sr = np.cos(ref_theta), np.sin(ref_theta)
         dr, di = np.real(d), np.imag(d)
@@ -172,12 +171,8 @@ def _residual(c, st, X, derivs: bool, labels: list | None = None, lift: bool = F
         if labels is not None:
             labels += [name] * (len(res) - len(labels))
     if red is not None:
-        at = dict(g.joints)
-        for b, p1, p2 in red.rods:
-            ends = []
-            for p in (p1, p2):
-                other = [o for o in at[p] if o != b][0]
-                ends.append(world(other, p) if other in gi else const(c.pos[p]))
+        for b, p1, p2, h1, h2 in red.rods:
+            ends = [world(h, p) if h in gi else const(c.pos[p]) for p, h in ((p1, h1), (p2, h2))]
             d = ends[1] - ends[0]
             length = np.abs(c.w[(b, p2)] - c.w[(b, p1)])
             length = up(length) if lift else length
