@@ -64,7 +64,7 @@ def test_the_reduced_equations_vanish_at_the_loops_roots(plan):
     st, red = _group(plan)
     rng = np.random.default_rng(3)
     checked = 0
-    for _ in range(20):
+    for _ in range(12):
         p = plan.defaults * (1 + 0.02 * rng.standard_normal(plan.n_params))
         x, c = _solved(plan, st, p, rng.uniform(0, 2 * np.pi))
         if not np.all(np.isfinite(x)):
@@ -76,7 +76,7 @@ def test_the_reduced_equations_vanish_at_the_loops_roots(plan):
         assert np.max(np.abs(F)) < 1e-12 * plan.length_scale
         back = np.array([float(np.real(v)) for v in expand(c, st, red, list(y), list(x))])
         np.testing.assert_allclose(back, x, rtol=0, atol=1e-12 * plan.length_scale)
-    assert checked >= 8
+    assert checked >= 6
 
 
 def test_expanded_poses_close_the_rods_ends(plan):
