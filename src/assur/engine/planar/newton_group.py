@@ -50,7 +50,7 @@ def reduction(g, lines, st) -> Reduction:
     sliding = {b for rec in lines for b in rec[2:4]}
     at = dict(g.joints)
     group = set(st.bodies)
-    rods, pinned = [], set()
+    rods, out, pinned = [], set(), set()
     for b in st.bodies:
         pts = tuple(g.bodies[b].points)
         if b in sliding or b in pinned or len(pts) != 2 or pts[0] == pts[1]:
@@ -59,15 +59,15 @@ def reduction(g, lines, st) -> Reduction:
         for p in pts:
             bodies = tuple(at.get(p, ()))
             others = [o for o in bodies if o != b]
-            if len(bodies) != 2 or len(others) != 1 or others[0] in {r[0] for r in rods}:
+            if len(bodies) != 2 or len(others) != 1 or others[0] in out:
                 break
             partners.append(others[0])
         else:
             if partners[0] == partners[1] and partners[0] in group:
                 continue
             rods.append((b, pts[0], pts[1], partners[0], partners[1]))
+            out.add(b)
             pinned.update(o for o in partners if o in group)
-    out = {r[0] for r in rods}
     kept = tuple(b for b in st.bodies if b not in out)
     index = tuple(3 * i + k for i, b in enumerate(st.bodies) if b not in out for k in range(3))
     return Reduction(kept, index, tuple(rods))

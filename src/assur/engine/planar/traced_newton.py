@@ -162,9 +162,9 @@ def trace_group(ctx, st) -> TracedGroup:
     pred = [tr.free(f"pr{g}_{i}", SAMPLE) for i in range(n)]
     red = reduction(ctx.g, ctx.plan.lines, st)
     # the iteration's unknowns: the kept bodies' poses (every body's where the group has no rod), from the prediction
-    start = list(red.index) if red.rods else list(range(n))
+    start = list(red.index)
     y = [tr.free(f"x{g}_{i}", SAMPLE | bit) for i in range(len(start))]
-    Fy, Jy = _residual_and_jacobian(ctx, st, y, red if red.rods else None)
+    Fy, Jy = _residual_and_jacobian(ctx, st, y, red)
     luy = dense.factor(Jy)
     update = [yi + dy for yi, dy in zip(y, luy.solve([-f for f in Fy]))]
     if red.rods:
