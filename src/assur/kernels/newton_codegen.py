@@ -173,17 +173,31 @@ def _event_loop(walk: dict, thetas: list[int], sample: list[str], design: list[s
     ], I8)
 
 
-def _sweep_walk(final: list[str]) -> dict:
+def _same_pose(a: str, b: str) -> list[str]:
+    """Lines setting ``same``: whether the group poses ``a`` and ``b`` (NT values; ``ISANG`` marks the angles) are one
+    assembly, as :func:`assur.engine.planar.continuation.same_assembly` decides (``asep`` of the length scale)."""
+    two_pi = repr(2.0 * math.pi)
+    return ["same = True", "for i in range(NT):", f"{I4}dd = {a}[i] - {b}[i]", f"{I4}if ISANG[i]:",
+            f"{I8}dd = ((dd + math.pi) % {two_pi} - math.pi) * ls", f"{I4}if not abs(dd) <= asep * ls:",
+            f"{I8}same = False"]
+
+
+def _sweep_walk(final: list[str], ambiguous: list[str]) -> dict:
     """The swept continuation's pieces of :func:`_event_loop` (``solve(..., sweep=True)``,
     :func:`assur.engine.planar.sweep.execute_cycle`): phase 0 walks the parameters from the file's design to the
     design's at the sketch's angle, phase 1 visits the inputs by their angle past the sketch's (``fwd``), each walked
-    to from the one before, phase 2 walks backward from the sketch (``bwd``) to the inputs the forward walk could not
-    reach. ``final``: the lines run at the certified last step of a walk to a sample."""
+    to from the one before, then (phase 3) on to the sketch's angle a turn later: a design back on its pose there
+    (``S``) closes and is done. Otherwise phase 2 walks backward from the sketch (``bwd``) through every input it can
+    reach: an input the forward walk did not reach takes its pose, one it reached (``FP[u]``, its pose) on another
+    assembly is ambiguous and runs ``ambiguous``. ``final``: the lines run at the certified last step of a walk to a
+    sample."""
     two_pi = repr(2.0 * math.pi)
+    back = ["phase = 2", "check = True", "for i in range(NT):", f"{I4}X[i] = S[i]", "alive = salive", "qf = qs",
+            "m = 0"]
     return {
         "state": ["phase = -1", "alive = True", "walking = False", "newp = True", "m = 0", "u = 0", "t = 0.0",
                   "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "qf = qs",
-                  "dq = 0.0", "target = qs"],
+                  "dq = 0.0", "target = qs", "check = False"],
         "next": [
             "if not walking:",
             f"{I4}if phase == 0:",
@@ -195,17 +209,20 @@ def _sweep_walk(final: list[str]) -> dict:
             f"{I8}    continue",
             f"{I8}dq = 0.0", f"{I8}hmax = min(1.0, 1.0 / stages)", f"{I8}hmin = 1e-12",
             f"{I4}else:",
-            f"{I8}if not alive or m >= N:",
+            f"{I8}if phase == 3 or not alive or m >= N:",
             f"{I8}    if phase == 2:",
             f"{I8}        break",
-            f"{I8}    phase = 2",
-            f"{I8}    for i in range(NT):", f"{I8}        X[i] = S[i]",
-            f"{I8}    alive = salive", f"{I8}    qf = qs", f"{I8}    m = 0",
-            f"{I8}    continue",
-            f"{I8}u = fwd[r, m] if phase == 1 else bwd[r, m]",
-            f"{I8}m += 1",
-            f"{I8}if reached[u]:", f"{I8}    continue",
-            f"{I8}target = qs + (ahead[r, u] if phase == 1 else ahead[r, u] - {two_pi})",
+            f"{I8}    if phase == 1 and alive:",
+            f"{I8}        phase = 3",
+            f"{I8}        target = qs + {two_pi}",
+            f"{I8}    else:",
+            *_block(back, I16),
+            f"{I8}        continue",
+            f"{I8}else:",
+            f"{I8}    u = fwd[r, m] if phase == 1 else bwd[r, m]",
+            f"{I8}    m += 1",
+            f"{I8}    if reached[u] and not check:", f"{I8}        continue",
+            f"{I8}    target = qs + (ahead[r, u] if phase == 1 else ahead[r, u] - {two_pi})",
             f"{I8}dq = target - qf",
             f"{I8}hmax = min(1.0, step / abs(dq)) if dq != 0.0 else 1.0",
             f"{I8}hmin = cmin / abs(dq) if dq != 0.0 else 1e-12",
@@ -217,38 +234,60 @@ def _sweep_walk(final: list[str]) -> dict:
             "if phase == 0:",
             f"{I4}newp = True",
             f"{I4}for j in range(p.shape[0]):", f"{I8}p[j] = P0[j] + tn * (P[d, j] - P0[j])",
-            "final = phase != 0 and tn >= 1.0",
+            "final = (phase == 1 or phase == 2) and tn >= 1.0",
             "if final:",
             f"{I4}c = cq[r, u]", f"{I4}s = sq[r, u]",
             "else:",
             f"{I4}qq = qf + tn * dq", f"{I4}c = math.cos(qq)", f"{I4}s = math.sin(qq)"],
         "sketch": ["alive = good", "for i in range(NT):", f"{I4}X[i] = W[i]", "phase = 0"],
         "stuck": ["alive = False", "walking = False", "for i in range(NT):", f"{I4}X[i] = math.nan"],
-        "arrived": ["moved = False", "if phase != 0:", f"{I4}qf = target", f"{I4}reached[u] = True",
-                    *_block(final, I4)],
+        "arrived": ["moved = False",
+                    "if phase == 3:",
+                    *_block(_same_pose("X", "S"), I4),
+                    f"{I4}if same:", f"{I8}break",
+                    *_block(back, I4),
+                    "elif phase != 0:",
+                    f"{I4}qf = target",
+                    f"{I4}if reached[u]:",
+                    *_block(_same_pose("X", "FP[u]"), I8),
+                    f"{I8}if not same:",
+                    *_block(list(ambiguous) or ["pass"], I12),
+                    f"{I4}else:",
+                    f"{I8}reached[u] = True",
+                    f"{I8}if phase == 1:", f"{I8}    for i in range(NT):", f"{I8}        FP[u, i] = X[i]",
+                    *_block(final, I8)],
     }
 
 
-def _each_walk(final: list[str]) -> dict:
+def _each_walk(final: list[str], ambiguous: list[str]) -> dict:
     """The default continuation's pieces of :func:`_event_loop` (:func:`assur.engine.planar.continuation.execute`):
     after the solve at the sketch, every input ``u`` walked on its own from there — the file's design at the sketch's
     angle — to the design at the input, parameters and input together along the straight line, the short way round
     (``ahead[r, u]``: the input's angle from the sketch's in [−π, π)); where that walk fails, the long way (a turn the
     other way). An input at the sketch's angle of the file's design is solved from the sketch directly (with the full
     iteration cap). The file's design walks in whole steps of crank, which the walks of one direction share (a walk
-    starts at the last cached step it passes). ``final`` as :func:`_sweep_walk`."""
+    starts at the last cached step it passes); it first walks half a turn each way (``m`` = −2, −1: the whole steps
+    to the opposite angle, ``EF`` and ``EB``), and its assembly closes where the two meet on one assembly
+    (``continuation.closes``). Where it does not (and for every other design) an input the short way reached is
+    walked the long way too: reached there on another assembly (than ``FP[u]``), it is ambiguous and runs
+    ``ambiguous``. ``final`` as :func:`_sweep_walk`."""
     two_pi = repr(2.0 * math.pi)
     return {
         "state": ["phase = -1", "salive = False", "walking = False", "direct = False", "newp = True", "leg = 0",
                   "m = 0", "nf = 0", "nb = 0", "uniform = False", "kk = 0", "fwdir = True", "u = 0", "t = 0.0",
-                  "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "dq = 0.0"],
+                  "tn = 0.0", "tl = math.nan", "h = 1.0", "hmax = 1.0", "hmin = 1e-12", "tries = 0", "dq = 0.0",
+                  "closed = False"],
         "pass": ["direct = False"],
         "next": [
             "if not walking:",
             f"{I4}if m >= N or not salive:",
             f"{I8}break",
-            f"{I4}u = m",
-            f"{I4}dq = ahead[r, u] if leg == 0 else ahead[r, u] - math.copysign({two_pi}, ahead[r, u])",
+            f"{I4}if m < 0:",
+            f"{I8}u = 0",
+            f"{I8}dq = math.pi if m == -2 else -math.pi",
+            f"{I4}else:",
+            f"{I8}u = m",
+            f"{I8}dq = ahead[r, u] if leg == 0 else ahead[r, u] - math.copysign({two_pi}, ahead[r, u])",
             f"{I4}for i in range(NT):", f"{I8}X[i] = S[i]", f"{I8}L[i] = S[i]",
             f"{I4}if dq == 0.0 and not moved:",
             # at the sketch: no walk, the sample's solve from the sketch's poses
@@ -277,7 +316,7 @@ def _each_walk(final: list[str]) -> dict:
             f"{I4}tn = min(t + h, 1.0)",
             f"{I4}ratio = (tn - t) / (t - tl) if tl == tl else 0.0",
             "for i in range(NT):", f"{I4}PRED[i] = X[i] + ratio * (X[i] - L[i])",
-            "final = tn >= 1.0",
+            "final = tn >= 1.0 and m >= 0",
             "if moved:",
             f"{I4}newp = True",
             f"{I4}for j in range(p.shape[0]):",
@@ -286,7 +325,9 @@ def _each_walk(final: list[str]) -> dict:
             f"{I4}c = cq[r, u]", f"{I4}s = sq[r, u]",
             "else:",
             f"{I4}qq = qs + tn * dq", f"{I4}c = math.cos(qq)", f"{I4}s = math.sin(qq)"],
-        "sketch": ["salive = good", "for i in range(NT):", f"{I4}S[i] = W[i]", "phase = 1"],
+        # the file's design first walks half a turn each way (m = -2, -1); any other is not known to close
+        "sketch": ["salive = good", "for i in range(NT):", f"{I4}S[i] = W[i]", "phase = 1", "closed = False",
+                   "m = 0 if moved else -2"],
         "direct": ["if direct:", f"{I4}reached[u] = True", *_block(final, I4), f"{I4}m += 1", f"{I4}continue"],
         "grown": ["if uniform and t < 1.0:",
                   f"{I4}kk += 1",
@@ -297,14 +338,31 @@ def _each_walk(final: list[str]) -> dict:
                   f"{I8}if fwdir:", f"{I8}    nf = kk",
                   f"{I8}else:", f"{I8}    nb = kk"],
         "shrunk": ["uniform = False"],
-        "stuck": ["walking = False", "if leg == 0 and dq != 0.0:", f"{I4}leg = 1", "else:", f"{I4}leg = 0",
-                  f"{I4}m += 1"],
-        "arrived": ["reached[u] = True", *final, "leg = 0", "m += 1"],
+        "stuck": ["walking = False",
+                  "if m < 0:", f"{I4}m = 0",                        # half a turn cannot be walked: not closed
+                  "elif leg == 0 and dq != 0.0 and not reached[u]:", f"{I4}leg = 1",
+                  "else:", f"{I4}leg = 0", f"{I4}m += 1"],
+        "arrived": ["if m < 0:",
+                    f"{I4}for i in range(NT):",
+                    f"{I8}if m == -2:", f"{I8}    EF[i] = X[i]", f"{I8}else:", f"{I8}    EB[i] = X[i]",
+                    f"{I4}if m == -1:", *_block(_same_pose("EF", "EB"), I8), f"{I8}closed = same",
+                    f"{I4}m += 1",
+                    "elif leg == 1 and reached[u]:",
+                    *_block(_same_pose("X", "FP[u]"), I4),
+                    f"{I4}if not same:", *_block(list(ambiguous) or ["pass"], I8),
+                    f"{I4}leg = 0", f"{I4}m += 1",
+                    "else:",
+                    f"{I4}reached[u] = True", *_block(final, I4),
+                    f"{I4}if leg == 0 and not closed and dq != 0.0:",
+                    f"{I8}for i in range(NT):", f"{I8}    FP[u, i] = X[i]",
+                    f"{I8}leg = 1",
+                    f"{I4}else:", f"{I8}leg = 0", f"{I8}m += 1"],
     }
 
 
 def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator: str, signature: str, head=(),
-                  tail=(), before=(), imports=(), fastmath=("contract",), each: bool = False) -> str:
+                  tail=(), before=(), imports=(), fastmath=("contract",), each: bool = False,
+                  ambiguous=()) -> str:
     """Python source of a numba kernel that solves a plan with Newton-solved groups at designs × inputs, following
     each design's assembly from the sketch's (module docstring), and runs ``epilogue`` at every sample it reaches.
 
@@ -316,7 +374,9 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
     and after its walks (8 spaces of indentation), ``before``: once per call. The traced program's selects call
     :func:`assur.kernels.reductions.select` (trace with ``Tracer(select="select")``). ``each``: every sample walked
     from the sketch on its own (:func:`_each_walk`, the default continuation), else each design swept through its
-    inputs (:func:`_sweep_walk`; both in :func:`_event_loop`). The kernel's first arguments are :data:`NEWTON_ARGS`,
+    inputs (:func:`_sweep_walk`; both in :func:`_event_loop`); ``ambiguous``: lines run at a sample found ambiguous
+    after its ``epilogue`` ran (reached by the other walk on another assembly). The kernel's first arguments are
+    :data:`NEWTON_ARGS`,
     the rest ``signature``:
 
     - ``P (D, n_params)`` the designs, ``P0 (n_params,)`` the file's (the parameters are read from a scratch row
@@ -363,7 +423,9 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
         f"{I4}reached = np.zeros(N, dtype=np.bool_)",
         *[f"{I4}{a} = np.empty(NT)" for a in ("X", "L", "S", "W", "PRED")],
         f"{I4}KC = int(math.ceil({2.0 * math.pi!r} / step)) + 2",
-        f"{I4}CF = np.empty((KC, NT))", f"{I4}CB = np.empty((KC, NT))",
+        f"{I4}CF = np.empty((KC, NT))", f"{I4}CB = np.empty((KC, NT))", f"{I4}FP = np.empty((N, NT))",
+        f"{I4}EF = np.empty(NT)", f"{I4}EB = np.empty(NT)",
+        f"{I4}ISANG = np.zeros(NT, dtype=np.bool_)", *[f"{I4}ISANG[{i}] = True" for i in thetas],
         f"{I4}TA = np.empty(34)", f"{I4}TS = np.empty(22, dtype=np.complex128)",
         *[f"{I4}RT{g} = np.zeros(7, dtype=np.complex128)" for g, grp in enumerate(groups) if grp.triad is not None],
         *[f"{I4}sg{g} = math.nan" for g in range(len(groups))],
@@ -372,7 +434,8 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
         *[f"{I8}sg{g} = math.nan" for g in range(len(groups))],
         *[f"{I8}RT{g}[6] = 0.0" for g, grp in enumerate(groups) if grp.triad is not None],
         *_block(head, I8),
-        *_event_loop((_each_walk if each else _sweep_walk)(final), thetas, sample, design, preds, missed),
+        *_event_loop(_each_walk(final, ambiguous) if each else _sweep_walk(final, ambiguous), thetas, sample, design, preds,
+                     missed),
         *_block(tail, I8),
     ]
     return module(generator, NEWTON_ARGS + ", " + signature, body, fastmath=fastmath,
@@ -388,15 +451,19 @@ def newton_cycle_source(tracer, groups, ok, valid, *, transmission=None, foot=No
     ``kernel(*NEWTON_ARGS, g, up, omega, scale, txy, out)``: the inputs ``cq, sq (1, M)`` one uniform turn."""
     after = _cycle_after(transmission, foot, path)
     values = [ok] + [v for _, v in after]
-    epilogue = [f"cbad += 0 if ({source(ok)} and sepok) else 1",
+    epilogue = [f"cgood[u] = {source(ok)} and sepok", "cbad += 0 if cgood[u] else 1",
                 *[f"{target} = {source(v)}" for target, v in after]]
+    # a sample found ambiguous after it counted as assembled (newton_source) no longer does
+    ambiguous = ["if cgood[u]:", f"{I4}cbad += 1", f"{I4}cgood[u] = False"] \
+        + ([f"ft[u] = math.inf"] if transmission is not None else [])
     if transmission is not None:
         epilogue.append("ft[u] = ft[u] if sepok else math.inf")
     missed = ["cbad += 1"] + (["ft[u] = math.inf"] if transmission is not None else [])
     return newton_source(tracer, groups, values, epilogue, missed, valid=valid,
                          generator="assur.kernels.newton_codegen.newton_cycle_source",
                          signature="g, up, omega, scale, txy, out",
-                         before=["M = cq.shape[1]", *[f"{a} = np.empty(M)" for a in _CYCLE_SCRATCH]],
+                         before=["M = cq.shape[1]", *[f"{a} = np.empty(M)" for a in _CYCLE_SCRATCH],
+                                 "cgood = np.zeros(M, dtype=np.bool_)"], ambiguous=ambiguous,
                          head=["cbad = 0", "shortfall = 0.0"],
                          tail=_cycle_reduce(transmission is not None, foot is not None, path is not None),
                          imports=["from assur.kernels.reductions import gait_reduce, polyline_distance"],

@@ -21,7 +21,12 @@ assembly.
 
 :func:`execute` continues every sample on its own from the sketch (the short way round; samples a crank cannot
 reach that way, past a locked range, the long way), so a sample's result does not depend on the batch it is in or
-on the step of a grid. The samples of the file's design start at the last whole step of crank before them
+on the step of a grid. A sample both ways reach must be the same assembly both ways: where the sketch's assembly
+does not close after one turn of the crank but spans more than one (it locks at a toggle after more than a turn one
+way or the other), the inputs both ways reach have two assemblies on it, one each way, and such a sample is
+*ambiguous*: unbuildable, never one of them silently (else neighbouring samples, one reached each way, would jump
+between them). A crank whose assembly closes (:func:`closes`: the walks half a turn each way meet on one assembly)
+has no ambiguous sample, and its samples are not walked the long way. The samples of the file's design start at the last whole step of crank before them
 (:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
 which depends on the plan, the tolerances and the way round only. After the last step each sample's group is
 checked against its other assemblies (:mod:`assur.engine.planar.group_assemblies`): a sample closer to another
@@ -284,6 +289,7 @@ class WholeSteps:
         self.sign = start.sign
         self.x = [start.x]
         self.alive = bool(start.alive[0])
+        self.closes = None          # whether the design's assembly closes after a turn (:func:`closes`), once known
         self.lock = threading.Lock()
 
     def q(self, k):
@@ -369,6 +375,79 @@ def _start_on_whole_steps(plan, steps, tol, method, walker, P, target, among=Non
     return bx, bq
 
 
+def same_assembly(plan, tol, xa: dict, xb: dict) -> np.ndarray:
+    """(R,) whether the group poses ``xa``, ``xb`` ({step id: (R, 3k)}) are one assembly: every body's origin within
+    ``tolerances.assembly_separation`` of the length scale and its angle within as much (as an arc at the length
+    scale; whole turns apart are the same angle). False where either is not finite."""
+    lim = tol.assembly_separation * plan.length_scale
+    out = None
+    for k in xa:
+        d = np.array(xb[k], dtype=float) - xa[k]
+        d[..., 2::3] = (np.remainder(d[..., 2::3] + np.pi, 2 * np.pi) - np.pi) * plan.length_scale
+        with np.errstate(invalid="ignore"):
+            ok = np.all(np.abs(d) <= lim, axis=-1)
+        out = ok if out is None else out & ok
+    return out
+
+
+def closes(plan, steps, tol, method) -> bool:
+    """Whether the file's design's assembly closes after one turn of its crank: its whole steps walked half a turn
+    each way from the sketch (:class:`WholeSteps`) reach the opposite angle on one assembly (then every input has
+    one assembly on it, whichever way it is walked to). Kept with the plan's whole steps."""
+    ccw = whole_steps(plan, steps, tol, method, 1.0)
+    if ccw.closes is None:
+        ends = [_half_turn(plan, steps, tol, method, way) for way in (1.0, -1.0)]
+        ccw.closes = bool(all(e is not None for e in ends) and same_assembly(plan, tol, *ends)[0])
+    return ccw.closes
+
+
+def _half_turn(plan, steps, tol, method, way: float):
+    """The file's design's group poses ({step id: (1, 3k)}) half a turn from the sketch one way round, or None
+    where that walk cannot be certified."""
+    ws = whole_steps(plan, steps, tol, method, way)
+    k = int(np.ceil(np.pi / ws.stage - 1e-9))
+    x = ws.upto(plan, steps, k)
+    if not all(np.all(np.isfinite(v)) for v in x[k - 1].values()):
+        return None
+    if abs(k * ws.stage - np.pi) <= 1e-12:
+        end = x[k]
+    else:                                            # the last whole step passes the opposite angle: walk to it
+        w = Walker(plan, steps, tol, method, plan.defaults[None, :], np.array([[ws.q(k - 1)]]), x[k - 1], ws.sign)
+        back = (x[k - 2], np.array([[ws.q(k - 2)]])) if k >= 2 else None
+        w.advance(plan.defaults[None, :], np.array([[ws.sketch + way * np.pi]]), back=back)
+        end = w.x
+    return end if all(np.all(np.isfinite(v)) for v in end.values()) else None
+
+
+def _may_not_close(plan, steps, tol, method, P) -> np.ndarray:
+    """(R,) the rows of designs ``P (R, n_params)`` whose assembly may not close after a turn: all but the file's
+    design's where it closes (:func:`closes`; other designs are not walked a turn for it)."""
+    rows = np.ones(len(P), dtype=bool)
+    if steps is plan.steps:
+        mine = np.all(P == plan.defaults, axis=-1)
+        if mine.any() and closes(plan, steps, tol, method):
+            rows &= ~mine
+    return rows
+
+
+def _short_way(plan, Q):
+    """(R, n_inputs) the inputs ``Q`` with every rotary one taken the short way round from the sketch's."""
+    rotary = np.array([k == "rotary" for k in plan.input_kinds])
+    q_s = plan.sketch_inputs
+    return np.where(rotary, q_s + (Q - q_s + np.pi) % (2 * np.pi) - np.pi, Q)
+
+
+def _walk_long_way(plan, steps, tol, method, walker, P, short, rows):
+    """Walk the walker's ``rows (R,)`` (at the sketch) to the inputs ``short (R, n_inputs)`` the long way round (a
+    turn the other way on every rotary input not at the sketch's angle), starting the file's design at its whole
+    steps. Returns the rows that arrived (R,)."""
+    rotary = np.array([k == "rotary" for k in plan.input_kinds])
+    d = short - plan.sketch_inputs
+    longer = np.where(rotary & (d != 0), short - np.copysign(2 * np.pi, d), short)
+    back = _start_on_whole_steps(plan, steps, tol, method, walker, P, longer, among=rows)
+    return walker.advance(P, longer, rows=rows, back=back) & rows
+
+
 def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
     """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)); Newton-solved groups continued from
     the sketch to every sample in certified steps (module docstring), a crank the short way round first, then the
@@ -381,22 +460,23 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
     R = len(Q)
     walker = _at_sketch(plan, steps, tol, method, R)
     rotary = np.array([k == "rotary" for k in plan.input_kinds])
-    q_s = plan.sketch_inputs
-    short = np.where(rotary, q_s + (Q - q_s + np.pi) % (2 * np.pi) - np.pi, Q)
+    short = _short_way(plan, Q)
     start = (walker.params.copy(), walker.q.copy(), {k: v.copy() for k, v in walker.x.items()},
              {k: v.copy() for k, v in walker.sign.items()})
     back = _start_on_whole_steps(plan, steps, tol, method, walker, P, short)
     alive = walker.advance(P, short, back=back).copy()
-    if rotary.any() and not alive.all():
+    # the samples the short way reached are walked the long way too where the crank's assembly may not close (a
+    # single crank: every sample but those of the file's design when it closes), to find the ambiguous ones
+    check = alive & _may_not_close(plan, steps, tol, method, P) if plan.input_kinds == ("rotary",) else \
+        np.zeros(R, dtype=bool)
+    if rotary.any() and (check.any() or not alive.all()):
         other = Walker(plan, steps, tol, method, *start)
-        d = short - q_s
-        longer = np.where(rotary & (d != 0), short - np.copysign(2 * np.pi, d), short)
-        back = _start_on_whole_steps(plan, steps, tol, method, other, P, longer, among=~alive)
-        again = other.advance(P, longer, rows=~alive, back=back)
+        again = _walk_long_way(plan, steps, tol, method, other, P, short, ~alive | check)
         take = ~alive & again
         for k in walker.x:
             walker.x[k][take] = other.x[k][take]
-        alive = alive | take
+        ambiguous = check & again & ~same_assembly(plan, tol, walker.x, other.x)
+        alive = (alive | take) & ~ambiguous
     final = {k: v.reshape(shape + v.shape[-1:]) for k, v in walker.x.items()}
     for k, v in walker.sign.items():
         final[(k, "det_sign")] = v.reshape(shape)

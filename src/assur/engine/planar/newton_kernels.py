@@ -96,7 +96,8 @@ def _solve_source(plan, order: int, each: bool = True) -> str:
     return newton_codegen.newton_source(t.tracer, t.groups, [v for _, v in rows] + [ok], epilogue,
                                         ["valid[d, u] = False"], valid=t.valid,
                                         generator="assur.engine.planar.newton_kernels.solve_source",
-                                        signature="w1, w2, w3, out, valid", each=each)
+                                        signature="w1, w2, w3, out, valid", each=each,
+                                        ambiguous=["valid[d, u] = False"])
 
 
 def seeds(plan) -> np.ndarray:

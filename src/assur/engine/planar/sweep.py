@@ -13,15 +13,18 @@ certified steps)
 3. and solves the whole batch once more from those poses, for the derivatives and the branch certificate.
 
 Every sample keeps the branch of the sketch; the positions equal ``execute``'s to the Newton tolerance wherever the
-sketch's assembly closes after one turn (a branch that needs two turns to close meets itself at the sketch's angle
-here, at the opposite angle there).
+sketch's assembly closes after one turn. The forward sweep, once through the samples, walks on to the sketch's
+angle a turn later: a design back on its own pose there closes; for any other the backward sweep visits every
+sample it can reach, and a sample both sweeps reach on different assemblies is ambiguous, unbuildable, as
+``execute`` flags it (an assembly that spans more than a turn without closing: a branch that needs two turns to
+close is then ambiguous everywhere here, and where ``execute`` walks both ways to an input).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ...kernels.jet import Jet
-from .continuation import Walker, execute, newton_keys, separate
+from .continuation import Walker, execute, newton_keys, same_assembly, separate
 from .steps import Context, _run
 
 TWO_PI = 2.0 * np.pi
@@ -62,30 +65,44 @@ def execute_cycle(plan, steps, params, q_jets, order, tol, method="closed") -> C
     poses = {k: np.full((D, M, v.shape[-1]), np.nan) for k, v in start.x.items()}
     ahead = np.mod(q - q_s, TWO_PI)
 
-    def sweep(order_, signed, todo):
+    def sweep(order_, signed, todo, check=None):
+        # ``check`` (D, M): samples reached before, walked to again to compare (rows that may not close)
         w = Walker(plan, steps, tol, method, start.params, start.q, start.x, start.sign)
         for j in order_:
-            if not todo[:, j].any():
+            visit = todo[:, j] if check is None else todo[:, j] | check[:, j]
+            if not visit.any():
                 continue
             w.advance(design, np.full((D, 1), q_s + signed[j]))
             for k in keys:
                 fill = todo[:, j] & w.alive
                 poses[k][fill, j] = w.x[k][fill]
+            if check is not None:
+                there = check[:, j] & w.alive
+                if there.any():
+                    same = same_assembly(plan, tol, {k: poses[k][:, j] for k in keys}, w.x)
+                    ambiguous[:, j] |= there & ~same
             todo[:, j] &= ~w.alive
             if not w.alive.any():
                 break
-        return todo
+        return todo, w
 
-    todo = sweep(np.argsort(ahead, kind="stable"), ahead, np.repeat(start.alive[:, None], M, axis=1))
-    if todo.any():
-        sweep(np.argsort(-(ahead - TWO_PI), kind="stable"), ahead - TWO_PI, todo)
+    ambiguous = np.zeros((D, M), dtype=bool)
+    todo, forward = sweep(np.argsort(ahead, kind="stable"), ahead, np.repeat(start.alive[:, None], M, axis=1))
+    # 2b. the assembly closes after a turn where the forward sweep, walked on to the sketch's angle a turn later,
+    # is back on the design's pose there; elsewhere the backward sweep visits every sample, and a sample both
+    # sweeps reach on different assemblies is ambiguous (continuation.execute)
+    forward.advance(design, np.full((D, 1), q_s + TWO_PI))
+    closed = forward.alive & same_assembly(plan, tol, start.x, forward.x)
+    check = (start.alive & ~closed)[:, None] & ~todo
+    if todo.any() or check.any():
+        sweep(np.argsort(-(ahead - TWO_PI), kind="stable"), ahead - TWO_PI, todo, check)
     # 3. the whole batch from the swept poses: derivatives and the branch certificate
     final = {k: v.reshape(shape + v.shape[-1:]) for k, v in poses.items()}
     for k, v in start.sign.items():
         final[(k, "det_sign")] = np.repeat(v[:, None], M, axis=1).reshape(shape)
     c = _run(plan, steps, params, q_jets, order, tol, method, dict(final))
     reached = np.all(np.isfinite(poses[keys[0]]), axis=-1).reshape(shape) if keys else True
-    c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & reached
+    c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & reached & ~ambiguous.reshape(shape)
     return separate(plan, steps, c, method, tol, shape, final)
 
 
