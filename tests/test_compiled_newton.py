@@ -452,3 +452,20 @@ def test_the_gait_cycle_kernel_of_a_newton_group_after_a_dyad():
         assert np.array_equal(np.isnan(a), np.isnan(b)), k
         ok = np.isfinite(a)
         assert np.allclose(a[ok], b[ok], rtol=1e-9, atol=1e-9), k
+
+
+@pytest.mark.slow            # compiles this structure's kernel
+def test_a_newton_group_without_a_rod():
+    """A group whose binary links are none of them held by exactly one known or kept body at each end (an
+    eight-link atlas leg, K8-d2bbc4129cb8/f0/c1/foot5, as the ranking writes its start): every body is iterated.
+    Its trace once read the full Jacobian that only a group with rods builds, and the kernel did not generate."""
+    from assur.engine.planar.newton_group import reduction
+    from assur.io.mechanism_file import from_dict
+    from assur.synthesis.legs import leg_candidates
+    c, = leg_candidates(8, key="K8-d2bbc4129cb8/f0/c1/foot5")
+    plan = assur.compile(from_dict(c.document, c.key))
+    newton = [st for st in plan.steps if st.kind == "newton"]
+    assert newton and all(not reduction(plan.structure.graph, plan.lines, st).rods for st in newton)
+    a, b = both(plan, q=np.linspace(0.0, 2 * np.pi, 36, endpoint=False))
+    assert a.valid.any()
+    same(a, b, scale=plan.length_scale)

@@ -172,7 +172,7 @@ def trace_group(ctx, st) -> TracedGroup:
         F, J = _residual_and_jacobian(ctx, st, x)
         lu = dense.factor(J)
     else:
-        x, F, lu = y, Fy, luy
+        x, F, J, lu = y, Fy, Jy, luy
     # the iteration's stop: Σ F² < rtol² (a little stricter than numpy's every |F| < rtol, so at most one more
     # step: the root is the same to round-off) and a finite Σ F² (every F finite), in 25 lines instead of 58
     squares = 0.0
