@@ -448,11 +448,12 @@ def _walk_long_way(plan, steps, tol, method, walker, P, short, rows):
     return walker.advance(P, longer, rows=rows, back=back) & rows
 
 
-def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context:
+def execute(plan, steps, params, q_jets, order, tol, method="closed", ambiguity=True) -> Context:
     """Run the steps on input jets ``q_jets`` (per input, a Jet of shape (...)); Newton-solved groups continued from
     the sketch to every sample in certified steps (module docstring), a crank the short way round first, then the
     long way for the samples that failed. The samples of the file's design start at the last whole step of crank
-    before them (:class:`WholeSteps`)."""
+    before them (:class:`WholeSteps`). ``ambiguity``: the samples the short way reached walked the long way too where
+    the assembly may not close (False: the compile-time helpers below, at and next to the sketch)."""
     keys = newton_keys(steps, method)
     if not (keys and len(q_jets)):
         return _run(plan, steps, params, q_jets, order, tol, method, {})
@@ -467,8 +468,8 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed") -> Context
     alive = walker.advance(P, short, back=back).copy()
     # the samples the short way reached are walked the long way too where the crank's assembly may not close (a
     # single crank: every sample but those of the file's design when it closes), to find the ambiguous ones
-    check = alive & _may_not_close(plan, steps, tol, method, P) if plan.input_kinds == ("rotary",) else \
-        np.zeros(R, dtype=bool)
+    check = alive & _may_not_close(plan, steps, tol, method, P) if ambiguity and plan.input_kinds == ("rotary",) \
+        else np.zeros(R, dtype=bool)
     if rotary.any() and (check.any() or not alive.all()):
         other = Walker(plan, steps, tol, method, *start)
         again = _walk_long_way(plan, steps, tol, method, other, P, short, ~alive | check)
@@ -552,13 +553,13 @@ def context_at(plan, steps, params, inputs, tol=DEFAULT) -> Context:
     """The context after running ``steps`` (positions only) at one design ``params (n_params,)`` and one
     input vector ``inputs (n_inputs,)``."""
     q = [Jet.const(np.asarray(inputs[k], dtype=float), 0) for k in range(len(inputs))]
-    return execute(plan, steps, np.asarray(params, dtype=float), q, 0, tol)
+    return execute(plan, steps, np.asarray(params, dtype=float), q, 0, tol, ambiguity=False)
 
 
 def run_steps(plan, steps, params, inputs, order=0, upto=None, origins=False, tol=DEFAULT):
     """Compile-time helper: after the first ``upto`` steps, (positions by point name, body
     orientations e by body — or (o, e) pairs with ``origins`` —, validity), complex values."""
     q = [Jet.const(np.asarray(inputs[k], dtype=float), order) for k in range(len(inputs))]
-    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, tol)
+    c = execute(plan, steps[:upto], np.asarray(params, dtype=float), q, order, tol, ambiguity=False)
     poses = {b: ((o.v, e.v) if origins else e.v) for b, (o, e) in c.pose.items()}
     return {p: z.v for p, z in c.pos.items()}, poses, c.valid
