@@ -434,8 +434,7 @@ def newton_source(tracer, groups, values, epilogue, missed, *, valid, generator:
         *[f"{I8}sg{g} = math.nan" for g in range(len(groups))],
         *[f"{I8}RT{g}[6] = 0.0" for g, grp in enumerate(groups) if grp.triad is not None],
         *_block(head, I8),
-        *_event_loop(_each_walk(final, ambiguous) if each else _sweep_walk(final, ambiguous), thetas, sample, design, preds,
-                     missed),
+        *_event_loop((_each_walk if each else _sweep_walk)(final, ambiguous), thetas, sample, design, preds, missed),
         *_block(tail, I8),
     ]
     return module(generator, NEWTON_ARGS + ", " + signature, body, fastmath=fastmath,

@@ -26,8 +26,8 @@ does not close after one turn of the crank but spans more than one (it locks at 
 way or the other), the inputs both ways reach have two assemblies on it, one each way, and such a sample is
 *ambiguous*: unbuildable, never one of them silently (else neighbouring samples, one reached each way, would jump
 between them). A crank whose assembly closes (:func:`closes`: the walks half a turn each way meet on one assembly)
-has no ambiguous sample, and its samples are not walked the long way. The samples of the file's design start at the last whole step of crank before them
-(:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
+has no ambiguous sample, and its samples are not walked the long way. The samples of the file's design start at
+the last whole step of crank before them (:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
 which depends on the plan, the tolerances and the way round only. After the last step each sample's group is
 checked against its other assemblies (:mod:`assur.engine.planar.group_assemblies`): a sample closer to another
 assembly than ``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
@@ -467,9 +467,13 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed", ambiguity=
     back = _start_on_whole_steps(plan, steps, tol, method, walker, P, short)
     alive = walker.advance(P, short, back=back).copy()
     # the samples the short way reached are walked the long way too where the crank's assembly may not close (a
-    # single crank: every sample but those of the file's design when it closes), to find the ambiguous ones
-    check = alive & _may_not_close(plan, steps, tol, method, P) if ambiguity and plan.input_kinds == ("rotary",) \
-        else np.zeros(R, dtype=bool)
+    # single crank: every sample away from the sketch's angle but those of the file's design when it closes), to
+    # find the ambiguous ones (at the sketch's angle the long way is no walk)
+    check = alive & np.any(short != plan.sketch_inputs, axis=-1)
+    if ambiguity and plan.input_kinds == ("rotary",) and check.any():
+        check &= _may_not_close(plan, steps, tol, method, P)
+    else:
+        check[:] = False
     if rotary.any() and (check.any() or not alive.all()):
         other = Walker(plan, steps, tol, method, *start)
         again = _walk_long_way(plan, steps, tol, method, other, P, short, ~alive | check)
