@@ -132,6 +132,52 @@ def test_default_method_restarts_instead_of_stopping_converged():
     assert one.stopped == "converged" and one.evaluations < 12_000
 
 
+class _Bowl:
+    """A stand-in for the tracker and the search space: f(x) = 1 + |x − a|² on the unit square (its minimum 1 at
+    a), variable 0 periodic (x0 and x0 + 1 are one design), counting its evaluations."""
+    budget = None
+
+    def __init__(self, a):
+        from types import SimpleNamespace
+        self.a, self.evaluations = np.asarray(a, dtype=float), 0
+        self.n_vars, self.bounds, self.targets = 2, np.array([[0.0, 1.0], [0.0, 1.0]]), None
+        self.variables = (SimpleNamespace(periodic=True), SimpleNamespace(periodic=False))
+
+    def F(self, X):
+        X = np.atleast_2d(X)
+        self.evaluations += len(X)
+        d = X - self.a
+        d[:, 0] = (d[:, 0] + 0.5) % 1.0 - 0.5
+        return 1.0 + np.sum(d * d, axis=1)
+
+    def run(self, seed, known):
+        from assur.synthesis.optimize import RESTART_PATIENCE, RESTART_TOL, _run_de
+        x = _run_de(self, self, np.random.default_rng(seed), 15, 1000, RESTART_TOL, RESTART_PATIENCE, known=known)
+        return x, self.evaluations
+
+
+def test_a_restart_stops_once_it_settles_into_the_basin_an_earlier_restart_ended_in():
+    """The restart method's known-basin stop: a DE run whose best comes within KNOWN_BASIN_RADIUS of a design an
+    earlier restart ended on, without being better, stops there and is not recorded; away from the known designs
+    (or better than them) the run is the same run as without them."""
+    from assur.synthesis.optimize import KNOWN_BASIN_RADIUS
+    a = (0.01, 0.3)
+    known = []
+    x1, e1 = _Bowl(a).run(7, known)                       # nothing known: it stagnates, and its end is recorded
+    assert len(known) == 1 and np.allclose(x1 % 1.0, a, atol=1e-2) and known[0][1] == pytest.approx(1.0, abs=1e-3)
+    x2, e2 = _Bowl(a).run(8, known)                       # another population, the same basin: stopped early
+    assert len(known) == 1 and e2 < e1 / 2
+    d = (x2 - known[0][0] + 0.5) % 1.0 - 0.5
+    assert np.max(np.abs(d)) <= KNOWN_BASIN_RADIUS
+    # the same end across the periodic variable's seam (x0 = 0.999 is 0.011 from a): stopped as early
+    _, e3 = _Bowl(a).run(8, [(np.array([0.999, 0.3]), 1.0)])
+    assert e3 == e2
+    # a known design elsewhere, or one worse than this basin's floor: the run is the run without it
+    for other in ([(np.array([0.6, 0.9]), 1.0)], [(np.array([0.01, 0.3]), 2.0)]):
+        x4, e4 = _Bowl(a).run(7, list(other))
+        assert e4 == e1 and np.array_equal(x4, x1)
+
+
 # -- the bound warning ------------------------------------------------------------------------------------
 def test_bounds_reached_names_the_variables_on_a_bound():
     p = load_problem(C2)                                    # r1…r4 in [0, 50], rcx, rcy in [-50, 50]

@@ -35,6 +35,11 @@ from .solver import DE_STRATEGIES, METHODS, POLISHES, resolve
 #: RESTART_PATIENCE generations (stagnation)
 RESTART_TOL, RESTART_PATIENCE = 1e-3, 60
 
+#: a restart also ends as soon as its best lies within KNOWN_BASIN_RADIUS (a fraction of each variable's range,
+#: in every variable) of the design an earlier restart ended on, without being better: it is settling into a basin
+#: already searched, and the budget left goes to a fresh population instead
+KNOWN_BASIN_RADIUS = 0.05
+
 
 class _Stop(Exception):
     def __init__(self, reason):
@@ -126,8 +131,12 @@ def initial_population(problem, size, rng) -> np.ndarray:
     return X
 
 
-def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin", polish=True):
-    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter)."""
+def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy="best1bin", polish=True,
+            known=None):
+    """One scipy DE run; returns its best design (SI) when it ends by itself (stagnation or maxiter).
+
+    ``known``: a list of (x (k,), F) the designs earlier restarts ended on; the run stops when its best comes within
+    KNOWN_BASIN_RADIUS of one of them without being better; a run that ends by itself appends its end to the list."""
     from scipy.optimize import differential_evolution
     D = problem.n_vars
     bounds = list(map(tuple, problem.bounds))
@@ -135,11 +144,25 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
     if tracker.budget is not None:   # whole generations within the budget, less a fifth for the polish
         share = 0.8 if polish else 1.0
         maxiter = min(maxiter, max(1, int(share * (tracker.budget - tracker.evaluations)) // pop - 1))
-    history = []
+    history, repeat = [], []
+    lo, width = _unit_box(problem)
+    periodic = np.array([v.periodic for v in problem.variables], dtype=bool)
+
+    def in_known_basin(x, f) -> bool:
+        for xk, fk in known or ():
+            d = (x - xk) / width
+            d = np.where(periodic, (d + 0.5) % 1.0 - 0.5, d)
+            if np.max(np.abs(d)) <= KNOWN_BASIN_RADIUS and f >= fk - tol * max(abs(fk), 1e-300):
+                return True
+        return False
 
     def stalled(intermediate_result):
-        """Stop when the best has improved by less than tol (relative) over the last ``patience`` generations."""
+        """Stop when the best has improved by less than tol (relative) over the last ``patience`` generations, or
+        when it has settled into a known basin."""
         history.append(float(intermediate_result.fun))
+        if known and in_known_basin(np.asarray(intermediate_result.x, dtype=float), history[-1]):
+            repeat.append(True)
+            return True
         if len(history) <= patience:
             return False
         old, new = history[-patience - 1], history[-1]
@@ -149,7 +172,10 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
                            maxiter=maxiter, tol=0.0, atol=-1.0, rng=rng, polish=False,
                            init=initial_population(problem, pop, rng),
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
-    return np.asarray(out.x, dtype=float)
+    x = np.asarray(out.x, dtype=float)
+    if known is not None and not repeat:
+        known.append((x, float(out.fun)))
+    return x
 
 
 def _run_restarts(tracker, problem, rng, options):
@@ -159,13 +185,14 @@ def _run_restarts(tracker, problem, rng, options):
     improved by less than RESTART_TOL (relative) over RESTART_PATIENCE generations; its best is then polished
     and the next restart begins. Many short restarts, each polished, find narrow basins (C1's exact optimum) that
     one long run misses; a converged population never ends the run."""
-    k = 0
+    k, known = 0, []
     while True:
         k += 1
         tracker.restarts = k
+        ends = len(known)
         x = _run_de(tracker, problem, rng, options["popsize"], options["maxiter"], RESTART_TOL, RESTART_PATIENCE,
-                    options["strategy"])
-        if options["polish"] != "none":
+                    options["strategy"], known=known)
+        if options["polish"] != "none" and len(known) > ends:      # a restart in a known basin has nothing to polish
             _polish(tracker, problem, x.copy(), options["polish"])
 
 def _run_lshade(tracker, problem, rng, options):
