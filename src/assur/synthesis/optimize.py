@@ -144,8 +144,8 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
     if tracker.budget is not None:   # whole generations within the budget, less a fifth for the polish
         share = 0.8 if polish else 1.0
         maxiter = min(maxiter, max(1, int(share * (tracker.budget - tracker.evaluations)) // pop - 1))
-    history, repeat = [], []
-    lo, width = _unit_box(problem)
+    history, repeated = [], False
+    _, width = _unit_box(problem)
     periodic = np.array([v.periodic for v in problem.variables], dtype=bool)
 
     def in_known_basin(x, f) -> bool:
@@ -159,9 +159,10 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
     def stalled(intermediate_result):
         """Stop when the best has improved by less than tol (relative) over the last ``patience`` generations, or
         when it has settled into a known basin."""
+        nonlocal repeated
         history.append(float(intermediate_result.fun))
         if known and in_known_basin(np.asarray(intermediate_result.x, dtype=float), history[-1]):
-            repeat.append(True)
+            repeated = True
             return True
         if len(history) <= patience:
             return False
@@ -173,7 +174,7 @@ def _run_de(tracker, problem, rng, popsize, maxiter, tol, patience=100, strategy
                            init=initial_population(problem, pop, rng),
                            mutation=(0.5, 1.0), recombination=0.9, callback=stalled, strategy=strategy)
     x = np.asarray(out.x, dtype=float)
-    if known is not None and not repeat:
+    if known is not None and not repeated:
         known.append((x, float(out.fun)))
     return x
 
@@ -225,7 +226,7 @@ TQDM_INSTALL = "pip install tqdm (or pip install 'assur[synth]')"
 
 def _run_cmaes(tracker, problem, rng, popsize, maxiter, tol):
     cma = require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
-    lo, width = _unit_box(problem)
+    _, width = _unit_box(problem)
     D = problem.n_vars
     x0 = rng.uniform(0.2, 0.8, D)
     opts = {"bounds": [0.0, 1.0], "seed": int(rng.integers(1, 2**31 - 1)), "verbose": -9, "maxiter": maxiter,

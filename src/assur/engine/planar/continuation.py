@@ -27,8 +27,8 @@ way or the other), the inputs both ways reach have two assemblies on it, one eac
 *ambiguous*: unbuildable, never one of them silently (else neighbouring samples, one reached each way, would jump
 between them). A crank whose assembly closes (:func:`closes`: the walks half a turn each way meet on one assembly)
 has no ambiguous sample, and its samples are not walked the long way. The samples of the file's design start at
-the last whole step of crank before them (:class:`WholeSteps`: the design walked once from the sketch through q_s ± k·``stage_angle``, kept with the plan),
-which depends on the plan, the tolerances and the way round only. After the last step each sample's group is
+the last whole step of crank before them (:class:`WholeSteps`: the design walked once from the sketch through
+q_s ± k·``stage_angle``, kept with the plan), which depends on the plan, the tolerances and the way round only. After the last step each sample's group is
 checked against its other assemblies (:mod:`assur.engine.planar.group_assemblies`): a sample closer to another
 assembly than ``tolerances.assembly_separation`` of the length scale is unbuildable (at a singular position).
 """
