@@ -226,7 +226,7 @@ TQDM_INSTALL = "pip install tqdm (or pip install 'assur[synth]')"
 
 def _run_cmaes(tracker, problem, rng, popsize, maxiter, tol):
     cma = require("cma", "the CMA-ES method (cmaes)", CMA_INSTALL)
-    _, width = _unit_box(problem)
+    lo, width = _unit_box(problem)
     D = problem.n_vars
     x0 = rng.uniform(0.2, 0.8, D)
     opts = {"bounds": [0.0, 1.0], "seed": int(rng.integers(1, 2**31 - 1)), "verbose": -9, "maxiter": maxiter,
