@@ -18,6 +18,12 @@ from assur.cli.main import _one_blas_thread  # loads no numpy
 # the variables too, for the processes pytest starts first).
 _one_blas_thread()
 
+# numba without AVX-512 before any test module imports it (assur/kernels/numba_target.py): a library a test imports
+# first (pylinkage) would otherwise fix numba's target with it, and the compiled kernels would not be used.
+from assur.kernels.numba_target import configure  # noqa: E402
+
+configure()
+
 from pathlib import Path  # noqa: E402  (after the thread limits)
 
 import pytest  # noqa: E402

@@ -7,6 +7,8 @@ deterministic run, records the first time the speed reaches 95 % of that mean an
 from __future__ import annotations
 
 import math
+import sys
+from importlib.util import find_spec
 
 import numpy as np
 
@@ -18,9 +20,14 @@ TWO_PI = 2.0 * math.pi
 
 
 def compiled_available() -> bool:
-    """Whether numba is installed (the ``fast`` extra)."""
-    from importlib.util import find_spec
-    return find_spec("numba") is not None
+    """Whether numba is installed (the ``fast`` extra) and its kernels may run (numba is not imported here: where it
+    is already, whether its target is safe, :func:`assur.kernels.numba_target.configure`)."""
+    if find_spec("numba") is None:
+        return False
+    if "numba" in sys.modules:
+        from ..kernels.numba_target import configure
+        return configure()
+    return True
 
 
 def motor_code(drive):
@@ -80,6 +87,9 @@ def run_designs(eq, *, q0, speed0, time=None, turns=None, rtol: float = 1e-8, sa
     if time is None and turns is None and not motor:
         raise SpecError([("time", "a free motion (no motor) has no steady state to run to: give time= or cycles=")])
     use = compiled_available() if compiled is None else compiled
+    if compiled and find_spec("numba") is not None and not compiled_available():   # numba's target is not safe
+        from ..kernels.numba_target import UNSAFE
+        raise RuntimeError(UNSAFE)
     if not use:
         r = integrate_population(eq, q0=q0, speed0=w0, time=time, turns=turns, rtol=rtol, max_turns=max_turns,
                                  steady=steady)

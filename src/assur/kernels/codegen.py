@@ -42,7 +42,10 @@ I4, I8, I12, I16 = " " * 4, " " * 8, " " * 12, " " * 16
 
 
 def available() -> bool:
-    """True when numba is installed (the compiled kernels can run)."""
+    """True when numba is installed and the compiled kernels can run (:func:`.numba_target.configure`)."""
+    from .numba_target import configure
+    if not configure():                 # numba's target has AVX-512 on and cannot change (numba_target's docstring)
+        return False
     try:
         import numba  # noqa: F401  (only whether it imports)
     except ImportError:
@@ -297,6 +300,9 @@ def load_kernel(source: str, directory):
     import os
     import sys
     from pathlib import Path
+    from .numba_target import UNSAFE, configure
+    if not configure():
+        raise RuntimeError(UNSAFE)
     name, source = _stamped(source)
     path = Path(directory) / f"{name}.py"
     if not path.exists() or path.read_text(encoding="utf-8") != source:

@@ -18,7 +18,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from .numba_target import configure
+
+configure()                     # before numba is imported (numba_target's docstring)
+from numba import njit  # noqa: E402
 
 TWO_PI = 2.0 * math.pi
 #: motor characteristic codes: none, constant, DC (stall, free speed), induction (breakdown torque, slip,

@@ -7,11 +7,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
-from numba.core import types
-from numba.extending import intrinsic
 
-from .similarity import similarity
+from .numba_target import configure
+
+configure()                     # before numba is imported (numba_target's docstring)
+from numba import njit  # noqa: E402
+from numba.core import types  # noqa: E402
+from numba.extending import intrinsic  # noqa: E402
+
+from .similarity import similarity  # noqa: E402
 # the triad's constants, shared with its numpy functions: samples of its function per turn, a root's distance from the
 # unit circle below which it is an assembly, the strip |Im φ| ≤ β that holds every such root, and the steps of
 # triad_alone's walk each way (the numpy twin's, assur.kernels.triad.turn_alone)
