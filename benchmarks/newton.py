@@ -174,7 +174,7 @@ def breakdown(repeats: int) -> dict:
     designs, rows, _ = newton_kernels.layout(plan, plan.defaults, q[:, None], q.shape)
     args = newton_kernels.arguments(plan, designs, rows, DEFAULT, True)
     n = 6 * (len(plan.point_names) + len(plan.body_names)) + sum(3 * len(st.bodies) + 1 for st in plan.steps
-                                                                  if st.kind == "newton")
+                                                                  if st.kind == "newton") + 1    # + the ambiguous row
     outs = {}
 
     def alone(k, name):

@@ -39,6 +39,8 @@ CHANGES = [
      "samples alone it stopped up to a sample short of them: the geared four-bar's 0.037 over 90 % is 0.041; "
      "tests/test_gait.py checks the closed form to 1e-9)"),
     ("*", "gait.clearance", "issue 26 §6: how far the foot rises above its support in the swing (lift − sag), new"),
+    ("*", "ambiguous", "issue 26 §3: of the unbuildable samples, those on two assemblies (one each way round from the "
+                       "sketch), new; 0 on every example (tests/test_continuation_closure.py checks a leg with them)"),
 ]
 
 #: relative and absolute tolerance of a number (the old numbers were computed with other operation orders in places:

@@ -44,6 +44,7 @@ def test_numpy_flags_the_band_reached_both_ways_round(leg, sweep):
     deg = np.degrees(Q)
     band = (deg > 50.52) & (deg < 101.58)
     np.testing.assert_array_equal(s.valid, ~band)
+    np.testing.assert_array_equal(s.ambiguous, band)          # not samples without an assembly: with two
     assert _no_jump(s, Q) <= 1.0
 
 
@@ -59,6 +60,9 @@ def test_the_gait_sees_a_crank_that_cannot_turn_fully(leg):
     """Before, every sample was valid and the gait was measured on a foot path with a 0.5 m jump in it."""
     study = assur.Study(leg)
     assert study.gait is None and "cannot turn fully" in study.gait_error
+    b = study.buildable
+    assert b.ambiguous == b.unbuildable == np.count_nonzero(study.grid()[1].ambiguous) > 0
+    assert f"{b.ambiguous} of them are ambiguous" in study.gait_error
     s = assur.solve(leg, inputs=Q, backend="numpy")
     F = s.pos[:, leg.point_index("F")]
     ok = s.valid & np.roll(s.valid, -1)
@@ -101,6 +105,8 @@ def test_the_compiled_kernels_flag_the_same_band(leg, sweep):
     a = assur.solve(leg, inputs=Q, order=1, backend="numpy", sweep=sweep)
     b = assur.solve(leg, inputs=Q, order=1, backend="numba", sweep=sweep)
     np.testing.assert_array_equal(a.valid, b.valid)
+    np.testing.assert_array_equal(a.ambiguous, b.ambiguous)
+    assert b.ambiguous.any() and not (b.valid & b.ambiguous).any()
     assert not b.valid.all() and _no_jump(b, Q) <= 1.0
     np.testing.assert_allclose(b.pos[b.valid], a.pos[a.valid], atol=1e-9 * leg.length_scale)
 
@@ -124,3 +130,16 @@ def test_the_synthesis_cycle_kernel_counts_the_band_unbuildable():
     for ev in (fast, slow):
         assert not ev.feasible[0] and ev.quantities["unbuildable"][0] > 0
     assert fast.quantities["unbuildable"][0] == pytest.approx(slow.quantities["unbuildable"][0], rel=1e-12)
+
+
+def test_analyze_says_the_unbuildable_samples_are_ambiguous(leg):
+    """The summary counts them apart from samples that have no assembly (text and JSON)."""
+    from assur.analysis.summary import summary_dict as summary
+    from assur.report.analysis import analysis_lines
+    study = assur.Study(leg)
+    n = study.buildable.ambiguous
+    line = next(ln for ln in analysis_lines(study) if ln.startswith("buildability"))
+    assert f"{n} of {study.buildable.steps} positions cannot be assembled ({n} of them ambiguous" in line
+    assert summary(study)["ambiguous"] == n
+    tri = assur.Study(assur.compile(assur.load(EXAMPLES / "triad_sixbar.toml")))
+    assert tri.buildable.ambiguous == 0 and summary(tri)["ambiguous"] == 0

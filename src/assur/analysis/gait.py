@@ -343,9 +343,11 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
     valid = vals["valid"]
     if not np.all(valid):
         bad = q[~valid]
+        n_amb = int(np.count_nonzero(state.ambiguous))
+        amb = f"; {n_amb} of them are ambiguous: two assemblies, one each way round" if n_amb else ""
         raise UnbuildableError(
             f"the crank cannot turn fully: {np.count_nonzero(~valid)} of {steps} positions cannot be assembled "
-            f"(from {np.degrees(bad.min()):.1f}° to {np.degrees(bad.max()):.1f}°); no gait metrics",
+            f"(from {np.degrees(bad.min()):.1f}° to {np.degrees(bad.max()):.1f}°{amb}); no gait metrics",
             int(np.count_nonzero(~valid)), steps)
     x, v, dx = vals["x"], vals["v"], vals["dx"]
     w = abs(F.omega)

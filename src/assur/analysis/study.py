@@ -57,10 +57,13 @@ __all__ = ["Buildability", "Study", "Sweep"]
 @dataclass(frozen=True)
 class Buildability:
     """Where a turn assembles: ``ranges`` [(start, end)] (rad; ends refined to the toggle positions),
-    ``unbuildable`` (samples of the turn that cannot be assembled) of ``steps``."""
+    ``unbuildable`` (samples of the turn that cannot be assembled) of ``steps``, and of those ``ambiguous``: samples
+    the walks from the sketch reach on one assembly going forward and on another going back (the sketch's assembly
+    does not close over a turn; ``State.ambiguous``)."""
     ranges: list
     unbuildable: int
     steps: int
+    ambiguous: int = 0
 
     @property
     def full_rotation(self) -> bool:
@@ -145,7 +148,7 @@ class Study(Cycle):
             return None
         from .transmission import buildable_ranges
         ranges, bad, steps = buildable_ranges(self)
-        return Buildability(ranges, bad, steps)
+        return Buildability(ranges, bad, steps, int(np.count_nonzero(self.grid()[1].ambiguous)))
 
     @cached_property
     def transmission(self) -> dict | None:

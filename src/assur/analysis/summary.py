@@ -34,6 +34,7 @@ def summary_dict(study) -> dict:
         return {**out, "actuators": act, "unbuildable": act["unbuildable"]}
     b = study.buildable
     out["unbuildable"] = b.unbuildable
+    out["ambiguous"] = b.ambiguous
     out["buildable_ranges"] = [{"start": s, "end": e} for s, e in b.ranges]
     out["full_rotation"] = b.full_rotation
     out["toggle_positions"] = b.toggle_positions

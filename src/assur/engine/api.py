@@ -178,7 +178,7 @@ def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuild
     qddot = np.zeros(plan.n_inputs) if accels is None else np.asarray(accels, dtype=float)
     time_mode = qdot.shape == (1,) and qddot.shape == (1,) and qdot[0] != 0
     w, a = (float(qdot[0]), float(qddot[0])) if time_mode else (1.0, 0.0)
-    buffer, (pos, first, second), valid = numba_backend.solve_newton(plan, params, inputs, tol, shape,
+    buffer, (pos, first, second), valid, ambiguous = numba_backend.solve_newton(plan, params, inputs, tol, shape,
                                                                      (w, w * w, a), sweep)
     if not valid.all():
         buffer[:, ~valid.reshape(buffer.shape[1:])] = np.nan
@@ -193,7 +193,8 @@ def _solve_newton(plan, params, inputs, shape, speeds, accels, order, on_unbuild
             dz = dz / w
             d2z = (d2z - dz * a) / (w * w)
         return finish(plan, params, inputs, shape, z, dz[..., None] if order >= 1 else None,
-                      d2z[..., None, None] if order >= 2 else None, valid, speeds, accels, "nan")
+                      d2z[..., None, None] if order >= 2 else None, valid, speeds, accels, "nan",
+                      ambiguous=ambiguous)
 
     return finish(plan, params, inputs, shape, None, None, None, valid, speeds, accels, on_unbuildable,
-                  complete=complete, xyz=xyz, xyz_time=time_mode)
+                  complete=complete, xyz=xyz, xyz_time=time_mode, ambiguous=ambiguous)

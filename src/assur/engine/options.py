@@ -132,7 +132,7 @@ def format_input(plan, k: int, value: float) -> str:
     return f"{value:.6g} m"
 
 
-def unbuildable_message(plan, inputs, valid, causes=None) -> str:
+def unbuildable_message(plan, inputs, valid, causes=None, ambiguous=None) -> str:
     """'k of n samples cannot be assembled (…); they are NaN with valid=False'.
 
     Parameters
@@ -144,9 +144,16 @@ def unbuildable_message(plan, inputs, valid, causes=None) -> str:
         Per solved point, a bool array (...) of the samples its group failed at and the reasons
         (point → (failed, reasons)). For a 1-D sweep of one input the message then names the input
         ranges each group fails over; otherwise it names the first failing sample.
+    ambiguous : ndarray (...) bool or None
+        The samples on two assemblies, one each way round (``State.ambiguous``): counted in the message.
     """
     n_bad = int(np.count_nonzero(~valid))
     head = f"{n_bad} of {valid.size} samples cannot be assembled"
+    n_amb = 0 if ambiguous is None else int(np.count_nonzero(ambiguous))
+    tail = "; they are NaN with valid=False"
+    if n_amb:
+        tail = (f"; {n_amb} of them are ambiguous: the walks from the sketch reach them on one assembly going forward "
+                f"and on another going back, since its assembly does not close over a turn (state.ambiguous)" + tail)
     n = plan.n_inputs
     if causes and valid.ndim == 1 and n == 1:
         q = inputs[..., 0]
@@ -159,19 +166,20 @@ def unbuildable_message(plan, inputs, valid, causes=None) -> str:
             qs = q[order]
             rng = ", ".join(f"{math.degrees(qs[a]):.4g}°…{math.degrees(qs[b]):.4g}°" for a, b in runs(bad))
             parts.append(f"the dyad solving {point} ({'; '.join(reasons)}) at {plan.input_names[0]} {rng}")
-        return head + (": " + "; ".join(parts) if parts else "") + "; they are NaN with valid=False"
+        return head + (": " + "; ".join(parts) if parts else "") + tail
     flat = np.broadcast_to(inputs, valid.shape + (n,)).reshape(-1, n)[~valid.reshape(-1)]
     first = ", ".join(f"{plan.input_names[k]}={format_input(plan, k, flat[0, k])}" for k in range(n))
     sep = " (first at " if causes is None else ": first at "
-    return head + sep + first + (")" if causes is None else "") + "; they are NaN with valid=False"
+    return head + sep + first + (")" if causes is None else "") + tail
 
 
-def report_unbuildable(plan, inputs, valid, on_unbuildable: str, causes=None, stacklevel: int = 4) -> int:
+def report_unbuildable(plan, inputs, valid, on_unbuildable: str, causes=None, stacklevel: int = 4,
+                       ambiguous=None) -> int:
     """Apply the unbuildable policy: count the invalid samples; with 'warn' warn and with 'raise'
     raise :class:`~assur.errors.UnbuildableError`, with :func:`unbuildable_message`. Returns the count."""
     n_bad = int(np.count_nonzero(~valid))
     if n_bad and on_unbuildable != "nan":
-        msg = unbuildable_message(plan, inputs, valid, causes)
+        msg = unbuildable_message(plan, inputs, valid, causes, ambiguous)
         if on_unbuildable == "raise":
             raise UnbuildableError(msg, n_bad, valid.size)
         warnings.warn(msg, UnbuildableWarning, stacklevel=stacklevel)

@@ -84,6 +84,15 @@ class StateBase:
             finite = np.all(np.isfinite(d), axis=tuple(range(self.valid.ndim, d.ndim)))
         return self.valid & ~finite
 
+    @property
+    def ambiguous(self) -> np.ndarray:
+        """(...) bool: samples of a crank that the walks from the sketch both ways round reach on different assemblies
+        of its Newton-solved groups (the sketch's assembly does not close over a turn: it spans more than one and
+        locks at a toggle). Which assembly is meant there is not defined, so they are unbuildable (``valid`` False):
+        not samples that have no assembly but samples that have two. All False for a state without such groups."""
+        a = getattr(self, "_ambiguous", None)
+        return np.zeros(np.shape(self.valid), dtype=bool) if a is None else a
+
     # -- body orientations: θ = arg e, θ' = Im(e'/e), θ'' = Im(e''/e − (e'/e)²) ------------------------
     def point(self, name: str) -> "PointView":
         """Everything about one point: ``state.point('H').vel`` has shape (..., dim)."""
@@ -156,6 +165,8 @@ class State(StateBase):
     #: ``_xyz_time`` velocity and acceleration at qdot/qddot, else the analogues d/dq, d²/dq²
     _xyz: tuple | None = field(repr=False, default=None)
     _xyz_time: bool = field(repr=False, default=False)
+    #: (...) bool or None: :attr:`ambiguous`, where the continuation looked for such samples
+    _ambiguous: np.ndarray | None = field(repr=False, default=None)
 
     @property
     def _np(self) -> int:

@@ -474,6 +474,7 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed", ambiguity=
         check &= _may_not_close(plan, steps, tol, method, P)
     else:
         check[:] = False
+    ambiguous = np.zeros(R, dtype=bool)
     if rotary.any() and (check.any() or not alive.all()):
         other = Walker(plan, steps, tol, method, *start)
         again = _walk_long_way(plan, steps, tol, method, other, P, short, ~alive | check)
@@ -487,6 +488,7 @@ def execute(plan, steps, params, q_jets, order, tol, method="closed", ambiguity=
         final[(k, "det_sign")] = v.reshape(shape)
     c = _run(plan, steps, params, q_jets, order, tol, method, final)
     c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & alive.reshape(shape)
+    c.ambiguous = ambiguous.reshape(shape)
     return separate(plan, steps, c, method, tol, shape, final)
 
 

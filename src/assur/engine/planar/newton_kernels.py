@@ -92,12 +92,15 @@ def _solve_source(plan, order: int, each: bool = True) -> str:
     # then the groups' unknowns and certificates (:func:`solve`'s check of groups without a compiled separation)
     extra = [v for grp in t.groups for v in grp.solved] + [grp.certificate for grp in t.groups]
     rows += [(6 * len(jets) + i, v) for i, v in enumerate(extra)]
-    epilogue = [f"out[{row}, d, u] = {source(v)}" for row, v in rows] + [f"valid[d, u] = {source(ok)} and sepok"]
+    # the last row: 1 where the sample is ambiguous (reached on two assemblies, one each way round), else 0
+    flag = 6 * len(jets) + len(extra)
+    epilogue = [f"out[{row}, d, u] = {source(v)}" for row, v in rows] + [f"valid[d, u] = {source(ok)} and sepok",
+                                                                         f"out[{flag}, d, u] = 0.0"]
     return newton_codegen.newton_source(t.tracer, t.groups, [v for _, v in rows] + [ok], epilogue,
-                                        ["valid[d, u] = False"], valid=t.valid,
+                                        ["valid[d, u] = False", f"out[{flag}, d, u] = 0.0"], valid=t.valid,
                                         generator="assur.engine.planar.newton_kernels.solve_source",
                                         signature="w1, w2, w3, out, valid", each=each,
-                                        ambiguous=["valid[d, u] = False"])
+                                        ambiguous=["valid[d, u] = False", f"out[{flag}, d, u] = 1.0"])
 
 
 def seeds(plan) -> np.ndarray:
@@ -111,7 +114,8 @@ class _Fixed:
     """What every solve of one plan passes or reads alike (:func:`_fixed`): the seeds (the kernels never write them; a
     writeable array, as numba's signature of the cached kernels has it), the kernel's rows (``6·m`` of the points and
     bodies, then ``extra`` of the groups' unknowns and certificates) and whether the certified reduction enumerates
-    any of its Newton-solved groups (else :func:`separate_by_reduction` has nothing to check)."""
+    any of its Newton-solved groups (else :func:`separate_by_reduction` has nothing to check). The kernel's last row
+    (after ``extra``) flags the ambiguous samples."""
     seeds: np.ndarray
     m: int
     extra: int
@@ -193,24 +197,26 @@ def sweeps(plan, params: np.ndarray, inputs: np.ndarray, shape: tuple) -> bool:
 def solve(plan, params: np.ndarray, inputs: np.ndarray, tol, order: int, shape: tuple, kernel, rates=(1.0, 1.0, 0.0),
           each: bool = True):
     """Run the plan's Newton solve kernel ``kernel`` (:func:`solve_source` with ``each``, loaded by the caller) on a
-    batch: ``(buffer (6·m + …, D, N), (pos, first, second), valid)`` as :func:`.numba_backend.solve_compiled` gives
-    them, here for the m = n_points + n_bodies points and bodies (pos, first, second: shape + (m, 2) float views: the
-    value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``), then :func:`separate_by_reduction`."""
+    batch: ``(buffer (6·m + …, D, N), (pos, first, second), valid, ambiguous)``, the first three as
+    :func:`.numba_backend.solve_compiled` gives them, here for the m = n_points + n_bodies points and bodies (pos,
+    first, second: shape + (m, 2) float views: the value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2,
+    w3)``), then :func:`separate_by_reduction`; ``ambiguous`` (shape) the samples on two assemblies
+    (``State.ambiguous``)."""
     designs, q, split = layout(plan, params, inputs, shape)
     D, N = designs.shape[0], q.shape[-1]
     fixed = _fixed(plan)
     m = fixed.m
-    out = np.empty((6 * m + fixed.extra, D, N))
+    out = np.empty((6 * m + fixed.extra + 1, D, N))
     valid = np.empty((D, N), dtype=np.bool_)
     kernel(*arguments(plan, designs, q, tol, each), *(float(w) for w in rates), out, valid)
     if params.ndim <= 1 and fixed.reduced:
-        separate_by_reduction(plan, params, inputs, shape, tol, out[6 * m:].reshape((-1,) + shape),
+        separate_by_reduction(plan, params, inputs, shape, tol, out[6 * m:-1].reshape((-1,) + shape),
                               valid.reshape(shape))
     rows = out[:6 * m].reshape((m, 6) + shape)
     n = len(shape)
     axes = tuple(range(2, 2 + n)) + (0, 1)
     views = tuple(rows[:, 2 * j:2 * j + 2].transpose(axes) for j in range(3))
-    return out, views, valid.reshape(shape)
+    return out, views, valid.reshape(shape), out[-1].reshape(shape) > 0.5
 
 
 def separate_by_reduction(plan, params, inputs, shape, tol, extra, valid):

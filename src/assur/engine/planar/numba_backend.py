@@ -80,8 +80,9 @@ def solve_newton(plan, params: np.ndarray, inputs: np.ndarray, tol, shape, rates
     one kernel per plan whatever the order asked); None if not covered. ``tol``: the Tolerances; ``sweep``: as
     ``solve(..., sweep=True)``, the designs swept through their inputs where the batch is one turn of inputs shared
     by every design (:func:`.newton_kernels.sweeps`), else every sample continued from the sketch on its own.
-    Returns ``(buffer, (pos, first, second), valid)`` for the points and then the bodies (views shape + (n_points +
-    n_bodies, 2): the value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``)."""
+    Returns ``(buffer, (pos, first, second), valid, ambiguous)`` for the points and then the bodies (views shape +
+    (n_points + n_bodies, 2): the value, w1·d/dq and w2·d²/dq² + w3·d/dq for ``rates = (w1, w2, w3)``; ambiguous
+    (shape): ``State.ambiguous``)."""
     if not newton_covers(plan):
         return None
     each = not (sweep and newton_kernels.sweeps(plan, params, inputs, shape))

@@ -56,15 +56,17 @@ def solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildab
             for j in range(i + 1, n):
                 mixed = run(eye[i] + eye[j])
                 d2z[..., i, j] = d2z[..., j, i] = 0.5 * (stack(mixed, "dd") - d2z[..., i, i] - d2z[..., j, j])
-    return finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable)
+    ambiguous = None if base.ambiguous is None else np.broadcast_to(base.ambiguous, shape)
+    return finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
+                  ambiguous=ambiguous)
 
 
 def finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_unbuildable,
-           complete=None, xyz=None, xyz_time: bool = False) -> State:
+           complete=None, xyz=None, xyz_time: bool = False, ambiguous=None) -> State:
     """NaN out the unbuildable samples, report them as asked, and wrap the arrays in a State.
     ``xyz``: the compiled backend's (pos, first, second) float views instead of z, dz, d2z;
     ``complete``: a callable returning the full state (body orientations) where the backend gave
-    points only."""
+    points only; ``ambiguous`` (...) bool or None: the samples on two assemblies (``State.ambiguous``)."""
     n = plan.n_inputs
     # invalid samples: NaN everywhere, never finite garbage
     inv = ~valid
@@ -75,12 +77,13 @@ def finish(plan, params, inputs, shape, z, dz, d2z, valid, speeds, accels, on_un
             dz = np.where(inv[..., None, None], cnan, dz)
         if d2z is not None:
             d2z = np.where(inv[..., None, None, None], cnan, d2z)
-    n_bad = report_unbuildable(plan, inputs, valid, on_unbuildable, stacklevel=5)
+    n_bad = report_unbuildable(plan, inputs, valid, on_unbuildable, stacklevel=5, ambiguous=ambiguous)
     qdot, qddot = input_rates(plan, speeds, accels)
     full_inputs = inputs if inputs.shape[:-1] == shape else np.broadcast_to(inputs, shape + (n,))
     state = State(plan=plan, inputs=full_inputs, valid=valid, n_unbuildable=n_bad,
                   qdot=qdot, qddot=qddot, params=params, _z=z, _dz=dz, _d2z=d2z,
-                  _complete=None if complete is None else _Once(complete), _xyz=xyz, _xyz_time=xyz_time)
+                  _complete=None if complete is None else _Once(complete), _xyz=xyz, _xyz_time=xyz_time,
+                  _ambiguous=ambiguous)
     if on_unbuildable == "warn":
         singular = state.singular
         if singular is not None and singular.any():

@@ -18,12 +18,14 @@ from .newton_group import solve_group
 
 class Context:
     """One pass over a batch: ``w`` local coordinates, ``lines`` slide lines, ``q`` input jets,
-    ``pose[body] = (origin, e = exp(iθ))`` and ``pos[point]`` complex jets, ``valid`` (...), and ``margins``: None,
-    or a list that the closed forms append their margins to (:mod:`assur.kernels.planar`).
+    ``pose[body] = (origin, e = exp(iθ))`` and ``pos[point]`` complex jets, ``valid`` (...), ``margins``: None,
+    or a list that the closed forms append their margins to (:mod:`assur.kernels.planar`), and ``ambiguous``: None,
+    or (...) bool, the samples the continuation found on two assemblies, one each way round (not valid).
 
     The compiled kernels run these executors on symbols (:mod:`.traced`): they are element-wise code (a choice per
     sample is ``np.where``), and read the inputs through :meth:`turn` and constants through :meth:`const`."""
     margins = None
+    ambiguous = None
 
     def __init__(self, plan, params, q_jets, order, tol):
         self.plan, self.order, self.tol = plan, order, tol

@@ -103,6 +103,7 @@ def execute_cycle(plan, steps, params, q_jets, order, tol, method="closed") -> C
     c = _run(plan, steps, params, q_jets, order, tol, method, dict(final))
     reached = np.all(np.isfinite(poses[keys[0]]), axis=-1).reshape(shape) if keys else True
     c.valid = np.broadcast_to(np.asarray(c.valid, dtype=bool), shape) & reached & ~ambiguous.reshape(shape)
+    c.ambiguous = ambiguous.reshape(shape)
     return separate(plan, steps, c, method, tol, shape, final)
 
 
