@@ -95,9 +95,14 @@ def test_report_shows_the_animation_progress(tmp_path, monkeypatch):
 
 
 @pytest.mark.slow
-def test_compile_is_announced_once(tmp_path):
+@pytest.mark.parametrize("numba_cache_dir", [False, True])
+def test_compile_is_announced_once(tmp_path, numba_cache_dir):
+    """With NUMBA_CACHE_DIR set, numba keeps its index there, not beside the kernels: the second run knows it too."""
     pytest.importorskip("numba")
     env = {**os.environ, "ASSUR_CACHE_DIR": str(tmp_path)}
+    env.pop("NUMBA_CACHE_DIR", None)
+    if numba_cache_dir:
+        env["NUMBA_CACHE_DIR"] = str(tmp_path / "numba")
     # a synthesis asked to run compiled compiles the problem's kernels once, says so and what it cost
     problem = Path(__file__).resolve().parents[1] / "examples" / "synthesis" / "c2_five_points_timed.toml"
     cmd = [sys.executable, "-m", "assur", "synth", str(problem), "--backend", "numba", "--budget", "400", "--seed", "1",

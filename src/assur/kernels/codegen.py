@@ -28,6 +28,7 @@ callee changes every kernel's name and recompiles it; a stale kernel is never lo
 from __future__ import annotations
 
 import logging
+import sys
 
 from .trace import DESIGN, SAMPLE, level_of, source
 
@@ -284,12 +285,28 @@ def _stamped(source: str) -> tuple[str, str]:
     return "assur_kernel_" + hashlib.sha1(source.encode()).hexdigest()[:16], source
 
 
+def index_dir(directory):
+    """Where numba keeps the cache index of the modules in ``directory``: ``__pycache__`` beside them, or, with
+    ``NUMBA_CACHE_DIR`` set, numba's directory for them under it (``<directory's name>_<sha1 of its absolute
+    path>``, numba's ``UserProvidedCacheLocator``)."""
+    import hashlib
+    import os
+    from pathlib import Path
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    numba = sys.modules.get("numba")
+    if numba is not None:
+        root = numba.config.CACHE_DIR
+    if not root:
+        return Path(directory) / "__pycache__"
+    here = os.path.abspath(directory)
+    return Path(root) / f"{os.path.basename(here)}_{hashlib.sha1(here.encode()).hexdigest()}"
+
+
 def cached(source: str) -> bool:
     """True when numba's disk cache in the kernel cache directory holds the kernel of a generated source (loading it
     then compiles nothing)."""
-    from pathlib import Path
     name, _ = _stamped(source)
-    return any((Path(cache_dir()) / "__pycache__").glob(f"{name}.*.nbi"))
+    return any(index_dir(cache_dir()).glob(f"{name}.*.nbi"))
 
 
 def load_kernel(source: str, directory):
@@ -381,13 +398,13 @@ def ready(k) -> bool:
 
 
 def compiled(k) -> bool:
-    """True when the numba dispatcher ``k`` is compiled in this process or has an index in numba's cache beside its
-    module (``__pycache__/<module>.<function>-<line>.py<version>.nbi``)."""
+    """True when the numba dispatcher ``k`` is compiled in this process or has an index in numba's cache for its
+    module (``<index_dir>/<module>.<function>-<line>.py<version>.nbi``: :func:`index_dir`)."""
     if k.signatures:
         return True
     from pathlib import Path
     mod = Path(k.py_func.__code__.co_filename)
-    return any((mod.parent / "__pycache__").glob(f"{mod.stem}.*.nbi"))
+    return any(index_dir(mod.parent).glob(f"{mod.stem}.*.nbi"))
 
 
 #: Newton iterations at most in :func:`timing_source` (a minimum inside the bracket converges in a few; one on a
