@@ -161,6 +161,8 @@ class AssurBench:
 
 class PylinkageBench:
     def __init__(self):
+        from assur.kernels.numba_target import configure
+        configure()      # numba's target for assur's kernels, before pylinkage fixes it
         import pylinkage
         from pylinkage._numba_compat import HAS_NUMBA
         from pylinkage.actuators import Crank

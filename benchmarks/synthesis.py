@@ -140,6 +140,8 @@ class PylinkageFourbar:
     iteration from its initial angle θ0 (the ground direction), so step k (1-based) is θ2 = k°."""
 
     def __init__(self, steps=360):
+        from assur.kernels.numba_target import configure
+        configure()      # numba's target for assur's kernels, before pylinkage fixes it
         import pylinkage
         from pylinkage._numba_compat import HAS_NUMBA
         from pylinkage.actuators import Crank

@@ -6,6 +6,7 @@ tests/crosscheck/data, each naming its source) are read; bad and foreign input g
 """
 import json
 import math
+import os
 import warnings
 from pathlib import Path
 
@@ -148,6 +149,32 @@ def test_pylinkage_hypergraph_document_goes_through_pylinkage():
     m = quiet(import_mechanism, json.loads(json.dumps({"graph": graph_to_dict(graph), "dimensions": dims.to_dict()})))
     assert sorted(m.point_names) == ["A", "B", "C", "D"]
     assert math.dist(m.sketch("B"), m.sketch("C")) == pytest.approx(3.0)
+
+
+def test_reading_a_hypergraph_file_leaves_the_compiled_kernels_usable(tmp_path):
+    """Reading it imports pylinkage, whose numba code fixes numba's target: assur sets its own first
+    (kernels/numba_target.py), so the compiled kernels stay in use in that process, on any host."""
+    pytest.importorskip("pylinkage")
+    pytest.importorskip("numba")
+    import subprocess
+    import sys
+    from pylinkage.actuators import Crank
+    from pylinkage.components import Ground
+    from pylinkage.dyads import RRRDyad
+    from pylinkage.hypergraph.serialization import graph_to_dict
+    from pylinkage.simulation import Linkage
+    a, d = Ground(0.0, 0.0, name="A"), Ground(4.0, 0.0, name="D")
+    crank = Crank(anchor=a, radius=1.0, angular_velocity=0.1, initial_angle=1.0, name="B")
+    graph, dims = Linkage([a, d, crank, RRRDyad(crank.output, d, 3.0, 3.0, name="C")], name="hg").to_hypergraph()
+    path = tmp_path / "hg.json"
+    path.write_text(json.dumps({"graph": graph_to_dict(graph), "dimensions": dims.to_dict()}), encoding="utf-8")
+    code = ("import sys, warnings; warnings.simplefilter('ignore'); from assur.interop import import_mechanism; "
+            "m = import_mechanism(sys.argv[1]); from assur.kernels import codegen; "
+            "print(sorted(m.point_names), 'pylinkage' in sys.modules, codegen.available())")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_CPU")}    # as a user's process starts
+    out = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True, encoding="utf-8", check=True,
+                         env=env)
+    assert out.stdout.split("] ")[1].split() == ["True", "True"]
 
 
 def test_pylinkage_refuses_what_it_cannot_place():

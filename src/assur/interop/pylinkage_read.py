@@ -318,6 +318,8 @@ def _circle_line(c, r, p1, p2, hint, where):
 
 # -- through pylinkage itself -----------------------------------------------------------------------------------
 def _pylinkage():
+    from ..kernels.numba_target import configure
+    configure()                 # before pylinkage imports numba and fixes its target (kernels/numba_target.py)
     return require("pylinkage", "reading a pylinkage object or hypergraph", "pip install 'assur[pylinkage]'")
 
 
