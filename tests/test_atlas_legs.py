@@ -390,3 +390,24 @@ def test_a_clearance_limit_makes_the_foot_lift_off(six):
     assert r["feasible"]
     again = _recomputed(r)
     assert again["lift"] - again["sag"] > 0.2 * CRANK
+
+
+@pytest.mark.slow
+def test_an_eight_link_ranking_dimensions_its_newton_candidates_without_flags():
+    """The eight-link ranking on a small budget, default settings otherwise (no flag: candidates with a class-III or
+    class-IV group are dimensioned like the rest): a dyad leg, a class-III leg and a class-IV leg of the atlas, each
+    run to its budget and none skipped; the class of each is the structural analysis's (independent of the
+    ranking's own ``newton`` mark)."""
+    from assur.io.mechanism_file import from_dict
+    from assur.structure.assur import analyse
+    keys = ["K8-8d44cd84c724/f2/c4/foot3",       # dyads only
+            "K8-75c6f90aa409/f7/c3/foot5",       # class III (docs/atlas.md, "Eight links")
+            "K8-b66552958ccf/f4/c7/foot5"]       # class IV (tests/data/eightbar_leg_locks_past_a_turn.toml)
+    subset = [leg_candidates(8, key)[0] for key in keys]
+    classes = [max(g.group_class for g in analyse(from_dict(c.document, c.key)).groups) for c in subset]
+    assert classes == [2, 3, 4]
+    ranking = rank_legs(8, settings={"budget": 600, "starts": 1}, candidates=subset)
+    assert sorted(e["key"] for e in ranking.entries) == sorted(keys)
+    for e in ranking.entries:
+        assert e["skipped"] is None and e["evaluations"] >= 0.8 * 600, e["key"]
+    assert any(e["feasible"] for e in ranking.entries)
