@@ -135,11 +135,12 @@ def test_the_synthesis_cycle_kernel_counts_the_band_unbuildable():
 def test_analyze_says_the_unbuildable_samples_are_ambiguous(leg):
     """The summary counts them apart from samples that have no assembly (text and JSON)."""
     from assur.analysis.summary import summary_dict as summary
-    from assur.report.analysis import analysis_lines
+    from assur.report.analysis import analysis_html, analysis_lines
     study = assur.Study(leg)
     n = study.buildable.ambiguous
     line = next(ln for ln in analysis_lines(study) if ln.startswith("buildability"))
     assert f"{n} of {study.buildable.steps} positions cannot be assembled ({n} of them ambiguous" in line
     assert summary(study)["ambiguous"] == n
+    assert f"(unbuildable: {study.buildable.unbuildable}; {n} of them ambiguous" in analysis_html(study)
     tri = assur.Study(assur.compile(assur.load(EXAMPLES / "triad_sixbar.toml")))
     assert tri.buildable.ambiguous == 0 and summary(tri)["ambiguous"] == 0

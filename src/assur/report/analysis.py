@@ -256,8 +256,8 @@ def analysis_html(study, units: str = "file") -> str:
     else:
         rng = ", ".join(f"{deg_text(s, 1)} … {deg_text(e, 1)}" for s, e in b.ranges)
         parts.append(f'<p>Buildability: <span class="bad">the crank cannot turn fully</span>: '
-                     f'{b.unbuildable} of {b.steps} positions cannot be assembled (unbuildable: {b.unbuildable})'
-                     f'{escape(_ambiguous_text(b))}. '
+                     f'{b.unbuildable} of {b.steps} positions cannot be assembled (unbuildable: {b.unbuildable}'
+                     f'{escape("; " + _ambiguous_text(b)[2:-1]) if b.ambiguous else ""}). '
                      + (f"Buildable ranges: {escape(rng)}." if rng else "No position can be assembled.") + "</p>")
     if study.four_bars:
         parts.append("<h3>Four-bar loops</h3>")
