@@ -144,3 +144,11 @@ def test_analyze_says_the_unbuildable_samples_are_ambiguous(leg):
     assert f"(unbuildable: {study.buildable.unbuildable}; {n} of them ambiguous" in analysis_html(study)
     tri = assur.Study(assur.compile(assur.load(EXAMPLES / "triad_sixbar.toml")))
     assert tri.buildable.ambiguous == 0 and summary(tri)["ambiguous"] == 0
+
+
+def test_solve_says_how_many_unbuildable_positions_are_ambiguous(capsys):
+    from assur.cli.main import main
+    assert main(["solve", str(LEG), "--steps", "8"]) == 0
+    out = capsys.readouterr()
+    # 8 positions 45° apart: only 90° lies in the band 50.52° … 101.58°
+    assert "1 cannot be assembled (1 of them ambiguous" in out.out + out.err

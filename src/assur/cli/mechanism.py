@@ -178,7 +178,9 @@ def cmd_solve(args) -> int:
     what = (f"{len(q)} positions of {plan.input_names[moving]} over one turn" if cyclic
             else f"{len(q)} samples of {', '.join(plan.input_names)} over the given range(s)")
     spatial = " (spatial)" if plan.dimension == 3 else ""
-    print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled", file=report)
+    n_amb = int(state.ambiguous.sum())
+    amb = f" ({n_amb} of them ambiguous: two assemblies, one each way round from the sketch)" if n_amb else ""
+    print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled{amb}", file=report)
     if plan.dimension == 3 and state.n_unbuildable:
         from ..engine.spatial.numpy_backend import unbuildable_message
         print("  " + unbuildable_message(plan, state.inputs, state.valid, state.status), file=report)
