@@ -49,3 +49,22 @@ def test_transmission_limit_on_a_mechanism_without_a_dyad_is_refused(triad_sixba
     with pytest.raises(SpecError) as err:
         problem_from_dict(data, mechanism=plan)
     assert "constraints.limits[0].quantity" in str(err.value) and "no dyad" in str(err.value)
+
+
+def test_the_recheck_of_a_result_solves_a_newton_plan_on_numpy(triad_sixbar_plan):
+    """``Evaluator.recheck`` (a run's result, once): on a plan with a Newton-solved group it is the numpy evaluator's
+    detailed evaluation, to the last bit (no compiled solve kernel is compiled for one design), and the evaluator
+    keeps its own backend for the search afterwards."""
+    plan = triad_sixbar_plan
+    data = {"format": "assur-synth/1", "name": "triad recheck",
+            "variables": {"r2.length": [120, 160], "tern.D.distance": [80, 120]},
+            "targets": {"point": "D", "xy": [[0.0, 0.0]], "timing": "path"},
+            "objective": {"deviation": "squared"}, "constraints": {"use": ["buildable"]},
+            "options": {"cycle_samples": 36}}
+    problem = problem_from_dict(data, mechanism=plan)
+    X = problem.to_si(np.array([[140.0, 100.0], [150.0, 90.0]]))
+    fast = Evaluator(problem, backend="numba")
+    got = fast.recheck(X)
+    ref = Evaluator(problem, backend="numpy")(X, detail=True)
+    assert [got.row(i) for i in range(2)] == [ref.row(i) for i in range(2)]
+    assert fast.backend == "numba"

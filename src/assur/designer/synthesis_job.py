@@ -295,7 +295,7 @@ def _worker(job_id, doc, data, x0, budget, seed, created, out, cancel):   # prag
         state["evaluations"] = used
         cancelled = stopped == "interrupted" or cancel.is_set()
         x = recorder.best_x
-        row = Evaluator(problem)(x[None, :], detail=True).row(0)
+        row = Evaluator(problem).recheck(x[None, :]).row(0)
         state["x"] = x
         unit = problem.length_unit
         n = len(data["targets"]["xy"])

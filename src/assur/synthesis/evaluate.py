@@ -163,6 +163,19 @@ class Evaluator:
         return (_rebuild_evaluator, (self.problem, self.chunk, self.backend))
 
     # -- public --------------------------------------------------------------------------------------
+    def recheck(self, X) -> Evaluation:
+        """``self(X, detail=True)`` for a run's result (a design, once). A plan with Newton-solved groups then solves
+        on numpy: the detailed route's compiled solve kernels are not the search's (its cycle reduction) and would
+        first compile, 9–17 s each, for this one call, where numpy takes 25–150 ms per design and cycle (the
+        numbers agree to round-off). Any other plan as ``self(X, detail=True)``."""
+        if self.backend != "numba" or not any(st.kind == "newton" for st in self.problem.plan.steps):
+            return self(X, detail=True)
+        backend, self.backend = self.backend, "numpy"
+        try:
+            return self(X, detail=True)
+        finally:
+            self.backend = backend
+
     def __call__(self, X, detail: bool = False) -> Evaluation:
         """X: (n, n_vars) design vectors in SI (angles in rad) → Evaluation. ``detail`` adds the
         per-target ``distances``/``offsets`` (the general route; without it the fused compiled

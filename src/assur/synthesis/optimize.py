@@ -486,7 +486,7 @@ def synthesize(problem: Problem, method: str | None = None, *, seed: int | None 
         stopped = next((s for s in ("target", "interrupted", "time", "budget") if s in reasons), "converged")
     ends = [r.first_batch_end for r in results if r.first_batch_end is not None]
     finish0 = time.monotonic()
-    ev = evaluator(best.x[None, :], detail=True)
+    ev = evaluator.recheck(best.x[None, :])
     row = ev.row(0)
     history, offset_e, offset_t = [], 0, 0.0
     for r in results:
