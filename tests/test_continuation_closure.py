@@ -62,7 +62,7 @@ def test_the_gait_sees_a_crank_that_cannot_turn_fully(leg):
     assert study.gait is None and "cannot turn fully" in study.gait_error
     b = study.buildable
     assert b.ambiguous == b.unbuildable == np.count_nonzero(study.grid()[1].ambiguous) > 0
-    assert f"{b.ambiguous} of them are ambiguous" in study.gait_error
+    assert f"{b.ambiguous} of them ambiguous" in study.gait_error
     s = assur.solve(leg, inputs=Q, backend="numpy")
     F = s.pos[:, leg.point_index("F")]
     ok = s.valid & np.roll(s.valid, -1)

@@ -38,6 +38,7 @@ from scipy.integrate import simpson
 from scipy.optimize import brentq
 
 from ..engine import State, solve
+from ..engine.options import ambiguous_note
 from ..engine.plan import require_plan
 from ..errors import SpecError, UnbuildableError
 from ..kernels.arcs import arc_mask, population_contact, sampled_arcs
@@ -344,7 +345,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
     if not np.all(valid):
         bad = q[~valid]
         n_amb = int(np.count_nonzero(state.ambiguous))
-        amb = f"; {n_amb} of them are ambiguous: two assemblies, one each way round" if n_amb else ""
+        amb = f"; {ambiguous_note(n_amb)}" if n_amb else ""
         raise UnbuildableError(
             f"the crank cannot turn fully: {np.count_nonzero(~valid)} of {steps} positions cannot be assembled "
             f"(from {np.degrees(bad.min()):.1f}° to {np.degrees(bad.max()):.1f}°{amb}); no gait metrics",

@@ -178,8 +178,9 @@ def cmd_solve(args) -> int:
     what = (f"{len(q)} positions of {plan.input_names[moving]} over one turn" if cyclic
             else f"{len(q)} samples of {', '.join(plan.input_names)} over the given range(s)")
     spatial = " (spatial)" if plan.dimension == 3 else ""
+    from ..engine.options import ambiguous_note
     n_amb = int(state.ambiguous.sum())
-    amb = f" ({n_amb} of them ambiguous: two assemblies, one each way round from the sketch)" if n_amb else ""
+    amb = f" ({ambiguous_note(n_amb)})" if n_amb else ""
     print(f"{args.file}: {what}{spatial}; {state.n_unbuildable} cannot be assembled{amb}", file=report)
     if plan.dimension == 3 and state.n_unbuildable:
         from ..engine.spatial.numpy_backend import unbuildable_message

@@ -87,7 +87,7 @@ def run_designs(eq, *, q0, speed0, time=None, turns=None, rtol: float = 1e-8, sa
     if time is None and turns is None and not motor:
         raise SpecError([("time", "a free motion (no motor) has no steady state to run to: give time= or cycles=")])
     use = compiled_available() if compiled is None else compiled
-    if compiled and find_spec("numba") is not None and not compiled_available():   # numba's target is not safe
+    if compiled and "numba" in sys.modules and not compiled_available():   # numba's target is not safe
         from ..kernels.numba_target import UNSAFE
         raise RuntimeError(UNSAFE)
     if not use:

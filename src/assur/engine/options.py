@@ -132,6 +132,12 @@ def format_input(plan, k: int, value: float) -> str:
     return f"{value:.6g} m"
 
 
+def ambiguous_note(n: int) -> str:
+    """The words every report uses for ``n`` ambiguous samples among the unbuildable ones (``State.ambiguous``)."""
+    return (f"{n} of them ambiguous: reached on one assembly going forward from the sketch and on another going back, "
+            f"since its assembly does not close over a turn")
+
+
 def unbuildable_message(plan, inputs, valid, causes=None, ambiguous=None) -> str:
     """'k of n samples cannot be assembled (…); they are NaN with valid=False'.
 
@@ -152,8 +158,7 @@ def unbuildable_message(plan, inputs, valid, causes=None, ambiguous=None) -> str
     n_amb = 0 if ambiguous is None else int(np.count_nonzero(ambiguous))
     tail = "; they are NaN with valid=False"
     if n_amb:
-        tail = (f"; {n_amb} of them are ambiguous: the walks from the sketch reach them on one assembly going forward "
-                f"and on another going back, since its assembly does not close over a turn (state.ambiguous)" + tail)
+        tail = f"; {ambiguous_note(n_amb)} (state.ambiguous)" + tail
     n = plan.n_inputs
     if causes and valid.ndim == 1 and n == 1:
         q = inputs[..., 0]

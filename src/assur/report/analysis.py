@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from ..engine.options import ambiguous_note
 from ..errors import SpecError
 from .page import escape, png_tag, table
 from .text import actuator_rows, deg_text, format_number, gait_rows, length_display, on_arc, phases_text
@@ -150,15 +151,6 @@ def stroke_html(act: dict, plan, length_factor: float, length_unit: str) -> list
     return parts
 
 
-def _ambiguous_text(b) -> str:
-    """' (k of them ambiguous: …)' for a turn with ambiguous samples (:class:`~assur.analysis.study.Buildability`),
-    else ''."""
-    if not b.ambiguous:
-        return ""
-    return (f" ({b.ambiguous} of them ambiguous: reached on one assembly going forward from the sketch and on another "
-            f"going back, since its assembly does not close over a turn)")
-
-
 def analysis_lines(study, system: str = "file") -> list[str]:
     """The human-readable analysis of a Study (``assur analyze``)."""
     plan = study.plan
@@ -183,7 +175,8 @@ def analysis_lines(study, system: str = "file") -> list[str]:
     else:
         rng = ", ".join(f"{math.degrees(s):.1f}°…{math.degrees(e):.1f}°" for s, e in b.ranges)
         out.append(f"buildability: the crank cannot turn fully: {b.unbuildable} of {b.steps} positions cannot be "
-                   f"assembled" + _ambiguous_text(b) + (f"; buildable {rng}" if rng else "; no position can be assembled"))
+                   f"assembled" + (f" ({ambiguous_note(b.ambiguous)})" if b.ambiguous else "")
+                   + (f"; buildable {rng}" if rng else "; no position can be assembled"))
     if plan.dimension == 3:
         for d in study.spatial or []:
             for label, lo, hi, worst in ((f"{d.point} (μ_T)", d.mu_t_min, d.mu_t_max, math.pi / 2 - d.mu_t_min),
@@ -257,7 +250,7 @@ def analysis_html(study, units: str = "file") -> str:
         rng = ", ".join(f"{deg_text(s, 1)} … {deg_text(e, 1)}" for s, e in b.ranges)
         parts.append(f'<p>Buildability: <span class="bad">the crank cannot turn fully</span>: '
                      f'{b.unbuildable} of {b.steps} positions cannot be assembled (unbuildable: {b.unbuildable}'
-                     f'{escape("; " + _ambiguous_text(b)[2:-1]) if b.ambiguous else ""}). '
+                     f'{"; " + escape(ambiguous_note(b.ambiguous)) if b.ambiguous else ""}). '
                      + (f"Buildable ranges: {escape(rng)}." if rng else "No position can be assembled.") + "</p>")
     if study.four_bars:
         parts.append("<h3>Four-bar loops</h3>")

@@ -170,11 +170,7 @@ class Evaluator:
         numbers agree to round-off). Any other plan as ``self(X, detail=True)``."""
         if self.backend != "numba" or not any(st.kind == "newton" for st in self.problem.plan.steps):
             return self(X, detail=True)
-        backend, self.backend = self.backend, "numpy"
-        try:
-            return self(X, detail=True)
-        finally:
-            self.backend = backend
+        return Evaluator(self.problem, backend="numpy")(X, detail=True)
 
     def __call__(self, X, detail: bool = False) -> Evaluation:
         """X: (n, n_vars) design vectors in SI (angles in rad) → Evaluation. ``detail`` adds the
