@@ -135,6 +135,25 @@ def test_the_widening_measures_a_newton_leg_as_it_is_written():
 
 
 @pytest.mark.slow
+def test_the_widening_search_screens_a_newton_leg_on_its_own_plan():
+    """The search's coarse screen of a design of a leg with a Newton-solved group is that of the design's own file,
+    computed here from the written file; on this leg the template's plan continued to the design reaches no full
+    turn, so a screen taken on it saw no window at all (every design infeasible to the search)."""
+    from assur.synthesis.design import mechanism_with_params
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.leg_window import KS, POINTS, SAMPLES, _slack
+    from assur.synthesis.legs import leg_problem
+    key, variables = EIGHT_LINK_LEG
+    problem = leg_problem(leg_candidates(8, key)[0])
+    params = Evaluator(problem).params(problem.to_si(np.array([variables[n] for n in problem.names]))[None])[0]
+    written = assur.compile(assur.loads(assur.dumps(mechanism_with_params(problem.plan, params))))
+    expected = window_screen(foot_law(written, samples=SAMPLES), 0.8, points=POINTS, ks=KS).slack
+    assert expected is not None
+    # the file holds the parameters as written decimals: the slack agrees to their rounding, not to the last bit
+    assert _slack(problem.plan, params, 0.8) == pytest.approx(expected, rel=1e-6)
+
+
+@pytest.mark.slow
 def test_cli_rank_window_prints_the_window_columns(capsys):
     assert main(["atlas", "--walking-legs", "--links", "6", "--limit", "1", "--budget", "200", "--starts", "1",
                  "--rank", "window", "--window-budget", "30"]) == 0
