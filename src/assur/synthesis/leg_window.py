@@ -26,21 +26,28 @@ SAMPLES, POINTS, KS = 512, 401, 49
 INFEASIBLE = 1.0e3
 
 
+def _own_plan(plan, params):
+    """The plan of the design ``params`` (n_params,) of the leg ``plan`` as written: its file's, sketched in its own
+    assembly (for a Newton-solved group, continuing ``plan`` to other parameters may reach another assembly or
+    none)."""
+    from ..engine import compile as compile_plan
+    from .design import mechanism_with_params
+    return compile_plan(mechanism_with_params(plan, params))
+
+
 def _slack(plan, params, fraction: float) -> float | None:
     """The coarse screen's slack of one design at ``fraction`` (None: no foot law or no window there).
 
-    A leg with a Newton-solved group is measured on the design's own plan (its file's, sketched in its own assembly,
-    as :func:`widen_window` judges its result): the template's plan continued to other parameters may reach another
+    A leg with a Newton-solved group is measured on the design's own plan (:func:`_own_plan`, as
+    :func:`widen_window` judges its result): the template's plan continued to other parameters may reach another
     assembly or none, and walks every refining solve of the gait from the template's sketch, both ways round (on an
     eight-link class-IV leg about 30 s a design, against 1.5 s on its own plan)."""
     from ..codesign.law import foot_law
     from ..codesign.screen import window_screen
-    from ..engine import compile as compile_plan
     from ..errors import AssurError
-    from .design import mechanism_with_params
     try:
         if any(st.kind == "newton" for st in plan.steps):
-            plan, params = compile_plan(mechanism_with_params(plan, params)), None
+            plan, params = _own_plan(plan, params), None
         return window_screen(foot_law(plan, params, samples=SAMPLES), fraction, points=POINTS, ks=KS).slack
     except AssurError:
         return None
@@ -61,9 +68,7 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
 
     from ..codesign.law import foot_law
     from ..codesign.widest import widest_window
-    from ..engine import compile as compile_plan
     from ..errors import AssurError
-    from .design import mechanism_with_params
     from .evaluate import Evaluator
 
     evaluator = Evaluator(problem)
@@ -72,11 +77,9 @@ def widen_window(problem, x0, *, budget: int, seed: int, spread: float = 0.02) -
     sag_limit = float(evaluator(x0[None]).quantities["gait.sag"][0])     # the search's own sampled sag (mm)
 
     def exact(x):
-        """The exact widest window of the design x as written: its own plan, sketched in its own assembly (for a
-        Newton-solved group, continuing the template's plan to x's parameters may reach another assembly or none)."""
+        """The exact widest window of the design x as written (:func:`_own_plan`)."""
         try:
-            own = compile_plan(mechanism_with_params(plan, evaluator.params(x[None])[0]))
-            return widest_window(foot_law(own)).window
+            return widest_window(foot_law(_own_plan(plan, evaluator.params(x[None])[0]))).window
         except AssurError:
             return None
 
