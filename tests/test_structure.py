@@ -212,3 +212,22 @@ def test_idle_spin_of_a_binary_link_between_spherical_joints():
     assert (s.mobility, s.idle, s.mobility_without_idle) == (2, 1, 1)
     planar = assur.analyse_structure(assur.load(Path(__file__).resolve().parents[1] / "examples" / "crank_rocker.toml"))
     assert planar.idle == 0
+
+
+@pytest.mark.parametrize("path, classes", [(FOURBAR, []), (JANSEN, []), (TRIAD, [3]),
+                                           (os.path.join(HERE, "data", "dyad_then_newton_eightbar.toml"), None)])
+def test_a_plans_newton_steps_are_its_groups_without_a_closed_form(path, classes):
+    # the reference is the structure's own decomposition: every group of class III or more is solved by Newton
+    plan = assur.compile(assur.load(path) if isinstance(path, str) and path.endswith(".toml") else path)
+    above_two = [g.group_class for g in plan.structure.groups if g.group_class > 2]
+    if classes is not None:
+        assert above_two == classes
+    else:
+        assert above_two                          # the eight-link file has one group beyond a dyad
+    assert len(plan.newton_steps()) == len(above_two)
+    assert all(st.kind == "newton" for st in plan.newton_steps())
+    assert plan.has_newton_groups == bool(above_two)
+
+
+def test_a_spatial_plan_has_no_newton_steps(rssr_plan):
+    assert rssr_plan.newton_steps() == [] and rssr_plan.has_newton_groups is False

@@ -141,7 +141,7 @@ def branch_signs(plan) -> dict:
         if st.key_point is not None:
             sign = None if st.kind == "RPR" and (st.key_point, plan.lines[st.line][1]) in slid else drawn.get(i)
             sig[(st.key_point, st.kind)] = (int(st.branch if sign is None else sign), st.points_in())
-    if any(st.kind == "newton" for st in plan.steps):
+    if plan.has_newton_groups:
         for i, sign in newton_branch_signs(plan).items():
             names = tuple(plan.body_names[b] for b in plan.steps[i].bodies)
             sig[(", ".join(names), "newton")] = (sign, names)

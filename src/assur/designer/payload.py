@@ -296,7 +296,7 @@ def describe(doc: dict, overrides: dict | None = None, steps: int = DESIGNER_STE
         m = meta["model"]
         m["mobility"], m["formula"] = int(structure.mobility), structure.structural_formula
         m["groups"] = group_records(plan, structure)
-        m["newton_groups"] = sum(st.kind == "newton" for st in plan.steps) if plan.dimension == 2 else 0
+        m["newton_groups"] = len(plan.newton_steps())
         if m["newton_groups"]:
             from .choosing import available
             m["chooser"] = available()

@@ -422,6 +422,16 @@ class PlanBase:
         """The step records of the given kinds, in solve order."""
         return [s for s in self.steps if s.kind in kinds]
 
+    def newton_steps(self) -> list:
+        """The groups without a closed form (a class III triad, a class IV group), solved by Newton iterations, in
+        solve order (empty for a spatial plan)."""
+        return self.steps_of("newton")
+
+    @property
+    def has_newton_groups(self) -> bool:
+        """Whether a group of the plan is solved by Newton iterations (:meth:`newton_steps`)."""
+        return any(s.kind == "newton" for s in self.steps)
+
     # -- the flat step table -------------------------------------------------------------------------
     @property
     def step_kind(self) -> np.ndarray:

@@ -96,7 +96,7 @@ def numpy_seconds(problem, evaluations: int) -> float:
         from .timing import GOLDEN_STEPS, MAX_ITERATIONS   # free timing solved per design: a turn, then each
         steps = GOLDEN_STEPS + 3 if t.kind == "poses" else MAX_ITERATIONS   # target refined
         samples += problem.cycle_samples + t.n * steps
-    newton = sum(st.kind == "newton" for st in problem.plan.steps)
+    newton = len(problem.plan.newton_steps())
     per_sample = (len(problem.plan.steps) - newton) * NUMPY_SECONDS_PER_UNIT + newton * NUMPY_SECONDS_PER_NEWTON_GROUP
     return evaluations * max(samples, 1) * per_sample
 
@@ -168,7 +168,7 @@ class Evaluator:
         on numpy: the detailed route's compiled solve kernels are not the search's (its cycle reduction) and would
         first compile, 9–17 s each, for this one call, where numpy takes 25–150 ms per design and cycle (the
         numbers agree to round-off). Any other plan as ``self(X, detail=True)``."""
-        if self.backend != "numba" or not any(st.kind == "newton" for st in self.problem.plan.steps):
+        if self.backend != "numba" or not self.problem.plan.has_newton_groups:
             return self(X, detail=True)
         return Evaluator(self.problem, backend="numpy")(X, detail=True)
 

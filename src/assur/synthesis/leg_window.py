@@ -46,7 +46,7 @@ def _slack(plan, params, fraction: float) -> float | None:
     from ..codesign.screen import window_screen
     from ..errors import AssurError
     try:
-        if any(st.kind == "newton" for st in plan.steps):
+        if plan.has_newton_groups:
             plan, params = _own_plan(plan, params), None
         return window_screen(foot_law(plan, params, samples=SAMPLES), fraction, points=POINTS, ks=KS).slack
     except AssurError:

@@ -132,7 +132,7 @@ def leg_candidates(links: int, key: str | None = None) -> list[LegCandidate]:
                         continue
                     entry = entry or mechanism_entry(inv, crank)
                     doc = _template(entry.document, names[crank], names[foot])
-                    newton = any(st.kind == "newton" for st in compile_plan(from_dict(doc, "leg")).steps)
+                    newton = compile_plan(from_dict(doc, "leg")).has_newton_groups
                     title = inv.name or inv.id
                     out.append(LegCandidate(f"{inv.id}/c{crank}/foot{foot}",
                                             f"{title}, crank {names[crank]}, foot on {names[foot]}",

@@ -35,7 +35,7 @@ TWO_PI = 2.0 * math.pi
 
 def covers(plan) -> bool:
     """True when the plan has a Newton-solved group and the Newton kernels trace it (one rotary input, no gears)."""
-    return any(st.kind == "newton" for st in plan.steps) and traced.covers(plan, newton=True)
+    return plan.has_newton_groups and traced.covers(plan, newton=True)
 
 
 def structure_key(plan) -> tuple:
@@ -105,7 +105,7 @@ def _solve_source(plan, order: int, each: bool = True) -> str:
 
 def seeds(plan) -> np.ndarray:
     """The Newton-solved groups' unknowns at the sketch (x, y, θ of each body, in solve order): their first seed."""
-    return np.array([v for st in plan.steps if st.kind == "newton" for b in st.bodies for v in plan.sketch_poses[b]],
+    return np.array([v for st in plan.newton_steps() for b in st.bodies for v in plan.sketch_poses[b]],
                     dtype=float)
 
 
@@ -133,7 +133,7 @@ def _fixed(plan) -> _Fixed:
     f = _FIXED.get(plan)
     if f is None:
         from .group_assemblies import group_method
-        groups = tuple(st for st in plan.steps if st.kind == "newton")
+        groups = tuple(plan.newton_steps())
         f = _FIXED[plan] = _Fixed(seeds(plan), len(plan.point_names) + len(plan.body_names),
                                   sum(3 * len(st.bodies) for st in groups) + len(groups),
                                   any(group_method(plan, st) == "reduction" for st in groups))
@@ -231,7 +231,7 @@ def separate_by_reduction(plan, params, inputs, shape, tol, extra, valid):
     from .group_assemblies import group_method
     from .steps import _run
     from ...kernels.jet import Jet
-    groups = [st for st in plan.steps if st.kind == "newton"]
+    groups = plan.newton_steps()
     starts = np.cumsum([0] + [3 * len(st.bodies) for st in groups])
     certs = extra[starts[-1]:]
     flagged = np.zeros(shape, dtype=bool)
