@@ -112,7 +112,7 @@ def _recomputed(entry):
 def test_one_candidate_is_dimensioned_and_its_file_walks(six):
     c = next(c for c in six if c.inversion_name == "Watt I" and c.foot_name == "L3")
     r = run_candidate(c, {"budget": 3000, "starts": 2, "backend": "numpy"})
-    assert r["feasible"] and r["metrics"] is not None
+    assert r["feasible"] and r["metrics"] is not None and r["refused"] is None
     again = _recomputed(r)
     for k, v in again.items():
         assert r["metrics"][k] == pytest.approx(v, rel=1e-9, abs=1e-9)
@@ -411,3 +411,51 @@ def test_an_eight_link_ranking_dimensions_its_newton_candidates_without_flags():
     for e in ranking.entries:
         assert e["skipped"] is None and e["evaluations"] >= 0.8 * 600, e["key"]
     assert any(e["feasible"] for e in ranking.entries)
+
+
+#: the best design of K8-8d44cd84c724/f7/c6/foot2 (crank L7, foot on L3) in the eight-link ranking with a clearance,
+#: ``assur atlas --walking-legs --links 8 --clearance 0.25`` (default settings, seed 0; gait rank 120 of that run),
+#: in file units (mm, degrees): input data, a design whose two halves of the foot path have nearly equal mean heights
+TIED_HALVES = {"J8.x": -30.567249604425932, "J8.y": -302.32710369325184, "J7.x": 384.03069838571355,
+               "J7.y": -331.912158100208, "L1.length": 344.8481975490019, "L2.length": 583.6724029254323,
+               "L3.length": 331.0178233756084, "L3.F.distance": 547.0778434395099, "L3.F.angle": 87.84327950726791,
+               "L4.length": 686.1762052221648, "L5.length": 714.568536419471, "L5.J1.distance": 571.1141201592095,
+               "L5.J1.angle": 41.107547856344986, "L6.length": 696.409258639124,
+               "L6.J2.distance": 170.19013378667245, "L6.J2.angle": 49.17522970446667,
+               "L7.J6.distance": 64.66206482895898, "L7.J6.angle": 284.2577437341948}
+
+
+def test_a_design_whose_search_took_the_swing_for_the_support_is_refused(monkeypatch):
+    """On the search's 90 samples the design is feasible with a swing 28 mm above its support; on its exact gait the
+    support is the other half of the foot path, the one holding its top, and the clearance is none. The ranking
+    refuses it (not feasible, the reason given) instead of listing it as meeting the clearance."""
+    from assur.synthesis import optimize
+    from assur.synthesis.evaluate import Evaluator
+    from assur.synthesis.optimize import SynthesisResult
+    c, = leg_candidates(8, key="K8-8d44cd84c724/f7/c6/foot2")
+    settings = {"clearance": 0.25, "backend": "numpy"}
+    problem = leg_problem(c, settings)
+    x = problem.to_si(np.array([[TIED_HALVES[n] for n in problem.names]]))[0]
+    ev = Evaluator(problem, backend="numpy")(x[None, :], True)
+    assert ev.feasible[0] and ev.quantities["gait.clearance"][0] >= 0.25 * CRANK
+    # the same on the file's foot path sampled here: of the two halves between the samples of least and greatest x,
+    # the one of lower sample-mean height does not hold the path's highest sample
+    plan = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de",
+                           0).design_plan()
+    q = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+    P = assur.solve(plan, inputs=q, order=0).point(FOOT).pos
+    a, b = int(np.argmin(P[:, 0])), int(np.argmax(P[:, 0]))
+    halves = [np.arange(a, a + (b - a) % 90 + 1) % 90, np.arange(b, b + (a - b) % 90 + 1) % 90]
+    lower = min(halves, key=lambda k: P[k, 1].mean())
+    assert int(np.argmax(P[:, 1])) not in lower
+    res = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de", 0)
+    monkeypatch.setattr(optimize, "synthesize", lambda *args, **kwargs: res)
+    r = run_candidate(c, settings)
+    assert not r["feasible"] and "is not the exact gait's" in r["refused"]
+    g = assur.Study(assur.compile(assur.loads(r["mechanism"]))).gait
+    assert g.lift - g.sag < 1e-9 * g.lift                 # the exact support holds the top: no clearance
+    assert r["metrics"]["sag"] == pytest.approx(g.sag * 1000, rel=1e-12)
+    ranking = rank_legs(8, settings=settings, candidates=[c])
+    assert ranking.entries[0]["refused"] == r["refused"]
+    from assur.report.legs import leg_rows
+    assert leg_rows(ranking.entries)[0][2] == "refused"

@@ -66,7 +66,8 @@ def leg_rows(entries) -> list[list[str]]:
     windows = any("window" in (e["metrics"] or {}) for e in entries)
     for e in entries:
         m = e["metrics"] or {}
-        status = "skipped" if e.get("skipped") else "yes" if e["feasible"] and e["metrics"] else "no"
+        status = ("skipped" if e.get("skipped") else "refused" if e.get("refused")
+                  else "yes" if e["feasible"] and e["metrics"] else "no")
         rows.append([str(e["rank"]), e["name"], status,
                      _n(e["objective"]), _n(m.get("step")), _n(m.get("lift")), _n(m.get("sag")),
                      _n(m.get("vx_spread_80")), _n(m.get("vx_spread_90")), _n(m.get("transmission_min"), 3)])
@@ -89,9 +90,12 @@ def _page(ranking, drawings: dict) -> str:
     desc = (f"Each candidate is an atlas mechanism, a crank at its frame and a foot point on one of its links, "
             f"dimensioned by a short gait synthesis: step ≥ {s['step']:g} r, lift ≥ {s['lift']:g} r, "
             f"the foot path ≥ {s['below']:g} r under the crank's axis, transmission angle ≥ {s['transmission']:g}° wherever a dyad has one, "
-            f"the crank turning fully; objective = sag / "
+            + (f"a swing ≥ {s['clearance']:g} r above the support, " if s.get("clearance") else "")
+            + f"the crank turning fully; objective = sag / "
             f"({s['step']:g} r / 10) + spread of |vx| over the central 80 % of the stride. Metrics: the exact gait "
-            f"of each best design (720 crank angles). Ground: the x axis, up: +y.")
+            f"of each best design (720 crank angles). A design the search found feasible is refused when its exact "
+            f"gait contradicts the search's samples (another half of the path taken for the support, or a crank that "
+            f"does not turn fully). Ground: the x axis, up: +y.")
     rows = leg_rows(ranking.entries)
     by_window = s.get("rank") == "window"
     if by_window:
@@ -113,6 +117,7 @@ def _page(ranking, drawings: dict) -> str:
                      f'duty {_n(m.get("duty"), 3)} · starts {escape(starts or "—")} · '
                      f'<a href="{escape(stem)}.toml">{escape(stem)}.toml</a></p>'
                      + (f'<p class="note">{escape(e["skipped"])}</p>' if e.get("skipped") else "")
+                     + (f'<p class="note">refused: {escape(e["refused"])}</p>' if e.get("refused") else "")
                      + f'<div class="thumb">{drawings[e["key"]]}</div></div>')
     parts.append(section("Entries", "\n".join(cards)))
     style = ("<style>.leg{display:inline-block;vertical-align:top;width:380px;margin:0 1em 1em 0}"

@@ -35,6 +35,9 @@ candidates run beside it, nor where: :func:`rank_legs` maps the candidates over 
 (:mod:`assur.synthesis.executors`: in-process, local processes or a Dask cluster) and gets the same numbers from
 each. The ranking puts the feasible designs first, by objective, then the others by their constraint violation;
 each entry carries the exact gait metrics of its best design (:func:`assur.gait_metrics`) and its mechanism file.
+A design the search found feasible is *refused* (``feasible`` False, ``refused`` the reason) when its exact gait
+contradicts the search's samples: its crank does not turn fully on the analysis's 720 samples, or the support arc
+the search measured is not the exact gait's (:func:`support_disagreement`).
 
 With the setting ``rank = "window"`` (``assur atlas --walking-legs --rank window``) each feasible design is then
 widened for a co-designed gear drive (:func:`assur.synthesis.leg_window.widen_window`: the same variables and gait
@@ -241,7 +244,8 @@ def candidate_seed(seed: int, key: str) -> int:
 
 def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict:
     """Dimension one candidate (a task of :func:`rank_legs`; picklable arguments, a plain dict back):
-    ``key``, ``objective`` (None when no design was feasible), ``feasible``, ``violation``, ``variables`` (file units), ``starts`` (each start's
+    ``key``, ``objective`` (None when no design was feasible), ``feasible`` (the search's verdict, unless
+    ``refused``: why the exact gait contradicts it, else None), ``violation``, ``variables`` (file units), ``starts`` (each start's
     penalised best), ``evaluations``, ``seconds``, ``metrics`` (the exact gait of the best design, None when it
     cannot walk) and ``mechanism`` (its file text; for a candidate with no feasible design whose best does not
     assemble at its sketch, the candidate's own start, so that every written file loads)."""
@@ -266,11 +270,17 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     plan = res.design_plan(mech)
     if plan is None and not res.feasible:   # the search's best does not even assemble at its sketch: the file is
         mech = problem.plan.mechanism       # the start's
-    metrics = None
+    metrics, refused = None, None
     try:
-        g = None if plan is None else Study(plan).gait
-    except AssurError:
-        g = None
+        study = None if plan is None else Study(plan)
+        g = None if study is None else study.gait
+    except AssurError as exc:
+        study, g = None, None
+        refused = f"its exact gait fails: {exc}" if res.feasible else None
+    if g is None and study is not None and res.feasible:
+        refused = f"its exact gait fails: {study.gait_error or 'the file has no gait'}"
+    if g is not None and res.feasible:
+        refused = support_disagreement(plan, g, int(s["cycle_samples"]))
     if g is not None:
         metrics = {"step": g.step_length * 1000, "lift": g.lift * 1000, "sag": g.sag * 1000, "duty": g.duty_factor,
                    "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
@@ -281,11 +291,51 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     if metrics is not None and q.get("transmission.min") is not None:
         metrics["transmission_min"] = float(q["transmission.min"])
     objective = None if res.objective is None or not np.isfinite(res.objective) else float(res.objective)
-    return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible),
-            "violation": float(res.violation), "variables": res.variables,
+    return {"key": candidate.key, "objective": objective, "feasible": bool(res.feasible) and refused is None,
+            "refused": refused, "violation": float(res.violation), "variables": res.variables,
             "starts": [float(st["best_F"]) for st in res.starts], "evaluations": int(res.evaluations),
             "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech),
             **({"widening": widened} if widened is not None else {})}
+
+
+#: the least share of the search's sampled support arc that must lie in the exact gait's support arc
+SUPPORT_AGREEMENT = 0.5
+
+
+def support_disagreement(plan, gait, samples: int) -> str | None:
+    """Why the search's verdict on a design does not hold for its exact gait, or None when it does.
+
+    The search judges a design on ``samples`` uniform crank angles, where the support arc is the half of the foot
+    path (between the samples of least and greatest stride coordinate) whose sample-mean height is lower
+    (:func:`assur.kernels.arcs.sampled_arcs`); the exact gait decides the same on the refined extremes and 720
+    samples (:func:`assur.analysis.gait.gait_metrics`). Where the two halves' mean heights are nearly equal the two
+    can take different halves, and where the path has two nearly equal extremes of x the two can split it
+    elsewhere: the search then measured the sag, the clearance and the speed spread on another part of the path.
+    The design is refused when less than :data:`SUPPORT_AGREEMENT` of its sampled support arc (the file's own plan
+    solved at the search's angles) lies in the exact one. ``gait``: the exact
+    :class:`~assur.analysis.gait.GaitMetrics` of ``plan``'s foot."""
+    from ..analysis.gait import resolve_gait
+    from ..analysis.sampling import TWO_PI
+    from ..engine import solve
+    from ..kernels.arcs import arc_mask, population_contact
+    foot, ground, up = resolve_gait(plan)
+    q = np.linspace(0.0, TWO_PI, samples, endpoint=False)
+    st = solve(plan, inputs=q, order=0)
+    if not np.all(st.valid):
+        return (f"the file's own plan does not assemble at {np.count_nonzero(~np.asarray(st.valid))} of the "
+                f"search's {samples} crank angles")
+    pos = np.asarray(st.pos)[:, plan.point_index(foot)][None]
+    start, width = population_contact(pos, ground=ground, up=up)
+    sampled = arc_mask(start, width, samples)[0]
+    exact = ((q - gait.contact_start) % TWO_PI) <= (gait.contact_end - gait.contact_start)
+    share = np.count_nonzero(sampled & exact) / np.count_nonzero(sampled)
+    if share >= SUPPORT_AGREEMENT:
+        return None
+    deg = np.degrees
+    a, b = deg(q[start[0]]), deg(q[(start[0] + width[0]) % samples])
+    return (f"the support the search measured on its {samples} samples ({a:.0f}° to {b:.0f}°) is not the exact "
+            f"gait's ({deg(gait.contact_start) % 360:.1f}° to {deg(gait.contact_end) % 360:.1f}°): its sag, "
+            f"clearance and speed spread were measured on another part of the foot path")
 
 
 def _widen(problem, res, s: dict, candidate: LegCandidate) -> dict:
@@ -366,7 +416,8 @@ def run_candidate_guarded(candidate: LegCandidate, settings: dict | None = None)
     except SpecError:
         raise
     except Exception as exc:                     # noqa: BLE001 — an internal failure, reported with the candidate
-        return {"key": candidate.key, "objective": None, "feasible": False, "violation": 0.0, "variables": {},
+        return {"key": candidate.key, "objective": None, "feasible": False, "refused": None, "violation": 0.0,
+                "variables": {},
                 "starts": [], "evaluations": 0, "seconds": time.monotonic() - t0, "metrics": None,
                 "skipped": f"{FAILED}{type(exc).__name__}: {exc}",
                 "mechanism": dumps(from_dict(candidate.document, candidate.key))}
@@ -375,7 +426,7 @@ def run_candidate_guarded(candidate: LegCandidate, settings: dict | None = None)
 def _order(entry: dict, rank: str = "gait"):
     if entry.get("skipped"):                     # after every dimensioned candidate
         return (2, 0.0, 0.0, entry["key"])
-    bad = not entry["feasible"] or entry["metrics"] is None
+    bad = not entry["feasible"] or entry["metrics"] is None       # refused by the exact gait: not feasible
     if rank == "window" and not bad:      # the widest window first; legs without one after, by objective
         window = entry["metrics"].get("window")
         return (0, -(window or 0.0), entry["objective"], entry["key"])
