@@ -425,7 +425,7 @@ TIED_HALVES = {"J8.x": -30.567249604425932, "J8.y": -302.32710369325184, "J7.x":
                "L7.J6.distance": 64.66206482895898, "L7.J6.angle": 284.2577437341948}
 
 
-def test_a_design_whose_search_took_the_swing_for_the_support_is_refused(monkeypatch, tmp_path):
+def test_a_design_whose_search_took_the_swing_for_the_support_is_refused(monkeypatch, tmp_path, capsys):
     """On the search's 90 samples the design is feasible with a swing 28 mm above its support; on its exact gait the
     support is the other half of the foot path, the one holding its top, and the clearance is none. The ranking
     refuses it (not feasible, the reason given) instead of listing it as meeting the clearance."""
@@ -463,3 +463,9 @@ def test_a_design_whose_search_took_the_swing_for_the_support_is_refused(monkeyp
     assert json.loads(files["ranking.json"])["entries"][0]["refused"] == r["refused"]
     page = (tmp_path / "legs" / "index.html").read_text(encoding="utf-8")
     assert "refused: the support the search measured on its 90 samples" in page
+    from assur.cli.legs import _print
+    capsys.readouterr()
+    _print(ranking)
+    printed = capsys.readouterr().out
+    assert re.search(r"^\s+1\s+K8-8d44cd84c724/f7, crank L7, foot on L3\s+refused", printed, re.M)
+    assert "1 design the search found feasible is refused" in printed

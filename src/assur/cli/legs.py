@@ -115,3 +115,8 @@ def _print(ranking) -> None:
     print("  " + "  ".join(h.ljust(w) for h, w in zip(head, widths)))
     for r in rows:
         print("  " + "  ".join(c.ljust(w) if i in (1, 2) else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))))
+    refused = [e for e in ranking.entries if e.get("refused")]
+    if refused:
+        print(f"{len(refused)} design{'s' if len(refused) > 1 else ''} the search found feasible "
+              f"{'are' if len(refused) > 1 else 'is'} refused: the exact gait contradicts the search's samples "
+              f"(each entry's \"refused\" says how; docs/atlas.md, \"Refused designs\")")
