@@ -94,7 +94,7 @@ def _page(ranking, drawings: dict) -> str:
             + f"the crank turning fully; objective = sag / "
             f"({s['step']:g} r / 10) + spread of |vx| over the central 80 % of the stride. Metrics: the exact gait "
             f"of each best design (720 crank angles). A design the search found feasible is refused when its exact "
-            f"gait contradicts the search's samples (another half of the path taken for the support, or a crank that "
+            f"gait contradicts the search's samples (another part of the path taken for the support, or a crank that "
             f"does not turn fully). Ground: the x axis, up: +y.")
     rows = leg_rows(ranking.entries)
     by_window = s.get("rank") == "window"
