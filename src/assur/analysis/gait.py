@@ -41,7 +41,7 @@ from ..engine import State, solve
 from ..engine.options import ambiguous_note
 from ..engine.plan import require_plan
 from ..errors import SpecError, UnbuildableError
-from ..kernels.arcs import arc_mask, population_contact, sampled_arcs
+from ..kernels.arcs import arc_mask, in_arc, population_contact, sampled_arcs
 from ..kernels.runs import cyclic_runs
 from .sampling import TWO_PI, Cycle, roots_between
 
@@ -365,7 +365,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
         arcs = []
         for start, end in ((qa, qb), (qb, qa)):
             width = (end - start) % TWO_PI
-            inside = ((q - start) % TWO_PI) <= width
+            inside = in_arc(q, start, width)
             arcs.append((float(np.mean(v[inside] - vmin)) if inside.any() else math.inf, start, width))
         arcs.sort(key=lambda a: a[0])
         _, start, width = arcs[0]
@@ -386,7 +386,7 @@ def _gait(plan, params, foot, ground, up, steps, support, band):
                               (float(ax.min()), float(ax.max())), steps,
                               {f"{f:g}": window_vx_spread(F, qq, av, xa, xb, f, (crit_q, crit_v[2:]))
                                for f in VX_FRACTIONS})
-        contact = ((q - start) % TWO_PI) <= width
+        contact = in_arc(q, start, width)
         body_q = qq
         xs, vs = av["x"], av["v"]
         body_x, body_v = xs[0] - xs, vs[0] - vs
@@ -510,5 +510,4 @@ def legs_state(plan, phases, q, params=None, order: int = 2):
 def feet_on_ground(metrics: GaitMetrics, phases, q):
     """(n, n_legs) bool: leg k's foot is in its contact arc at crank angle q + phases[k]."""
     q = np.asarray(q, dtype=float)[:, None] + np.asarray(phases, dtype=float)[None, :]
-    width = metrics.contact_end - metrics.contact_start
-    return ((q - metrics.contact_start) % TWO_PI) <= width
+    return in_arc(q, metrics.contact_start, metrics.contact_end - metrics.contact_start)

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SpecError, UnbuildableError
+from ..kernels.arcs import in_arc
 from .checks import gear_checks
 from .law import CodesignLaw, foot_law, geared_vx_spread
 from .transfer import DEFAULT_RATIO_BOUNDS, CodesignProblem, optimize_transfer
@@ -147,7 +148,7 @@ class JointProblem:
         if key != self._foot_key:
             foot, q = prep["foot"], prep["q"]
             x, xp = foot.x_at(q), np.abs(foot.dx(q))
-            on = np.mod(q - foot.contact_start, 2 * np.pi) <= foot.contact_end - foot.contact_start
+            on = in_arc(q, foot.contact_start, foot.contact_end - foot.contact_start)
             mid, half = 0.5 * (foot.x_min + foot.x_max), 0.5 * self.target * foot.stride
             self._foot, self._foot_key = (xp, on & (np.abs(x - mid) <= half)), key
         xp, mask = self._foot

@@ -4,11 +4,22 @@ gait metrics of a population (:func:`assur.analysis.gait.population_gait`) and t
 
 The two samples of smallest and largest stride coordinate x split the turn into two arcs; the contact (support)
 arc is the one whose sample-mean height is lower. An arc is (start, width) in sample indices: the samples k with
-``(k − start) mod M ≤ width``.
+``(k − start) mod M ≤ width``; :func:`in_arc` is the same test on input angles (an exact gait's contact arc).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+TWO_PI = 2.0 * math.pi
+
+
+def in_arc(q, start, width) -> np.ndarray:
+    """(...) bool: the input angles ``q`` (..., rad) on the arc that runs ``width`` (rad, 0 … 2π) forward from
+    ``start`` (rad), the turn taken mod 2π; an exact gait's contact arc is ``start`` = contact_start, ``width`` =
+    contact_end − contact_start."""
+    return np.mod(np.asarray(q, dtype=float) - start, TWO_PI) <= width
 
 
 def population_contact(pos, *, ground, up) -> tuple[np.ndarray, np.ndarray]:

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SpecError
-from ..kernels.arcs import arc_mask, population_contact
+from ..kernels.arcs import arc_mask, in_arc, population_contact
 from .api import forces
 from .result import Forces
 
@@ -52,8 +52,7 @@ class GaitForces:
 
 def in_contact(metrics, q) -> np.ndarray:
     """(...) bool: crank angles q (...) inside the contact arc of ``metrics``."""
-    width = metrics.contact_end - metrics.contact_start
-    return ((np.asarray(q, dtype=float) - metrics.contact_start) % TWO_PI) <= width
+    return in_arc(q, metrics.contact_start, metrics.contact_end - metrics.contact_start)
 
 
 def gait_forces(cycle, metrics, *, weight: float | None = None, friction: float | None = None,

@@ -317,7 +317,7 @@ def support_disagreement(plan, gait, samples: int) -> str | None:
     from ..analysis.gait import resolve_gait
     from ..analysis.sampling import TWO_PI
     from ..engine import solve
-    from ..kernels.arcs import arc_mask, population_contact
+    from ..kernels.arcs import arc_mask, in_arc, population_contact
     foot, ground, up = resolve_gait(plan)
     q = np.linspace(0.0, TWO_PI, samples, endpoint=False)
     st = solve(plan, inputs=q, order=0)
@@ -327,7 +327,7 @@ def support_disagreement(plan, gait, samples: int) -> str | None:
     pos = np.asarray(st.pos)[:, plan.point_index(foot)][None]
     start, width = population_contact(pos, ground=ground, up=up)
     sampled = arc_mask(start, width, samples)[0]
-    exact = ((q - gait.contact_start) % TWO_PI) <= (gait.contact_end - gait.contact_start)
+    exact = in_arc(q, gait.contact_start, gait.contact_end - gait.contact_start)
     share = np.count_nonzero(sampled & exact) / np.count_nonzero(sampled)
     if share >= SUPPORT_AGREEMENT:
         return None

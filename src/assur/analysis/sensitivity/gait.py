@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from ...kernels.arcs import in_arc
 from .forces import _at
 from .implicit import solve_motion
 from .outputs import Output
@@ -89,7 +90,7 @@ def gait_outputs(study) -> dict[str, Output]:
     out["gait.duty"] = Output("gait.duty", "gait", "1", width / TWO_PI, (end[1] - start[1]) / TWO_PI)
     # the sag: v's range over the arc; the candidates are the arc's two ends (moving with it) and the interior roots
     # of ∂v/∂q refined from the samples' extremes (the envelope theorem there)
-    inside = ((q - start[0]) % TWO_PI) <= width
+    inside = in_arc(q, start[0], width)
     qs, vs = q[inside], v[inside]
     cands = []
     for e in (start, end):
