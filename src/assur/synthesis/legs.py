@@ -249,8 +249,6 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     penalised best), ``evaluations``, ``seconds``, ``metrics`` (the exact gait of the best design, None when it
     cannot walk) and ``mechanism`` (its file text; for a candidate with no feasible design whose best does not
     assemble at its sketch, the candidate's own start, so that every written file loads)."""
-    from ..analysis.study import Study
-    from ..errors import AssurError
     from ..io.mechanism_writer import dumps
     from .optimize import synthesize
     s = settings_of(settings)
@@ -271,16 +269,10 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
     if plan is None and not res.feasible:   # the search's best does not even assemble at its sketch: the file is
         mech = problem.plan.mechanism       # the start's
     metrics, refused = None, None
-    try:
-        study = None if plan is None else Study(plan)
-        g = None if study is None else study.gait
-    except AssurError as exc:
-        study, g = None, None
-        refused = f"its exact gait fails: {exc}" if res.feasible else None
-    if g is None and study is not None and res.feasible:
-        refused = f"its exact gait fails: {study.gait_error or 'the file has no gait'}"
-    if g is not None and res.feasible:
-        refused = support_disagreement(plan, g, int(s["cycle_samples"]))
+    g, failure = _exact_gait(plan)
+    if res.feasible:
+        refused = (support_disagreement(plan, g, int(s["cycle_samples"])) if g is not None
+                   else None if failure is None else f"its exact gait fails: {failure}")
     if g is not None:
         metrics = {"step": g.step_length * 1000, "lift": g.lift * 1000, "sag": g.sag * 1000, "duty": g.duty_factor,
                    "vx_spread_80": g.vx_spread["0.8"], "vx_spread_90": g.vx_spread["0.9"],
@@ -296,6 +288,21 @@ def run_candidate(candidate: LegCandidate, settings: dict | None = None) -> dict
             "starts": [float(st["best_F"]) for st in res.starts], "evaluations": int(res.evaluations),
             "seconds": time.monotonic() - t0, "metrics": metrics, "skipped": None, "mechanism": dumps(mech),
             **({"widening": widened} if widened is not None else {})}
+
+
+def _exact_gait(plan):
+    """(the exact :class:`~assur.analysis.gait.GaitMetrics` of a design's own plan, or None; why there is none, or
+    None): (None, None) without a plan (a design that does not assemble at its sketch)."""
+    from ..analysis.study import Study
+    from ..errors import AssurError
+    if plan is None:
+        return None, None
+    try:
+        study = Study(plan)
+        g = study.gait
+    except AssurError as exc:
+        return None, str(exc)
+    return g, None if g is not None else study.gait_error or "the file has no gait"
 
 
 #: the least share of the search's sampled support arc that must lie in the exact gait's support arc
