@@ -438,17 +438,16 @@ def test_a_design_whose_search_took_the_swing_for_the_support_is_refused(monkeyp
     x = problem.to_si(np.array([[TIED_HALVES[n] for n in problem.names]]))[0]
     ev = Evaluator(problem, backend="numpy")(x[None, :], True)
     assert ev.feasible[0] and ev.quantities["gait.clearance"][0] >= 0.25 * CRANK
+    res = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de", 0)
     # the same on the file's foot path sampled here: of the two halves between the samples of least and greatest x,
     # the one of lower sample-mean height does not hold the path's highest sample
-    plan = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de",
-                           0).design_plan()
+    plan = res.design_plan()
     q = np.linspace(0, 2 * np.pi, 90, endpoint=False)
     P = assur.solve(plan, inputs=q, order=0).point(FOOT).pos
     a, b = int(np.argmin(P[:, 0])), int(np.argmax(P[:, 0]))
     halves = [np.arange(a, a + (b - a) % 90 + 1) % 90, np.arange(b, b + (a - b) % 90 + 1) % 90]
     lower = min(halves, key=lambda k: P[k, 1].mean())
     assert int(np.argmax(P[:, 1])) not in lower
-    res = SynthesisResult(problem, x, float(ev.objective[0]), True, 0.0, ev.row(0), 1, 0.0, "budget", "de", 0)
     monkeypatch.setattr(optimize, "synthesize", lambda *args, **kwargs: res)
     r = run_candidate(c, settings)
     assert not r["feasible"] and "is not the exact gait's" in r["refused"]

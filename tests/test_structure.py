@@ -214,11 +214,12 @@ def test_idle_spin_of_a_binary_link_between_spherical_joints():
     assert planar.idle == 0
 
 
-@pytest.mark.parametrize("path, classes", [(FOURBAR, []), (JANSEN, []), (TRIAD, [3]),
-                                           (os.path.join(HERE, "data", "dyad_then_newton_eightbar.toml"), None)])
-def test_a_plans_newton_steps_are_its_groups_without_a_closed_form(path, classes):
+@pytest.mark.parametrize("m, classes", [(FOURBAR, []), (JANSEN, []), (TRIAD, [3]),
+                                        (assur.load(os.path.join(HERE, "data", "dyad_then_newton_eightbar.toml")),
+                                         None)], ids=["fourbar", "jansen", "triad", "eightbar"])
+def test_a_plans_newton_steps_are_its_groups_without_a_closed_form(m, classes):
     # the reference is the structure's own decomposition: every group of class III or more is solved by Newton
-    plan = assur.compile(assur.load(path) if isinstance(path, str) and path.endswith(".toml") else path)
+    plan = assur.compile(m)
     above_two = [g.group_class for g in plan.structure.groups if g.group_class > 2]
     if classes is not None:
         assert above_two == classes
