@@ -101,7 +101,8 @@ def test_ranking_by_window_orders_by_the_recomputed_windows():
 
 
 #: an eight-link leg with a class-III group, K8-75c6f90aa409/f7 driven from L4 with the foot on L6, as the eight-link
-#: gait ranking dimensioned it (docs/atlas.md, "Eight links"; file units, mm and degrees)
+#: gait ranking dimensioned it in its first run, before cycles flagged ambiguous samples (docs/atlas.md, "Eight
+#: links"; run again, the ranking gives this leg another design; file units, mm and degrees)
 EIGHT_LINK_LEG = ("K8-75c6f90aa409/f7/c3/foot5", {
     "J5.x": -333.29783327384985, "J5.y": 211.40765500109282, "J1.x": 785.892757236766, "J1.y": 90.48086725202252,
     "J3.x": -26.85374037806465, "J3.y": 611.2059771724095, "L1.length": 366.4167648496553,
