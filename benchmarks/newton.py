@@ -64,6 +64,17 @@ def _timed(fn):
     return time.process_time() - t
 
 
+def _round_robin(cases: dict, repeats: int) -> dict:
+    """``{case: [CPU seconds]}`` of the warm callables ``cases``, round-robin, 20 calls per repeat (a call is about a
+    millisecond)."""
+    times = {k: [] for k in cases}
+    for _ in range(repeats):
+        for k, fn in cases.items():
+            for _ in range(20):
+                times[k].append(_timed(fn))
+    return times
+
+
 def _cycle(plan, backend="auto", sweep=False):
     import numpy as np
 
@@ -192,12 +203,7 @@ def breakdown(repeats: int) -> dict:
         fn()
     (a, va), (b, vb) = outs["kernel"], outs["bare"]
     same = bool(np.array_equal(va, vb) and np.array_equal(a, b, equal_nan=True))
-    times = {k: [] for k in cases}
-    for _ in range(repeats):
-        for k, fn in cases.items():
-            for _ in range(20):
-                times[k].append(_timed(fn))
-    return {"times": times, "same": same}
+    return {"times": _round_robin(cases, repeats), "same": same}
 
 
 def agreement() -> dict:
@@ -258,32 +264,27 @@ def scalar_worker(repeats: int) -> dict:
     cases = {k: _cycle(assur.compile(assur.load(EX / f)), "numba") for k, f in files.items()}
     for fn in cases.values():
         fn()
-    times = {k: [] for k in cases}
-    for _ in range(repeats):
-        for k, fn in cases.items():
-            for _ in range(20):
-                times[k].append(_timed(fn))
-    return times
+    return _round_robin(cases, repeats)
 
 
 def scalar_cycles(repeats: int) -> dict:
     """:func:`scalar_worker` in a fresh process with LLVM's loop and SLP vectorisers off and empty caches."""
+    return _fresh_process(["--scalar-worker", "--repeats", str(repeats)],
+                          NUMBA_LOOP_VECTORIZE="0", NUMBA_SLP_VECTORIZE="0")
+
+
+def _fresh_process(args: list, **env) -> dict:
+    """This script run with ``args`` in a fresh process with empty caches (``ASSUR_CACHE_DIR=off``, its own
+    ``NUMBA_CACHE_DIR``) and ``env`` besides: the JSON its last line prints."""
     with tempfile.TemporaryDirectory() as nb:
-        env = dict(os.environ, ASSUR_CACHE_DIR="off", NUMBA_CACHE_DIR=nb, NUMBA_LOOP_VECTORIZE="0",
-                   NUMBA_SLP_VECTORIZE="0",
+        env = dict(os.environ, ASSUR_CACHE_DIR="off", NUMBA_CACHE_DIR=nb, **env,
                    PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
-        r = subprocess.run([sys.executable, __file__, "--scalar-worker", "--repeats", str(repeats)], env=env,
-                           capture_output=True, text=True, check=True)
+        r = subprocess.run([sys.executable, __file__, *args], env=env, capture_output=True, text=True, check=True)
     return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 def compile_cost() -> dict:
-    with tempfile.TemporaryDirectory() as nb:
-        env = dict(os.environ, ASSUR_CACHE_DIR="off", NUMBA_CACHE_DIR=nb,
-                   PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
-        r = subprocess.run([sys.executable, __file__, "--compile-worker"], env=env, capture_output=True, text=True,
-                           check=True)
-    return json.loads(r.stdout.strip().splitlines()[-1])
+    return _fresh_process(["--compile-worker"])
 
 
 def _rate(work, ts):
@@ -368,19 +369,18 @@ def report(repeats: int, moves: int) -> str:
         lines.append(f"| {k} | {med[k] * 1e3:.3f} ms | {min(ts) * 1e3:.3f} ms | {smed[k] * 1e3:.3f} ms | "
                      f"{smed[k] / smed[triad]:.2f} |")
     sdyad = min(smed[k] for k in smed if "dyads" in k)
-    vdyad = min(med[k] for k in SCALAR_CASES if "dyads" in k)
+    dyad = min(med[k] for k in med if "dyads, compiled" in k)
     # across the two processes the fastest runs (min) are compared: a shared machine's load moves the medians
     smin = {k: min(v) for k, v in scalar.items()}
     vmin = {k: min(cyc[k]) for k in SCALAR_CASES}
     dmin = min(smin[k] for k in smin if "dyads" in k) / min(vmin[k] for k in vmin if "dyads" in k)
     lines += ["", f"Without the vectorisers the compiled triad six-bar takes {smed[triad] / sdyad:.1f}× the time of the "
-              f"faster dyad six-bar, against {med[triad] / vdyad:.1f}× with them (medians, each in its own process); "
+              f"faster dyad six-bar, against {med[triad] / dyad:.1f}× with them (medians, each in its own process); "
               f"by the fastest runs (min) the dyad six-bar's call is {dmin:.1f}× slower without them, the triad's "
               f"{smin[triad] / vmin[triad]:.2f}×. The dyad "
               "kernels' sample loop is straight-line code that LLVM runs on several samples at once; the Newton "
               "kernel walks each sample with branches and loops (the iterations, the step control, the "
               "certificate), which run one sample at a time either way.", ""]
-    dyad = min(med[k] for k in med if "dyads, compiled" in k)
     lines += ["## The targets (issue 26, section 4)", "",
               f"- a triad six-bar cycle within 3× a compiled dyad six-bar's time: {med[triad] / dyad:.1f}× "
               f"({'met' if med[triad] <= 3 * dyad else 'not met'}); the kernel's certified Newton solves and the "
