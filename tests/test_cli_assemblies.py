@@ -68,3 +68,5 @@ def test_bad_assembly_options_are_one_error_line(argv, message, capsys, tmp_path
     monkeypatch.chdir(tmp_path)
     code, out, err = run(argv, capsys)
     assert code == 1 and err.count("\n") == 1 and message in err
+    assert out == ""        # refused before anything is printed
+    assert list(tmp_path.iterdir()) == []

@@ -130,6 +130,11 @@ def cmd_info(args) -> int:
     if args.assemblies and m.dimension == 3:
         raise SpecError([("--assemblies", "assemblies are listed for planar mechanisms (a spatial R–S–S dyad has "
                                           "its two branches, chosen by [branches])")])
+    plan = q = None
+    if args.assemblies:     # a bad --at is refused before anything is printed
+        from ..report.assemblies import input_values
+        plan = compile_(m)
+        q = input_values(plan, args.at)
     s = structure_summary(m)
     _emit(text.info_head_lines(m, _title(m, args.file), args.file, s))
     if m.dimension == 3:
@@ -148,14 +153,13 @@ def cmd_info(args) -> int:
     _emit([entry.line() if entry else "atlas: a geared mechanism (the atlas holds chains of lower pairs only)"
            if m.gears else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
                            "or a body is joined to nothing)"])
-    plan = compile_(m)
+    plan = plan or compile_(m)
     from ..analysis.fourbar import four_bar_loops
     _emit([loop.describe() for loop in four_bar_loops(plan)])
     _emit(text.parameter_lines(plan) + text.gait_lines(m))
     if args.assemblies:
         from ..engine import assemblies
-        from ..report.assemblies import assembly_lines, input_values
-        q = input_values(plan, args.at)
+        from ..report.assemblies import assembly_lines
         _emit(assembly_lines(plan, assemblies(plan, q)[0], q))
     return 0
 
