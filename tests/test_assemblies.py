@@ -245,3 +245,27 @@ def test_a_dyad_hinged_on_a_group_point_multiplies_its_assemblies():
         jdx = [base.point_index(p) for p in ("Q1", "Q2", "Q3", "Q4")]
         for a in found:
             assert min(np.max(np.abs(a.pos[idx] - g.pos[jdx])) for g in groups) < 1e-9
+
+
+def test_an_rpr_dyads_branches_that_place_every_point_alike_are_told_apart_by_their_bodies():
+    """lever_manipulator.toml: the driven rod O–B is a passive RPR dyad whose slide passes through both hinges, so
+    its two branches place B alike and differ only in the rod's orientation (toward B, or half a turn from it). The
+    drive rod A–B on the horizontal guide puts B at 600 ± 300 mm (|AB| = 500 mm, 400 mm above A): four
+    assemblies in two pairs, and only the one whose rod points as the sketch's is the sketch's."""
+    from conftest import EXAMPLES
+    plan = assur.compile(assur.load(EXAMPLES / "lever_manipulator.toml"))
+    found = assur.assemblies(plan, 0.5)[0]
+    b, rod = plan.point_index("B"), plan.body_names.index("driven_rod.cylinder")
+    assert len(found) == 4
+    xs = sorted(round(float(a.pos[b, 0]), 9) for a in found)
+    assert xs == [0.3, 0.3, 0.9, 0.9]
+    for a in found:
+        twin = [o for o in found if o is not a and np.allclose(o.pos, a.pos, rtol=0, atol=1e-12)]
+        assert len(twin) == 1
+        toward_b = np.arctan2(a.pos[b, 1], a.pos[b, 0])          # O is the origin
+        turns = sorted(abs(np.remainder(x.angles[rod] - toward_b + np.pi, 2 * np.pi) - np.pi) for x in (a, twin[0]))
+        np.testing.assert_allclose(turns, [0.0, np.pi], atol=1e-12)
+    (sk,) = [a for a in found if a.sketch]
+    st = assur.solve(plan, inputs=0.5, order=0)
+    np.testing.assert_allclose(sk.angles, np.asarray(st.body_angle).reshape(-1), atol=1e-12)
+    assert sk.angles[rod] == pytest.approx(np.arctan2(400, 300), abs=1e-12)

@@ -57,6 +57,16 @@ def test_plot_draws_the_assemblies(tmp_path, capsys):
     assert code == 0 and out.stat().st_size > 10_000 and f"wrote {out}" in text
 
 
+def test_assemblies_with_the_same_points_name_their_turned_bodies(capsys):
+    """lever_manipulator.toml: the passive RPR rod O–B's two branches place B alike; the listing says which
+    assemblies share their points and where the rod points in each (toward B at (300, 400) mm: atan2(400, 300))."""
+    code, out, err = run(["info", ROOT / "examples" / "lever_manipulator.toml", "--assemblies"], capsys)
+    assert code == 0 and "assemblies at drive = 500 mm: 4" in out
+    assert out.count("← the sketch's") == 1
+    assert f"the same points as #2, its bodies otherwise turned: driven_rod.cylinder at " \
+           f"{math.degrees(math.atan2(400, 300)):.6g}°" in out
+
+
 @pytest.mark.parametrize("argv,message", [
     (["info", TRIAD, "--at", "10"], "--at: is for the assemblies: add --assemblies"),
     (["info", TRIAD, "--assemblies", "--at", "ten"], "--at: must be a number"),

@@ -92,6 +92,22 @@ def test_choosing_a_dyad_assembly_turns_the_files_hints():
 
 
 @needs_assemblies
+def test_assemblies_that_differ_only_in_a_bodys_turn_are_each_chosen():
+    """lever_manipulator.toml: its passive RPR rod's two branches place every point alike (the rod toward B or half
+    a turn from it): one of them is current, and each other assembly, once chosen, is the only current one."""
+    s = Session.of_file(str(EX / "lever_manipulator.toml"))
+    m = reply(s, op="assemblies", input=0.5)
+    assert len(m["assemblies"]) == 4 and sum(a["current"] for a in m["assemblies"]) == 1
+    for a in m["assemblies"]:
+        if a["current"]:
+            continue
+        r = reply(s, op="commit", edits=[{"kind": "assembly", "input": 0.5, "branches": a["branches"]}])
+        assert r["type"] == "result", r.get("message")
+        assert sketch_assembly(r["toml"], [0.5]) == [a["branches"]]
+        reply(s, op="undo")
+
+
+@needs_assemblies
 @pytest.mark.parametrize("edit, says", [
     ({"input": 0.0, "branches": [[1, 7]]}, "no assembly [[1, 7]] at this input"),
     ({"input": 0.0}, "needs branches"),

@@ -256,10 +256,10 @@ def cmd_plot(args) -> int:
             raise SpecError([("--assemblies", "assemblies are drawn for planar mechanisms")])
         from ..engine import assemblies
         from ..plot.assemblies import assemblies_figure
-        from ..report.assemblies import branch_labels, input_text, input_values
+        from ..report.assemblies import assembly_labels, input_text, input_values
         q = input_values(plan, None if args.at is None else [args.at])
         found = assemblies(plan, q)[0]
-        fig = assemblies_figure(plan, found, [branch_labels(plan, a) for a in found], input_text(plan, q),
+        fig = assemblies_figure(plan, found, assembly_labels(plan, found), input_text(plan, q),
                                 dpi=args.dpi, units=args.units)
         return _save_figure(fig, args, ext)
     if args.centres or args.centrodes:

@@ -109,7 +109,7 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
     -------
     list of list of :class:`~assur.engine.planar.assemblies.Assembly`
         One list per input (the batch flattened in C order), each assembly with its branch identity, its positions
-        ``pos (n_points, 2)``, whether it is the one :func:`solve` returns there (``sketch``), its loop closure and
+        ``pos (n_points, 2)``, its bodies' orientations ``angles (n_bodies,)``, whether it is the one :func:`solve` returns there (``sketch``), its loop closure and
         whether the enumeration certified it.
     """
     from .planar.assemblies import enumerate_assemblies
@@ -120,8 +120,9 @@ def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
     if params.shape != (plan.n_params,):
         raise SpecError([("params", f"must be one design of {plan.n_params} parameters: shape {params.shape}")])
     flat = inputs.reshape(-1, plan.n_inputs)
-    solved = solve(plan, params, flat, order=0, tolerances=tolerances).pos
-    return [enumerate_assemblies(plan, params, q, tolerances, solved[i]) for i, q in enumerate(flat)]
+    state = solve(plan, params, flat, order=0, tolerances=tolerances)
+    solved, angles = state.pos, state.body_angle
+    return [enumerate_assemblies(plan, params, q, tolerances, solved[i], angles[i]) for i, q in enumerate(flat)]
 
 
 def _compiled_pays(plan, size: int, order: int, sweep: bool = False) -> bool:

@@ -75,4 +75,36 @@ def assembly_lines(plan, found, q) -> list[str]:
         pts = "  ".join(f"{plan.point_names[j]} = ({format_number(a.pos[j, 0] / f, 6, plan.length_scale / f)}, "
                         f"{format_number(a.pos[j, 1] / f, 6, plan.length_scale / f)})" for j in moving)
         lines.append(f"     {pts} {u.length}; loops close to {a.closure:.1e} of the size")
+        turned = twins(plan, found, i - 1)
+        if turned:
+            lines.append("     the same points as " + ", ".join(f"#{k + 1}" for k in turned[0])
+                         + ", its bodies otherwise turned: "
+                         + ", ".join(f"{plan.body_names[b]} at {format_number(a.angles[b] / ANGLE[u.angle], 6)}"
+                                     f"{'°' if u.angle == 'deg' else ' rad'}" for b in turned[1]))
     return lines
+
+
+def twins(plan, found, i):
+    """(the other assemblies with every point where ``found[i]`` has it, the bodies turned in one of them from
+    where ``found[i]`` has them), or None when no other assembly places every point alike: an RPR dyad whose
+    slide passes through both hinges has two branches that differ only in its bodies' orientations."""
+    from ..tolerances import DEFAULT
+    sep = DEFAULT.assembly_separation * plan.length_scale
+    a = found[i]
+    same = [k for k, o in enumerate(found) if k != i and float(np.max(np.abs(o.pos - a.pos), initial=0.0)) <= sep]
+    if not same:
+        return None
+    turn = np.stack([np.remainder(found[k].angles - a.angles + np.pi, 2.0 * np.pi) - np.pi for k in same])
+    bodies = [b for b in range(len(plan.body_names)) if np.any(np.abs(turn[:, b]) * plan.length_scale > sep)]
+    return same, bodies
+
+
+def assembly_labels(plan, found) -> list[list[str]]:
+    """Per assembly in ``found``, the lines naming it in a figure: its branches (:func:`branch_labels`) and, where
+    another assembly places every point alike (:func:`twins`), which."""
+    out = []
+    for i, a in enumerate(found):
+        same = twins(plan, found, i)
+        out.append(branch_labels(plan, a) + ([f"points as {', '.join(f'#{k + 1}' for k in same[0])}, bodies turned"]
+                                             if same else []))
+    return out

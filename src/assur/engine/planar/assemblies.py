@@ -27,13 +27,17 @@ class Assembly:
     sign (±1, as the plan's ``branch`` of its step) or, for a Newton-solved group, ``(det sign, index)``: the sign
     of its certificate determinant (what the solver keeps, :func:`assur.engine.planar.newton_group.certificate_det`)
     and its place among that group's assemblies at this input (sorted by the angle of the group's parameter body);
-    ``pos (n_points, 2)`` (m); ``sketch``: the assembly :func:`assur.solve` returns here (the sketch's, followed
-    from the sketch by continuation); ``closure``: the largest distance between a joint's positions on the bodies
+    ``pos (n_points, 2)`` (m); ``angles (n_bodies,)`` the bodies' orientations (rad, in (−π, π]: two assemblies
+    may place every point alike and differ only there, as an RPR dyad's two branches do when its slide passes
+    through both hinges: the slider turned by half a turn); ``sketch``: the assembly :func:`assur.solve` returns
+    here (the sketch's, followed from the sketch by continuation: its points and its bodies' orientations);
+    ``closure``: the largest distance between a joint's positions on the bodies
     it joins, relative to the length scale (every loop closes when it is round-off); ``certified``: False where
     the enumeration could not tell two assemblies of a group apart (a group at or next to a singular position)."""
     inputs: np.ndarray
     branches: tuple
     pos: np.ndarray
+    angles: np.ndarray
     sketch: bool
     closure: float
     certified: bool
@@ -42,13 +46,15 @@ class Assembly:
         return {"inputs": self.inputs.tolist(), "branches": [list(b) if isinstance(b, tuple) else b
                                                                for b in self.branches],
                 "sketch": self.sketch, "closure": self.closure, "certified": self.certified,
-                "positions": self.pos.tolist()}
+                "positions": self.pos.tolist(), "angles": self.angles.tolist()}
 
 
-def enumerate_assemblies(plan, params, inputs, tol, solved=None) -> list[Assembly]:
+def enumerate_assemblies(plan, params, inputs, tol, solved=None, solved_angles=None) -> list[Assembly]:
     """Every assembly of the plan at one design ``params (n_params,)`` and one input vector ``inputs
     (n_inputs,)``; ``solved`` (n_points, 2) the positions :func:`assur.solve` gives there (NaN when it gives none)
-    marks the sketch's. Sorted by their branch identities."""
+    and ``solved_angles`` (n_bodies,) its bodies' orientations mark the sketch's: the assembly within
+    ``tolerances.assembly_separation`` of the length scale of both (an orientation's difference, in rad, times the
+    length scale). Sorted by their branch identities."""
     q = [Jet(np.asarray(float(v))) for v in inputs]
     c = Context(plan, np.asarray(params, dtype=float), q, 0, tol)
     ids: list[tuple] = [()]
@@ -94,13 +100,18 @@ def enumerate_assemblies(plan, params, inputs, tol, solved=None) -> list[Assembl
     if n == 0:
         return []
     z = np.stack([np.broadcast_to(c.pos[p].v, (n,)) for p in plan.point_names], axis=-1)
+    angles = np.stack([np.broadcast_to(np.angle(c.pose[b][1].v), (n,)) if b in c.pose else np.zeros(n)
+                       for b in range(len(plan.body_names))], axis=-1)
     closure = _closure(plan, c, n)
     sep = tol.assembly_separation * plan.length_scale
     out = []
     for r in range(n):
         pos = np.stack([z[r].real, z[r].imag], axis=-1)
         near = solved is not None and np.all(np.isfinite(solved)) and float(np.max(np.abs(pos - solved))) <= sep
-        out.append(Assembly(np.array(inputs, dtype=float), ids[r], pos, bool(near), float(closure[r]),
+        if near and solved_angles is not None:
+            turn = np.remainder(angles[r] - solved_angles + np.pi, 2.0 * np.pi) - np.pi
+            near = bool(np.all(np.abs(turn) * plan.length_scale <= sep))
+        out.append(Assembly(np.array(inputs, dtype=float), ids[r], pos, angles[r], bool(near), float(closure[r]),
                             bool(certified[r])))
     return sorted(out, key=lambda a: _order(a.branches))
 
