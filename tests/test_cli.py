@@ -268,6 +268,30 @@ def test_usage_errors_exit_2(argv, capsys):
     assert "usage:" in err
 
 
+@pytest.mark.parametrize("command", [["codesign", "M", "-o", "out"], ["atlas", "--walking-legs", "--links", "6", "-o", "out"],
+                                     ["synth", "P", "-o", "out"], ["sensitivity", "M"], ["report", "M", "-o", "out"]])
+@pytest.mark.parametrize("seed", ["-1", "4294967296", "7.5", "one"])
+def test_a_bad_seed_is_a_usage_error_before_any_work(command, seed, fourbar, capsys, tmp_path, monkeypatch):
+    """Every --seed is a whole number from 0 to 2³² − 1 (numpy's legacy generators, which scipy's optimisers seed,
+    refuse others: a negative seed was a traceback in assur codesign and skipped every candidate of an atlas
+    ranking); nothing is written."""
+    monkeypatch.chdir(tmp_path)
+    from conftest import EXAMPLES
+    problem = EXAMPLES / "synthesis" / "c1_six_points_line.toml"
+    argv = [fourbar if a == "M" else problem if a == "P" else a for a in command]
+    code, out, err = run(argv + ["--seed", seed], capsys)
+    assert code == 2 and f"argument --seed: must be a whole number from 0 to 4294967295: '{seed}'" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_walking_leg_ranking_refuses_a_negative_seed():
+    from assur.errors import SpecError
+    from assur.synthesis.legs import settings_of
+    with pytest.raises(SpecError, match="seed: must be a whole number ≥ 0: -1"):
+        settings_of({"seed": -1})
+    assert settings_of({"seed": 0})["seed"] == 0
+
+
 @pytest.mark.slow
 def test_python_m_assur(fourbar, tmp_path):
     env = {**os.environ, "PYTHONIOENCODING": "utf-8"}

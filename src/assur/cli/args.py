@@ -27,6 +27,21 @@ def positive(minimum: int = 1):
     return parse
 
 
+#: the largest random seed a command takes (numpy's legacy generators, which scipy's optimisers seed, take 32 bits)
+MAX_SEED = 2**32 - 1
+
+
+def seed_arg(text) -> int:
+    """An argparse type: a random seed, a whole number from 0 to :data:`MAX_SEED`."""
+    try:
+        v = int(text)
+    except ValueError:
+        v = -1
+    if not 0 <= v <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to {MAX_SEED}: {text!r}")
+    return v
+
+
 def _finite_number(text, zero: bool) -> float:
     """``text`` as a finite number > 0 (≥ 0 with ``zero``), else argparse's error."""
     try:

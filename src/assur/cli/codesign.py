@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .args import path_arg, positive, positive_float
+from .args import path_arg, positive, positive_float, seed_arg
 
 
 def register(sub) -> None:
@@ -52,7 +52,7 @@ def register(sub) -> None:
                          "(default); joint: the leg's dimensions and the transfer law together")
     sp.add_argument("--budget", type=positive(50), default=4000, metavar="N",
                     help="objective evaluations of --optimize joint (default 4000)")
-    sp.add_argument("--seed", type=int, default=1, metavar="S", help="random seed of the optimisers (default 1)")
+    sp.add_argument("--seed", type=seed_arg, default=1, metavar="S", help="random seed of the optimisers (default 1)")
     sp.add_argument("--tradeoff", action="store_true",
                     help="also optimise the transfer for windows 0.6 … 0.95 and draw tradeoff.png")
     sp.add_argument("--frames", type=positive(0), default=36, metavar="N",

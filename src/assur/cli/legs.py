@@ -14,12 +14,12 @@ import sys
 
 def add_arguments(sp) -> None:
     """The walking-leg options of ``assur atlas``."""
-    from .args import nonnegative_float, positive
+    from .args import nonnegative_float, positive, seed_arg
     g = sp.add_argument_group("walking legs (with --walking-legs)")
     g.add_argument("--budget", type=positive(1), default=None, metavar="N",
                    help="objective evaluations per candidate, over its starts (default 8000)")
     g.add_argument("--starts", type=positive(1), default=None, metavar="K", help="starts per candidate (default 4)")
-    g.add_argument("--seed", type=int, default=None, metavar="S", help="random seed of the ranking (default 0)")
+    g.add_argument("--seed", type=seed_arg, default=None, metavar="S", help="random seed of the ranking (default 0)")
     g.add_argument("--rank", choices=("gait", "window"), default=None,
                    help="rank by the search's gait objective (default) or by the widest constant-speed window the "
                         "co-design screen passes (docs/codesign.md)")

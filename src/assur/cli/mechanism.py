@@ -11,7 +11,7 @@ from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from ..io.output import atomic_file
 from .args import (ANIMATION_EXTENSIONS, PLOT_EXTENSIONS, add_range, compile_file, document_format, input_ranges,
-                   load_mechanism, output_path, path_arg, positive, positive_float)
+                   load_mechanism, output_path, path_arg, positive, positive_float, seed_arg)
 from .progress import frame_progress
 
 
@@ -86,7 +86,7 @@ def register(sub) -> None:
                     help=f"samples per turn (default {CYCLE_STEPS})")
     sp.add_argument("--frames", type=positive(2), default=36, metavar="N",
                     help="frames of the embedded animation (default 36)")
-    sp.add_argument("--seed", type=int, default=None, metavar="S",
+    sp.add_argument("--seed", type=seed_arg, default=None, metavar="S",
                     help="a synthesis problem file: the run's random seed (default 1)")
     sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
                     help="a synthesis problem file: objective evaluations in all")

@@ -16,7 +16,7 @@ import numpy as np
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from ..io.output import atomic_file
-from .args import PLOT_EXTENSIONS, compile_file, output_path, positive
+from .args import PLOT_EXTENSIONS, compile_file, output_path, positive, seed_arg
 
 DEFAULT_STEPS = 360
 
@@ -41,7 +41,7 @@ def register(sub) -> None:
     sp.add_argument("--clearance", action="append", default=[], metavar="C",
                     help="diametral clearance of every revolute (file length unit), or JOINT=C (repeatable; with "
                          "--band, or the tracked point)")
-    sp.add_argument("--seed", type=int, default=1, help="the Monte Carlo's random seed (default 1)")
+    sp.add_argument("--seed", type=seed_arg, default=1, help="the Monte Carlo's random seed (default 1)")
     sp.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     sp.add_argument("-o", "--output", type=output_path(PLOT_EXTENSIONS[:3]), metavar="OUT",
                     help="write the figures (.png, .svg, .pdf)")

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from ..report.text import format_number
-from .args import output_path, path_arg, positive, positive_float
+from .args import output_path, path_arg, positive, positive_float, seed_arg
 
 #: the exit status of an interrupted run (as :mod:`assur.cli.main` uses for every command)
 INTERRUPTED = 130
@@ -37,7 +37,7 @@ def register(sub) -> None:
                     help="global method (default restart: differential evolution restarted on stagnation)")
     sp.add_argument("--polish", choices=POLISHES, default=None,
                     help="local refinement of each start's (or restart's) best (default auto)")
-    sp.add_argument("--seed", type=int, default=None, metavar="S", help="random seed (reproducible runs)")
+    sp.add_argument("--seed", type=seed_arg, default=None, metavar="S", help="random seed (reproducible runs)")
     sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
                     help=f"objective evaluations in all (default {DEFAULT_BUDGET} with the restart method)")
     sp.add_argument("--time", type=positive_float, default=None, metavar="T",

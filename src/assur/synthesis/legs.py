@@ -169,6 +169,8 @@ def settings_of(settings: dict | None) -> dict:
         if k not in DEFAULTS:
             raise SpecError([(k, f"unknown walking-leg setting; known: {', '.join(DEFAULTS)}")])
         s[k] = v
+    if not (isinstance(s["seed"], (int, np.integer)) and not isinstance(s["seed"], bool) and s["seed"] >= 0):
+        raise SpecError([("seed", f"must be a whole number ≥ 0: {s['seed']!r}")])
     if not (isinstance(s["window_budget"], (int, np.integer)) and s["window_budget"] >= 0):
         raise SpecError([("window_budget", f"must be a whole number ≥ 0: {s['window_budget']!r}")])
     for k in ("budget", "starts", "cycle_samples"):
