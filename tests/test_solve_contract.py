@@ -212,6 +212,26 @@ def test_unbuildable_policy_nan_is_silent(fourbar):
     assert s.n_unbuildable > 0
 
 
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+@pytest.mark.parametrize("sweep", [False, True])
+@pytest.mark.parametrize("example", ["walker_fourbar.toml", "triad_sixbar.toml"])
+def test_a_non_finite_input_is_an_unassembled_sample_without_warnings(example, backend, sweep):
+    """inf, −inf and NaN inputs (a dyad four-bar, a triad six-bar; numpy and the compiled kernels, swept or not):
+    those samples are invalid and NaN, the others as solved alone, and numpy warns of nothing."""
+    pytest.importorskip("numba") if backend == "numba" else None
+    from conftest import EXAMPLES
+    plan = assur.compile(assur.load(EXAMPLES / example))
+    q = np.array([0.1, np.inf, 0.2, -np.inf, np.nan, 0.3])
+    finite = np.isfinite(q)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = assur.solve(plan, inputs=q, backend=backend, sweep=sweep)
+    np.testing.assert_array_equal(s.valid, finite)
+    assert np.all(np.isnan(s.pos[~finite])) and np.all(np.isnan(s.acc[~finite]))
+    alone = assur.solve(plan, inputs=q[finite], backend=backend)
+    np.testing.assert_allclose(s.pos[finite], alone.pos, rtol=0, atol=1e-9 * plan.length_scale)
+
+
 def test_unbuildable_policy_warn(fourbar):
     k = int(np.count_nonzero(~expected_valid(Q_TURN)))
     with pytest.warns(assur.UnbuildableWarning, match=rf"^{k} of {Q_TURN.size} samples cannot be assembled"):

@@ -2,6 +2,7 @@
 dispatch on the plan's type and one check of the options for planar and spatial plans alike."""
 from __future__ import annotations
 
+import contextlib
 import math
 import sys
 
@@ -83,13 +84,17 @@ def solve(plan, params=None, inputs=None, *, speeds=None, accels=None, order: in
     if isinstance(plan, SpatialPlan):
         return solve_spatial(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method)
     size = math.prod(shape)
-    if method == "closed" and (backend == "numba" or (backend == "auto" and _compiled_pays(plan, size, order, sweep))):
-        state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
-                                required=backend == "numba", sweep=sweep)
-        if state is not None:
-            return state
-    return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
-                       sweep=sweep)
+    # an infinite or NaN input is a sample that cannot be assembled: its angle's cosine and remainder are NaN
+    # without numpy's warnings
+    with np.errstate(invalid="ignore") if not np.all(np.isfinite(inputs)) else contextlib.nullcontext():
+        if method == "closed" and (backend == "numba" or (backend == "auto"
+                                                          and _compiled_pays(plan, size, order, sweep))):
+            state = _solve_compiled(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances,
+                                    required=backend == "numba", sweep=sweep)
+            if state is not None:
+                return state
+        return solve_numpy(plan, params, inputs, shape, speeds, accels, order, on_unbuildable, tolerances, method,
+                           sweep=sweep)
 
 
 def assemblies(plan, inputs=None, params=None, *, tolerances=DEFAULT) -> list:
