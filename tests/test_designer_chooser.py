@@ -98,6 +98,8 @@ def test_assemblies_that_differ_only_in_a_bodys_turn_are_each_chosen():
     s = Session.of_file(str(EX / "lever_manipulator.toml"))
     m = reply(s, op="assemblies", input=0.5)
     assert len(m["assemblies"]) == 4 and sum(a["current"] for a in m["assemblies"]) == 1
+    # each is labelled with the assembly whose points it shares: the other of its pair (1–2, 3–4)
+    assert [a["label"].split("(the points of ")[1][:2] for a in m["assemblies"]] == ["#2", "#1", "#4", "#3"]
     for a in m["assemblies"]:
         if a["current"]:
             continue

@@ -103,9 +103,14 @@ def assemblies_message(plan, structure, value, index: int = 0) -> dict:
     q = input_vector(plan, value, index)
     groups = branch_groups(plan, structure)
     found = enumerate_at(plan, q)
+    from ..engine.planar.assemblies import twins
+    shared = [twins(plan, found, k) for k in range(len(found))]
     return {"type": "assemblies", "input": float(q[index]), "index": int(index), "inputs": q.tolist(),
             "point_order": list(plan.point_names), "groups": groups,
-            "assemblies": [{"index": k, "branches": identity(a.branches), "label": label_of(groups, a.branches),
+            "assemblies": [{"index": k, "branches": identity(a.branches),
+                            "label": label_of(groups, a.branches) + (
+                                f" (the points of #{', #'.join(str(j + 1) for j in shared[k][0])}, "
+                                f"{', '.join(plan.body_names[b] for b in shared[k][1])} turned)" if shared[k] else ""),
                             "current": bool(a.sketch), "certified": bool(a.certified), "closure": float(a.closure),
                             "positions": np.asarray(a.pos, dtype=float).tolist()} for k, a in enumerate(found)]}
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine.plan import BRANCHED
+from ..engine.planar.assemblies import twins
 from ..errors import SpecError
 from ..io.units import ANGLE, LENGTH
 from .text import format_number
@@ -84,24 +85,9 @@ def assembly_lines(plan, found, q) -> list[str]:
     return lines
 
 
-def twins(plan, found, i):
-    """(the other assemblies with every point where ``found[i]`` has it, the bodies turned in one of them from
-    where ``found[i]`` has them), or None when no other assembly places every point alike: an RPR dyad whose
-    slide passes through both hinges has two branches that differ only in its bodies' orientations."""
-    from ..tolerances import DEFAULT
-    sep = DEFAULT.assembly_separation * plan.length_scale
-    a = found[i]
-    same = [k for k, o in enumerate(found) if k != i and float(np.max(np.abs(o.pos - a.pos), initial=0.0)) <= sep]
-    if not same:
-        return None
-    turn = np.stack([np.remainder(found[k].angles - a.angles + np.pi, 2.0 * np.pi) - np.pi for k in same])
-    bodies = [b for b in range(len(plan.body_names)) if np.any(np.abs(turn[:, b]) * plan.length_scale > sep)]
-    return same, bodies
-
-
 def assembly_labels(plan, found) -> list[list[str]]:
     """Per assembly in ``found``, the lines naming it in a figure: its branches (:func:`branch_labels`) and, where
-    another assembly places every point alike (:func:`twins`), which."""
+    another assembly places every point alike (:func:`~assur.engine.planar.assemblies.twins`), which."""
     out = []
     for i, a in enumerate(found):
         same = twins(plan, found, i)

@@ -15,6 +15,7 @@ import numpy as np
 from ...kernels.jet import Jet, expi
 from ..plan import BRANCHED
 from ...errors import StructureError, UnbuildableError
+from ...tolerances import DEFAULT
 from .group_assemblies import group_assemblies, group_method, take_rows
 from .steps import EXECUTORS, Context
 
@@ -114,6 +115,21 @@ def enumerate_assemblies(plan, params, inputs, tol, solved=None, solved_angles=N
         out.append(Assembly(np.array(inputs, dtype=float), ids[r], pos, angles[r], bool(near), float(closure[r]),
                             bool(certified[r])))
     return sorted(out, key=lambda a: _order(a.branches))
+
+
+def twins(plan, found, i, tol=DEFAULT):
+    """(the other assemblies in ``found`` that place every point where ``found[i]`` does, the bodies turned in one
+    of them from where ``found[i]`` has them), within ``tolerances.assembly_separation`` of the length scale (an
+    orientation's difference, in rad, times the length scale); None when no other does. An RPR dyad whose slide
+    passes through both hinges has two such branches: its bodies half a turn apart."""
+    sep = tol.assembly_separation * plan.length_scale
+    a = found[i]
+    same = [k for k, o in enumerate(found) if k != i and float(np.max(np.abs(o.pos - a.pos), initial=0.0)) <= sep]
+    if not same:
+        return None
+    turn = np.stack([np.remainder(found[k].angles - a.angles + np.pi, 2.0 * np.pi) - np.pi for k in same])
+    bodies = [b for b in range(len(plan.body_names)) if np.any(np.abs(turn[:, b]) * plan.length_scale > sep)]
+    return same, bodies
 
 
 def _finite(c, n):
