@@ -284,6 +284,24 @@ def test_a_bad_seed_is_a_usage_error_before_any_work(command, seed, fourbar, cap
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("fps", ["1e-320", "0", "0.001", "2000", "nan", "inf", "x"])
+def test_a_frame_rate_out_of_range_is_a_usage_error(fps, fourbar, capsys, tmp_path):
+    """A frame lasts from 1 ms to 100 s (1e-320 fps was a traceback: an infinite interval between frames)."""
+    out = tmp_path / "a.gif"
+    code, _, err = run(["animate", fourbar, "--fps", fps, "-o", out], capsys)
+    assert code == 2 and f"--fps: must be a number of frames per second from 0.01 to 1000: '{fps}'" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("fps", [0, -1.0, float("nan"), 1e-320, None])
+def test_the_animation_api_refuses_a_frame_rate_out_of_range(fps, fourbar):
+    from assur.errors import SpecError
+    from assur.plot.animation import animation
+    plan = assur.compile(assur.load(fourbar))
+    with pytest.raises(SpecError, match="fps: must be a number of frames per second from 0.01 to 1000"):
+        animation(plan, 4, fps)
+
+
 def test_a_walking_leg_ranking_refuses_a_negative_seed():
     from assur.errors import SpecError
     from assur.synthesis.legs import settings_of

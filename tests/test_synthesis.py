@@ -272,6 +272,25 @@ def test_cli_synth_bad_input(tmp_path, capsys):
     assert main(["synth", str(P000), "--workers", "2", "--dask", "tcp://x:1"]) == 2
 
 
+@pytest.mark.parametrize("address, says", [
+    ("", "dask: the address of the Dask scheduler is empty"),
+    ("0", "dask: not the address of a Dask scheduler (tcp://host:port): '0'"),
+    ("tcp://", "dask: not the address of a Dask scheduler"),
+    ("tcp://127.0.0.1:1", "no Dask scheduler answers at tcp://127.0.0.1:1"),
+])
+def test_cli_synth_bad_dask_address_is_one_error_line(address, says, tmp_path, capsys, monkeypatch):
+    """A malformed address was a traceback, an empty one ran in-process, and an unreachable scheduler said
+    'cannot write'; now each is one error line and nothing is written."""
+    pytest.importorskip("distributed")
+    from assur.synthesis import executors
+    monkeypatch.setattr(executors, "CONNECT_TIMEOUT", "1s")
+    out = tmp_path / "best"
+    assert main(["synth", str(P000), "--budget", "20", "--dask", address, "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and says in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
 def test_progress_bar_reports_evaluations(capsys):
     """A long run shows a tqdm bar on stderr with the evaluations and the best so far."""
     synthesize(load_problem(C2), seed=1, budget=1500, polish="none", progress=True)

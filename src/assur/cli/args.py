@@ -42,6 +42,16 @@ def seed_arg(text) -> int:
     return v
 
 
+def fps_arg(text) -> float:
+    """An argparse type: an animation's frame rate (:func:`assur.plot.draw.frame_rate`)."""
+    from ..errors import SpecError
+    from ..plot.draw import frame_rate
+    try:
+        return frame_rate(text)
+    except SpecError as exc:
+        raise argparse.ArgumentTypeError(exc.problems[0][1]) from None
+
+
 def _finite_number(text, zero: bool) -> float:
     """``text`` as a finite number > 0 (≥ 0 with ``zero``), else argparse's error."""
     try:

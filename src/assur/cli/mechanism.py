@@ -11,7 +11,7 @@ from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from ..io.output import atomic_file
 from .args import (ANIMATION_EXTENSIONS, PLOT_EXTENSIONS, add_range, compile_file, document_format, input_ranges,
-                   load_mechanism, output_path, path_arg, positive, positive_float, seed_arg)
+                   load_mechanism, output_path, path_arg, positive, seed_arg, fps_arg)
 from .progress import frame_progress
 
 
@@ -78,7 +78,8 @@ def register(sub) -> None:
     sp.add_argument("-o", "--output", type=output_path(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
                     help="output animation (.gif, .mp4 or .html)")
     sp.add_argument("--frames", type=positive(2), default=60, metavar="N", help="frames per turn (default 60)")
-    sp.add_argument("--fps", type=positive_float, default=20.0, metavar="F", help="frames per second (default 20)")
+    sp.add_argument("--fps", type=fps_arg, default=20.0, metavar="F",
+                    help="frames per second, 0.01 to 1000 (default 20)")
     add_range(sp)
     sp = add("report", cmd_report, "one self-contained HTML page with the structure, analysis, plots and animation")
     sp.add_argument("-o", "--output", type=path_arg, required=True, metavar="DIR", help="output directory (index.html)")

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..analysis.sampling import CYCLE_STEPS, tracked_point
 from ..errors import SpecError
-from .draw import closed, draw_mechanism, file_scale, frame_guides, mpl, set_limits
+from .draw import closed, draw_mechanism, file_scale, frame_guides, frame_rate, mpl, set_limits
 from .figures import study_of
 
 
@@ -28,6 +28,7 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     samples where they fall on them (:meth:`~assur.analysis.sampling.Cycle.frames`) and the path its whole run.
     ``path``: the solved run (a :class:`~assur.analysis.study.Sweep`) the path is drawn from, default the
     Study's run (:data:`~assur.analysis.sampling.CYCLE_STEPS` samples). Returns ``(figure, animation)``."""
+    fps = frame_rate(fps)
     _, plt = mpl()
     from matplotlib.animation import FuncAnimation
     study = study_of(plan, params, CYCLE_STEPS, ranges)

@@ -27,6 +27,23 @@ def mpl():
     return matplotlib, plt
 
 
+#: the frame rates an animation takes (frames per second): a frame lasts from a millisecond to 100 s
+FPS_RANGE = (0.01, 1000.0)
+
+
+def frame_rate(fps) -> float:
+    """``fps`` as a float, SpecError unless a number in :data:`FPS_RANGE`."""
+    from ..errors import SpecError
+    try:
+        v = float(fps)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not FPS_RANGE[0] <= v <= FPS_RANGE[1]:
+        raise SpecError([("fps", f"must be a number of frames per second from {FPS_RANGE[0]:g} to "
+                                 f"{FPS_RANGE[1]:g}: {fps!r}")])
+    return v
+
+
 def file_scale(plan, units: str = "file") -> float:
     """Factor SI length → the drawing's length unit: the file's (``units="file"``) or metres (``"si"``)."""
     return 1.0 if units == "si" else 1.0 / LENGTH[plan.mechanism.units.length]

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
-from .draw import closed, file_scale, length_unit, mpl
+from .draw import closed, file_scale, frame_rate, length_unit, mpl
 from .figures import sample, study_of
 
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
@@ -264,6 +264,7 @@ def animation(plan, frames: int = 60, fps: float = 20.0, *, params=None, ranges=
     """A matplotlib 3D animation of ``frames`` positions over one turn with the traced paths; ``path``: the
     solved run the paths are drawn from (default :data:`~assur.analysis.sampling.CYCLE_STEPS` samples of
     the same run). Returns ``(figure, animation)``."""
+    fps = frame_rate(fps)
     _, plt = mpl()
     from matplotlib.animation import FuncAnimation
     study = study_of(plan, params, CYCLE_STEPS, ranges)

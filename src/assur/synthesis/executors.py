@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 
-from ..errors import SpecError, require
+from ..errors import SpecError, SynthesisError, require
 from .evaluate import Evaluation, Evaluator
 
 _WORKER_EVALUATOR = None
@@ -122,7 +122,7 @@ class DaskCluster(InProcess):
     def __init__(self, address=None, *, client=None):
         Client = require("distributed", "the Dask executor", DASK_INSTALL).Client
         self._own = client is None
-        self.client = client if client is not None else Client(address, timeout="20s")
+        self.client = client if client is not None else _connect(Client, address)
         self._scattered = None
         self._for = None
         info = self.client.scheduler_info()
@@ -151,8 +151,26 @@ class DaskCluster(InProcess):
             self.client = None
 
 
+#: how long a Dask client waits for its scheduler to answer
+CONNECT_TIMEOUT = "20s"
+
+
+def _connect(Client, address):
+    """A ``Client`` of the scheduler at ``address``; SpecError for what is not an address, SynthesisError when no
+    scheduler answers there within :data:`CONNECT_TIMEOUT`."""
+    try:
+        return Client(address, timeout=CONNECT_TIMEOUT)
+    except (ValueError, TypeError) as exc:
+        raise SpecError([("dask", f"not the address of a Dask scheduler (tcp://host:port): {address!r} ({exc})")]) \
+            from None
+    except (OSError, TimeoutError) as exc:
+        raise SynthesisError(f"no Dask scheduler answers at {address}: {exc}") from None
+
+
 def make_executor(workers: int | None = None, dask: str | None = None):
     """The executor for ``--workers N`` / ``--dask ADDRESS`` (in-process if neither)."""
+    if dask is not None and not str(dask).strip():
+        raise SpecError([("dask", "the address of the Dask scheduler is empty (tcp://host:port)")])
     if workers and dask:
         raise SpecError([("workers, dask", "give either workers or a Dask address, not both")])
     if dask:
