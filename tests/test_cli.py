@@ -302,6 +302,21 @@ def test_the_animation_api_refuses_a_frame_rate_out_of_range(fps, fourbar):
         animation(plan, 4, fps)
 
 
+@pytest.mark.parametrize("value", ["nan", "inf", "1e999", "x"])
+@pytest.mark.parametrize("command", [["solve", "M", "--steps", "10", "--range", "0", "V"],
+                                     ["solve", "M", "--steps", "10", "--range", "V", "1"],
+                                     ["simulate", "M", "--start", "V"],
+                                     ["codesign", "M", "--direction", "V", "-o", "out"]])
+def test_a_non_finite_number_is_a_usage_error(command, value, fourbar, capsys, tmp_path, monkeypatch):
+    """--range, simulate's --start and codesign's --direction take finite numbers (nan ran a NaN table, inf a
+    traceback after the co-design)."""
+    monkeypatch.chdir(tmp_path)
+    argv = [fourbar if a == "M" else value if a == "V" else a for a in command]
+    code, _, err = run(argv, capsys)
+    assert code == 2 and f"must be a finite number: '{value}'" in err
+    assert [p.name for p in tmp_path.iterdir()] == [fourbar.name]
+
+
 def test_a_walking_leg_ranking_refuses_a_negative_seed():
     from assur.errors import SpecError
     from assur.synthesis.legs import settings_of

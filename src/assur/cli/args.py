@@ -64,6 +64,17 @@ def _finite_number(text, zero: bool) -> float:
     return v
 
 
+def finite_float(text) -> float:
+    """An argparse type: a finite number (any sign)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"must be a finite number: {text!r}")
+    return v
+
+
 def positive_float(text):
     """An argparse type: a positive finite number."""
     return _finite_number(text, zero=False)
@@ -94,7 +105,7 @@ def output_path(extensions):
 
 def add_range(sp) -> None:
     """The ``--range START STOP`` option (once per input) of a sub-parser."""
-    sp.add_argument("--range", nargs=2, type=float, action="append", metavar=("START", "STOP"),
+    sp.add_argument("--range", nargs=2, type=finite_float, action="append", metavar=("START", "STOP"),
                     help="run an input from START to STOP (the file's angle or length unit); once per input, "
                          "in driver order; needed for a linear input or several moving inputs")
 

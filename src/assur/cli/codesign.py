@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .args import path_arg, positive, positive_float, seed_arg
+from .args import finite_float, path_arg, positive, positive_float, seed_arg
 
 
 def register(sub) -> None:
@@ -34,7 +34,7 @@ def register(sub) -> None:
                     help="the central fraction of the stride with an exactly constant foot speed (default 0.8)")
     sp.add_argument("--centre-distance", type=positive_float, default=None, metavar="MM",
                     help="motor-to-crank centre distance in mm (default: 0.45 crank lengths)")
-    sp.add_argument("--direction", type=float, default=90.0, metavar="DEG",
+    sp.add_argument("--direction", type=finite_float, default=90.0, metavar="DEG",
                     help="where the motor sits, seen from the crank's pivot (degrees from +x, default 90: above)")
     sp.add_argument("--module", type=positive_float, default=2.0, metavar="MM",
                     help="the rack's module in mm (adjusted to a whole tooth count; default 2)")

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import SpecError
-from .args import output_path, path_arg, positive, positive_float
+from .args import finite_float, output_path, path_arg, positive, positive_float
 
 PLOT_EXTENSIONS = (".png", ".svg", ".pdf")
 
@@ -30,7 +30,7 @@ def register(sub) -> None:
     span.add_argument("--time", type=positive_float, metavar="T", help="run T seconds (default: to steady state)")
     span.add_argument("--cycles", type=positive(1), metavar="N", help="run N turns of the input")
     sp.add_argument("--from-rest", action="store_true", help="start at rest (the default with a motor)")
-    sp.add_argument("--start", type=float, metavar="INPUT",
+    sp.add_argument("--start", type=finite_float, metavar="INPUT",
                     help="the input to start at, in the file's units (default: the sketch's)")
     sp.add_argument("--speed", metavar="SPEED", help='the input speed to start with, e.g. "100 rpm" (default: rest '
                                                      "with a motor, the driver's file speed without)")
