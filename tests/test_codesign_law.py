@@ -341,6 +341,8 @@ def test_coefficients_that_break_the_law(foot):
 
 @pytest.mark.parametrize("kwargs, field", [({"centre_distance": -1.0}, "centre_distance"),
                                            ({"module": 0.0}, "module"),
+                                           ({"module": 1e-320}, "module"),    # infinite teeth: was a traceback
+                                           ({"module": 1e-6}, "module"),      # some 10⁵ teeth (at most 10 000)
                                            ({"pressure_angle": 2.0}, "pressure_angle"),
                                            ({"ratio_bounds": (2.0, 1.0)}, "ratio_bounds")])
 def test_bad_gear_check_input(law, kwargs, field):

@@ -84,6 +84,10 @@ def perimeter(law, *, panels: int = 256, nodes: int = 8) -> float:
 # arguments
 
 
+#: the most teeth a gear of a checked pair may have (a module far too small for its pitch curve is refused)
+MAX_TEETH = 10_000
+
+
 def check_length(name, value) -> float:
     """A finite length > 0 (m) as a float, else SpecError naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
@@ -259,6 +263,9 @@ def gear_checks(law, centre_distance: float, *, module: float, pressure_angle: f
     n = s.driving_turns
     p1 = p2 / n
     step = s.teeth_multiple                     # z1 a multiple of S/n for z2 = n·z1 to be one of S (wheel-step)
+    if not p1 / (math.pi * m) <= MAX_TEETH:
+        raise SpecError([("module", f"{m * 1000:.3g} mm gives the driving gear {p1 / (math.pi * m):.3g} teeth on "
+                                    f"its {p1 * 1000:.4g} mm pitch curve (at most {MAX_TEETH}): use a larger module")])
     z1 = max(step, step * int(round(p1 / (math.pi * m) / step)))
     module_adjusted = p1 / (math.pi * z1)
     limit = module_adjusted / math.sin(alpha) ** 2
