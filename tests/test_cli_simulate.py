@@ -99,10 +99,21 @@ def test_a_free_motion(capsys):
     (["simulate", PUMP, "--motor", 'kind = "dc", stall_torque = -2, no_load_speed = 5'], "error: --motor.stall_torque"),
     (["simulate", PUMP, "--speed", "fast"], "error: --speed"),
     (["simulate", EXAMPLES / "nonexistent.toml"], "error:"),
+    # 1e308° was a division by zero: the run's turns took no time at that angle's round-off
+    (["simulate", PUMP, "--start", "1e308"], "error: --start: must be within 1000 turns of the sketch's angle"),
 ])
 def test_bad_input_is_one_error_line(capsys, argv, words):
     code, out, err = _run(capsys, *argv)
     assert code == 1 and err.startswith(words) and "Traceback" not in err
+
+
+@pytest.mark.parametrize("q0", [1e308, float("nan"), "x"])
+def test_the_api_refuses_a_start_out_of_reach(q0, pump):
+    from assur.dynamics.api import simulate
+    from assur.errors import SpecError
+    plan = assur.compile(assur.load(PUMP))
+    with pytest.raises(SpecError, match="q0: must be a finite angle"):
+        simulate(plan, time=0.1, q0=q0)
 
 
 def test_a_refused_simulation_writes_nothing(capsys, tmp_path):

@@ -67,6 +67,23 @@ def _source(plan_or_cycle, params):
     return plan, (plan.defaults if params is None else np.asarray(params, dtype=float)), None
 
 
+#: a crank's run may start this many turns from the sketch's angle at most (farther, a turn is lost to round-off)
+MAX_START_TURNS = 1000
+
+
+def _check_start(plan, q0) -> None:
+    """SpecError unless ``q0`` (None, a number or one per design) is finite and, for a crank, within
+    :data:`MAX_START_TURNS` turns of the sketch's angle."""
+    if q0 is None:
+        return
+    q = np.asarray(q0, dtype=float) if not isinstance(q0, str) else np.array(math.nan)
+    off = np.abs(q - float(plan.sketch_inputs[0])) if plan.input_kinds[0] == "rotary" else np.zeros(q.shape)
+    if not (np.all(np.isfinite(q)) and np.all(off <= MAX_START_TURNS * TWO_PI)):
+        what = (f"a finite angle (rad) within {MAX_START_TURNS} turns of the sketch's"
+                if plan.input_kinds[0] == "rotary" else "a finite length (m)")
+        raise SpecError([("q0", f"must be {what}: {q0!r:.60}")])
+
+
 def simulate(plan, *, time: float | None = None, cycles: int | None = None, motor=None, q0: float | None = None,
              speed0: float | None = None, params=None, method: str = "auto", rtol: float = 1e-10,
              mode: str = "series", friction: bool = False, samples: int | None = None, steady: float | None = None,
@@ -116,6 +133,7 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
         raise SpecError([("cycles", f"must be a positive whole number of turns: {cycles!r}")])
     if friction and plan.dimension != 2:
         raise SpecError([("friction", "friction is modelled for planar mechanisms only")])
+    _check_start(plan, q0)
     drive = None if mot is None else drive_train(mot, plan)
     if params.ndim == 2:
         from .batch import simulate_population
