@@ -317,6 +317,27 @@ def test_a_non_finite_number_is_a_usage_error(command, value, fourbar, capsys, t
     assert [p.name for p in tmp_path.iterdir()] == [fourbar.name]
 
 
+@pytest.mark.parametrize("command, most", [
+    (["solve", "M", "--steps", "N"], 1_000_000), (["analyze", "M", "--steps", "N"], 1_000_000),
+    (["plot", "M", "--positions", "N", "-o", "out.png"], 1_000_000), (["plot", "M", "--dpi", "N", "-o", "out.png"], 1200),
+    (["animate", "M", "--frames", "N", "-o", "out.gif"], 10_000), (["report", "M", "--frames", "N", "-o", "out"], 10_000),
+    (["forces", "M", "--steps", "N"], 1_000_000), (["sensitivity", "M", "--steps", "N"], 1_000_000),
+    (["simulate", "M", "--samples", "N"], 1_000_000), (["synth", "P", "--workers", "N"], 256),
+    (["synth", "P", "--budget", "N"], 1_000_000_000)])
+@pytest.mark.parametrize("above", [1, 10 ** 20])
+def test_a_count_too_large_is_a_usage_error(command, most, above, fourbar, capsys, tmp_path, monkeypatch):
+    """Counts have a ceiling far above any use (1e20 steps was numpy's 'Maximum allowed size exceeded' traceback,
+    1e9 ran out of memory or time)."""
+    from conftest import EXAMPLES
+    monkeypatch.chdir(tmp_path)
+    n = str(most + above)
+    argv = [fourbar if a == "M" else EXAMPLES / "synthesis" / "c1_six_points_line.toml" if a == "P"
+            else n if a == "N" else a for a in command]
+    code, _, err = run(argv, capsys)
+    assert code == 2 and f"must be at most {most}: {n}" in err
+    assert [p.name for p in tmp_path.iterdir()] == [fourbar.name]
+
+
 def test_a_walking_leg_ranking_refuses_a_negative_seed():
     from assur.errors import SpecError
     from assur.synthesis.legs import settings_of

@@ -116,6 +116,14 @@ def test_the_api_refuses_a_start_out_of_reach(q0, pump):
         simulate(plan, time=0.1, q0=q0)
 
 
+@pytest.mark.parametrize("samples", [1, 200_001, 10 ** 20, 2.5, True])
+def test_the_api_refuses_output_samples_out_of_range(samples, pump):
+    from assur.dynamics.api import simulate
+    from assur.errors import SpecError
+    with pytest.raises(SpecError, match="samples: must be a whole number from 2 to 200000"):
+        simulate(pump, time=0.1, samples=samples)
+
+
 def test_a_refused_simulation_writes_nothing(capsys, tmp_path):
     out = tmp_path / "run.csv"
     out.write_text("keep")

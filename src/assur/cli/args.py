@@ -14,8 +14,21 @@ PLOT_EXTENSIONS = (".png", ".svg", ".pdf", ".html")   # .html: interactive 3D vi
 ANIMATION_EXTENSIONS = (".gif", ".mp4", ".html")
 
 
-def positive(minimum: int = 1):
-    """An argparse type: an integer of at least ``minimum``."""
+#: the largest count (samples, frames, positions, …) a command takes unless its option says otherwise: far more
+#: than any figure or table needs, small enough that its arrays fit in memory
+MAX_COUNT = 1_000_000
+#: the most animation frames (each is drawn: a million would take days)
+MAX_FRAMES = 10_000
+#: the largest objective-evaluation budget of a search
+MAX_BUDGET = 1_000_000_000
+#: the most worker processes
+MAX_WORKERS = 256
+#: the finest resolution of a figure (dots per inch)
+MAX_DPI = 1200
+
+
+def positive(minimum: int = 1, maximum: int = MAX_COUNT):
+    """An argparse type: an integer from ``minimum`` to ``maximum``."""
     def parse(text):
         try:
             v = int(text)
@@ -23,6 +36,8 @@ def positive(minimum: int = 1):
             raise argparse.ArgumentTypeError(f"must be an integer: {text!r}") from None
         if v < minimum:
             raise argparse.ArgumentTypeError(f"must be at least {minimum}: {v}")
+        if v > maximum:
+            raise argparse.ArgumentTypeError(f"must be at most {maximum}: {v}")
         return v
     return parse
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .args import finite_float, path_arg, positive, positive_float, seed_arg
+from .args import MAX_BUDGET, MAX_FRAMES, finite_float, path_arg, positive, positive_float, seed_arg
 
 
 def register(sub) -> None:
@@ -50,12 +50,12 @@ def register(sub) -> None:
     sp.add_argument("--optimize", choices=("none", "transfer", "joint"), default="transfer",
                     help="none: the smoothest transfer; transfer: the transfer law for the gear constraints "
                          "(default); joint: the leg's dimensions and the transfer law together")
-    sp.add_argument("--budget", type=positive(50), default=4000, metavar="N",
+    sp.add_argument("--budget", type=positive(50, MAX_BUDGET), default=4000, metavar="N",
                     help="objective evaluations of --optimize joint (default 4000)")
     sp.add_argument("--seed", type=seed_arg, default=1, metavar="S", help="random seed of the optimisers (default 1)")
     sp.add_argument("--tradeoff", action="store_true",
                     help="also optimise the transfer for windows 0.6 … 0.95 and draw tradeoff.png")
-    sp.add_argument("--frames", type=positive(0), default=36, metavar="N",
+    sp.add_argument("--frames", type=positive(0, MAX_FRAMES), default=36, metavar="N",
                     help="frames of animation.gif (default 36; 0: none)")
     sp.add_argument("--mesh-steps", type=positive(8), default=360, metavar="N",
                     help="positions of the gear mesh check (default 360)")

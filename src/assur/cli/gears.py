@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .args import path_arg, positive
+from .args import MAX_FRAMES, path_arg, positive
 
 
 #: the gear cache (assur.gears.cache), told in the sub-commands' help
@@ -28,7 +28,7 @@ def register(sub) -> None:
         sp.add_argument("--json", action="store_true", help="print the summary as one JSON object (SI units)")
         sp.add_argument("--mesh-steps", type=positive(8), default=360, metavar="N",
                         help="driving-angle positions of the mesh check over the cycle (default 360)")
-        sp.add_argument("--frames", type=positive(0), default=24, metavar="N",
+        sp.add_argument("--frames", type=positive(0, MAX_FRAMES), default=24, metavar="N",
                         help="frames of the meshing animation envelope_mesh.html (default 24; 0: none)")
         sp.set_defaults(func=func)
 

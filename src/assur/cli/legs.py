@@ -14,9 +14,9 @@ import sys
 
 def add_arguments(sp) -> None:
     """The walking-leg options of ``assur atlas``."""
-    from .args import nonnegative_float, positive, seed_arg
+    from .args import MAX_BUDGET, MAX_WORKERS, nonnegative_float, positive, seed_arg
     g = sp.add_argument_group("walking legs (with --walking-legs)")
-    g.add_argument("--budget", type=positive(1), default=None, metavar="N",
+    g.add_argument("--budget", type=positive(1, MAX_BUDGET), default=None, metavar="N",
                    help="objective evaluations per candidate, over its starts (default 8000)")
     g.add_argument("--starts", type=positive(1), default=None, metavar="K", help="starts per candidate (default 4)")
     g.add_argument("--seed", type=seed_arg, default=None, metavar="S", help="random seed of the ranking (default 0)")
@@ -26,7 +26,7 @@ def add_arguments(sp) -> None:
     g.add_argument("--clearance", type=nonnegative_float, default=None, metavar="R",
                    help="the foot must rise at least R crank lengths above its support in the swing (lift − sag; "
                         "default 0: no limit, a foot may retrace its support)")
-    g.add_argument("--window-budget", type=positive(0), default=None, metavar="N",
+    g.add_argument("--window-budget", type=positive(0, MAX_BUDGET), default=None, metavar="N",
                    help="with --rank window: designs of the window-widening search per candidate (default 450; 0: "
                         "rank the gait search's designs as they are)")
     g.add_argument("--triads", action="store_true",
@@ -35,7 +35,7 @@ def add_arguments(sp) -> None:
     g.add_argument("--limit", type=positive(1), default=None, metavar="M",
                    help="rank only the first M candidates (a quick look)")
     ex = g.add_mutually_exclusive_group()
-    ex.add_argument("--workers", type=positive(1), default=None, metavar="N", help="local worker processes")
+    ex.add_argument("--workers", type=positive(1, MAX_WORKERS), default=None, metavar="N", help="local worker processes")
     ex.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
 
 

@@ -10,8 +10,8 @@ from pathlib import Path
 from ..analysis.sampling import CYCLE_STEPS
 from ..errors import SpecError
 from ..io.output import atomic_file
-from .args import (ANIMATION_EXTENSIONS, PLOT_EXTENSIONS, add_range, compile_file, document_format, input_ranges,
-                   load_mechanism, output_path, path_arg, positive, seed_arg, fps_arg)
+from .args import (ANIMATION_EXTENSIONS, MAX_BUDGET, MAX_DPI, MAX_FRAMES, PLOT_EXTENSIONS, add_range, compile_file,
+                   document_format, fps_arg, input_ranges, load_mechanism, output_path, path_arg, positive, seed_arg)
 from .progress import frame_progress
 
 
@@ -55,7 +55,7 @@ def register(sub) -> None:
                     help="output image (.png, .svg or .pdf; .html for an interactive 3D view of a spatial file)")
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
-    sp.add_argument("--dpi", type=positive(10), default=100, help="resolution of a PNG (default 100)")
+    sp.add_argument("--dpi", type=positive(10, MAX_DPI), default=100, help="resolution of a PNG (default 100)")
     sp.add_argument("--positions", type=positive(1), default=None, metavar="K",
                     help="positions drawn in the kinematic diagram (default 6, or 3 for more than four moving links)")
     sp.add_argument("--forces", action="store_true",
@@ -77,7 +77,7 @@ def register(sub) -> None:
     sp = add("animate", cmd_animate, "an animation of the mechanism over one turn with the traced path")
     sp.add_argument("-o", "--output", type=output_path(ANIMATION_EXTENSIONS), required=True, metavar="OUT",
                     help="output animation (.gif, .mp4 or .html)")
-    sp.add_argument("--frames", type=positive(2), default=60, metavar="N", help="frames per turn (default 60)")
+    sp.add_argument("--frames", type=positive(2, MAX_FRAMES), default=60, metavar="N", help="frames per turn (default 60)")
     sp.add_argument("--fps", type=fps_arg, default=20.0, metavar="F",
                     help="frames per second, 0.01 to 1000 (default 20)")
     add_range(sp)
@@ -85,11 +85,11 @@ def register(sub) -> None:
     sp.add_argument("-o", "--output", type=path_arg, required=True, metavar="DIR", help="output directory (index.html)")
     sp.add_argument("--steps", type=positive(16), default=CYCLE_STEPS, metavar="N",
                     help=f"samples per turn (default {CYCLE_STEPS})")
-    sp.add_argument("--frames", type=positive(2), default=36, metavar="N",
+    sp.add_argument("--frames", type=positive(2, MAX_FRAMES), default=36, metavar="N",
                     help="frames of the embedded animation (default 36)")
     sp.add_argument("--seed", type=seed_arg, default=None, metavar="S",
                     help="a synthesis problem file: the run's random seed (default 1)")
-    sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
+    sp.add_argument("--budget", type=positive(1, MAX_BUDGET), default=None, metavar="N",
                     help="a synthesis problem file: objective evaluations in all")
     sp.add_argument("--at", action="append", metavar="INPUT",
                     help="a section with every relative instant centre at this input (file units; repeatable)")

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from ..report.text import format_number
-from .args import output_path, path_arg, positive, positive_float, seed_arg
+from .args import MAX_BUDGET, MAX_WORKERS, output_path, path_arg, positive, positive_float, seed_arg
 
 #: the exit status of an interrupted run (as :mod:`assur.cli.main` uses for every command)
 INTERRUPTED = 130
@@ -38,7 +38,7 @@ def register(sub) -> None:
     sp.add_argument("--polish", choices=POLISHES, default=None,
                     help="local refinement of each start's (or restart's) best (default auto)")
     sp.add_argument("--seed", type=seed_arg, default=None, metavar="S", help="random seed (reproducible runs)")
-    sp.add_argument("--budget", type=positive(1), default=None, metavar="N",
+    sp.add_argument("--budget", type=positive(1, MAX_BUDGET), default=None, metavar="N",
                     help=f"objective evaluations in all (default {DEFAULT_BUDGET} with the restart method)")
     sp.add_argument("--time", type=positive_float, default=None, metavar="T",
                     help="wall-time limit in seconds for the whole run (every start, worker, restart and polish); it "
@@ -53,7 +53,7 @@ def register(sub) -> None:
     sp.add_argument("--strategy", default=None, metavar="NAME",
                     help="scipy differential-evolution strategy (default best1bin; e.g. rand1bin, currenttobest1bin)")
     grp = sp.add_mutually_exclusive_group()
-    grp.add_argument("--workers", type=positive(1), default=None, metavar="N", help="local worker processes")
+    grp.add_argument("--workers", type=positive(1, MAX_WORKERS), default=None, metavar="N", help="local worker processes")
     grp.add_argument("--dask", metavar="ADDR", default=None, help="address of a Dask scheduler (tcp://host:port)")
     sp.add_argument("--plot", type=output_path((".png", ".svg", ".pdf")), default=None, metavar="FIG",
                     help="draw the targets against the best design, the per-target distances and the convergence "

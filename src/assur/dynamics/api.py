@@ -111,7 +111,7 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
     friction : bool
         Include the file's Coulomb joint friction (evaluated exactly at every step; slow).
     samples : int, optional
-        Output samples (default: 96 per turn or 1000, at most 200 000).
+        Output samples, 2 to 200 000 (default: 96 per turn, at least 1000).
     steady : float, optional
         A run to steady state stops when the period's remaining change is below this share of the period
         (default :data:`~.integrate.STEADY`).
@@ -134,6 +134,9 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
     if friction and plan.dimension != 2:
         raise SpecError([("friction", "friction is modelled for planar mechanisms only")])
     _check_start(plan, q0)
+    if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
+                                or not 2 <= samples <= MAX_SAMPLES):
+        raise SpecError([("samples", f"must be a whole number from 2 to {MAX_SAMPLES}: {samples!r:.40}")])
     drive = None if mot is None else drive_train(mot, plan)
     if params.ndim == 2:
         from .batch import simulate_population
