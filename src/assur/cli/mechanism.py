@@ -154,7 +154,8 @@ def cmd_info(args) -> int:
     _emit([entry.line() if entry else "atlas: a geared mechanism (the atlas holds chains of lower pairs only)"
            if m.gears else "atlas: not a chain of the atlas (two pairs join the same two bodies, "
                            "or a body is joined to nothing)"])
-    plan = plan or compile_(m)
+    if plan is None:
+        plan = compile_(m)
     from ..analysis.fourbar import four_bar_loops
     _emit([loop.describe() for loop in four_bar_loops(plan)])
     _emit(text.parameter_lines(plan) + text.gait_lines(m))

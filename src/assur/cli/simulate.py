@@ -8,8 +8,6 @@ joint's reaction), ``--json`` prints the summary, ``--plot`` draws speed against
 """
 from __future__ import annotations
 
-import math
-
 from pathlib import Path
 
 from ..errors import SpecError
@@ -55,11 +53,9 @@ def _start(plan, args):
     from ..report.forces import input_unit
     q0 = speed0 = None
     if args.start is not None:
-        from ..dynamics.api import MAX_START_TURNS
+        from ..dynamics.api import check_start
         q0 = args.start * input_unit(plan)[0]
-        if plan.input_kinds[0] == "rotary" and abs(q0 - float(plan.sketch_inputs[0])) > MAX_START_TURNS * 2 * math.pi:
-            raise SpecError([("--start", f"must be within {MAX_START_TURNS} turns of the sketch's angle: "
-                                         f"{args.start!r}")])
+        check_start(plan, q0, name="--start", given=args.start)
     if args.speed is not None:
         if args.from_rest:
             raise SpecError([("--speed", "give --speed or --from-rest, not both")])

@@ -71,17 +71,17 @@ def _source(plan_or_cycle, params):
 MAX_START_TURNS = 1000
 
 
-def _check_start(plan, q0) -> None:
-    """SpecError unless ``q0`` (None, a number or one per design) is finite and, for a crank, within
-    :data:`MAX_START_TURNS` turns of the sketch's angle."""
+def check_start(plan, q0, *, name: str = "q0", given=None) -> None:
+    """SpecError (at ``name``, showing ``given``, default ``q0``) unless the start ``q0`` (SI: None, a number or one
+    per design) is finite and, for a crank, within :data:`MAX_START_TURNS` turns of the sketch's angle."""
     if q0 is None:
         return
     q = np.asarray(q0, dtype=float) if not isinstance(q0, str) else np.array(math.nan)
     off = np.abs(q - float(plan.sketch_inputs[0])) if plan.input_kinds[0] == "rotary" else np.zeros(q.shape)
     if not (np.all(np.isfinite(q)) and np.all(off <= MAX_START_TURNS * TWO_PI)):
-        what = (f"a finite angle (rad) within {MAX_START_TURNS} turns of the sketch's"
-                if plan.input_kinds[0] == "rotary" else "a finite length (m)")
-        raise SpecError([("q0", f"must be {what}: {q0!r:.60}")])
+        what = (f"a finite angle within {MAX_START_TURNS} turns of the sketch's angle"
+                if plan.input_kinds[0] == "rotary" else "a finite length")
+        raise SpecError([(name, f"must be {what}: {(q0 if given is None else given)!r:.60}")])
 
 
 def simulate(plan, *, time: float | None = None, cycles: int | None = None, motor=None, q0: float | None = None,
@@ -133,7 +133,7 @@ def simulate(plan, *, time: float | None = None, cycles: int | None = None, moto
         raise SpecError([("cycles", f"must be a positive whole number of turns: {cycles!r}")])
     if friction and plan.dimension != 2:
         raise SpecError([("friction", "friction is modelled for planar mechanisms only")])
-    _check_start(plan, q0)
+    check_start(plan, q0)
     if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
                                 or not 2 <= samples <= MAX_SAMPLES):
         raise SpecError([("samples", f"must be a whole number from 2 to {MAX_SAMPLES}: {samples!r:.40}")])

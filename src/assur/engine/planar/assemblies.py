@@ -110,8 +110,7 @@ def enumerate_assemblies(plan, params, inputs, tol, solved=None, solved_angles=N
         pos = np.stack([z[r].real, z[r].imag], axis=-1)
         near = solved is not None and np.all(np.isfinite(solved)) and float(np.max(np.abs(pos - solved))) <= sep
         if near and solved_angles is not None:
-            turn = np.remainder(angles[r] - solved_angles + np.pi, 2.0 * np.pi) - np.pi
-            near = bool(np.all(np.abs(turn) * plan.length_scale <= sep))
+            near = bool(np.all(np.abs(_turn(angles[r], solved_angles)) * plan.length_scale <= sep))
         out.append(Assembly(np.array(inputs, dtype=float), ids[r], pos, angles[r], bool(near), float(closure[r]),
                             bool(certified[r])))
     return sorted(out, key=lambda a: _order(a.branches))
@@ -127,9 +126,14 @@ def twins(plan, found, i, tol=DEFAULT):
     same = [k for k, o in enumerate(found) if k != i and float(np.max(np.abs(o.pos - a.pos), initial=0.0)) <= sep]
     if not same:
         return None
-    turn = np.stack([np.remainder(found[k].angles - a.angles + np.pi, 2.0 * np.pi) - np.pi for k in same])
+    turn = np.stack([_turn(found[k].angles, a.angles) for k in same])
     bodies = [b for b in range(len(plan.body_names)) if np.any(np.abs(turn[:, b]) * plan.length_scale > sep)]
     return same, bodies
+
+
+def _turn(angles, other):
+    """(...) how far ``angles`` are turned from ``other`` (rad), the short way round: in [−π, π)."""
+    return np.remainder(angles - other + np.pi, 2.0 * np.pi) - np.pi
 
 
 def _finite(c, n):
